@@ -1,0 +1,35 @@
+// Subcommands of the vkpath command line. Each add*Command registers its
+// flags on `app` and sets commands.run to its body when it is chosen.
+#pragma once
+
+#include <functional>
+#include <optional>
+
+namespace CLI {
+class App;
+}
+
+namespace vkpath::vk {
+struct ContextOptions;
+class Context;
+}  // namespace vkpath::vk
+
+namespace vkpath::app {
+
+struct GlobalOptions {
+    bool validation = false;
+    std::optional<uint32_t> deviceIndex;
+};
+
+struct Commands {
+    std::function<int()> run;
+};
+
+// Runs `body` with a context made from the global options; with validation
+// on, any validation message turns a success into exit code 1.
+int withContext(const GlobalOptions& global, const std::function<int(vk::Context&)>& body);
+
+void addInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addRaysCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+
+}  // namespace vkpath::app

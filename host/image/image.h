@@ -1,0 +1,44 @@
+// Linear RGB float images and their files: EXR (float32, with metadata) and
+// PNG previews (sRGB-encoded, with an exposure in stops).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vkpath::image {
+
+struct Image {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<glm::vec3> pixels;  // row-major from the top-left, linear RGB
+
+    Image() = default;
+    Image(uint32_t w, uint32_t h) : width(w), height(h), pixels(size_t(w) * h, glm::vec3(0)) {}
+    glm::vec3& at(uint32_t x, uint32_t y) { return pixels[size_t(y) * width + x]; }
+    const glm::vec3& at(uint32_t x, uint32_t y) const { return pixels[size_t(y) * width + x]; }
+};
+
+// Attributes written into the EXR header as strings, e.g. {"vkpath:spp", "64"}.
+using Metadata = std::vector<std::pair<std::string, std::string>>;
+
+// Each writer writes to a temporary file beside `path` and renames it into
+// place, so a failure never leaves a partial file. Throws std::runtime_error
+// naming the file on failure.
+void writeExr(const std::filesystem::path& path, const Image& image, const Metadata& metadata = {});
+void writePng(const std::filesystem::path& path, const Image& image, float exposureStops = 0.0f);
+
+// Reads the first three channels of any image OpenImageIO reads (EXR, HDR,
+// PNG...), as linear floats; a one-channel image is replicated to grey.
+// Throws vkpath::InputError naming the file when it cannot be read or is
+// larger than maxPixels.
+Image readImage(const std::filesystem::path& path, uint64_t maxPixels = uint64_t(1) << 28);
+
+// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+float linearToSrgb(float linear);
+
+}  // namespace vkpath::image

@@ -1,0 +1,118 @@
+// The scene model every other part consumes: world-space triangle meshes and
+// analytic spheres, materials, punctual lights, a camera and an optional
+// environment, plus an exact summary of the features the scene uses.
+//
+// Conventions (docs/SCENES.md): right-handed, +Y up, metres; radiance in
+// linear RGB W/(m^2 sr) with no photometric conversion (a glTF candela is
+// taken as W/sr, a lux as W/m^2).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+
+namespace vkpath::scene {
+
+enum class MaterialKind : uint32_t {
+    Diffuse = 0,     // Lambertian with albedo `reflectance`
+    Mirror = 1,      // perfect specular reflection scaled by `reflectance`
+    Dielectric = 2,  // smooth glass: exact Fresnel between ior 1 and `ior`
+};
+
+struct Material {
+    std::string name;
+    MaterialKind kind = MaterialKind::Diffuse;
+    glm::vec3 reflectance{0.8f};    // albedo (diffuse) or specular tint (mirror, glass)
+    glm::vec3 transmittance{1.0f};  // glass only: tint of refracted light
+    float ior = 1.5f;               // glass only: index of refraction inside / outside
+    glm::vec3 emission{0.0f};       // emitted radiance, W/(m^2 sr); > 0 makes the surface an area light
+
+    bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;  // world space
+    std::vector<glm::vec3> normals;    // world space shading normals, per vertex; empty: use face normals
+    std::vector<glm::uvec3> triangles; // indices into positions, counter-clockwise seen from the front
+    uint32_t material = 0;             // index into Scene::materials
+};
+
+struct Sphere {
+    std::string name;
+    glm::vec3 center{0.0f};  // world space
+    float radius = 1.0f;
+    uint32_t material = 0;
+};
+
+struct PointLight {
+    glm::vec3 position{0.0f};
+    glm::vec3 intensity{0.0f};  // W/sr, falls off with the inverse square of distance
+};
+
+struct SpotLight {
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit, where the cone points
+    glm::vec3 intensity{0.0f};               // W/sr on the axis
+    float innerConeAngle = 0.0f;             // radians: full intensity inside
+    float outerConeAngle = 0.7853982f;       // radians: zero outside, smooth in between
+};
+
+struct DirectionalLight {
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // unit, the direction the light travels
+    glm::vec3 irradiance{0.0f};              // W/m^2 on a surface facing the light
+};
+
+// Equirectangular environment: +Y is up; u = 0 at the -Z direction... see
+// docs/SCENES.md for the exact mapping. A constant colour when no map is given.
+struct Environment {
+    std::optional<image::Image> map;  // linear RGB radiance
+    glm::vec3 color{0.0f};            // constant radiance when there is no map
+    float strength = 1.0f;            // multiplies map or colour
+    float rotationDegrees = 0.0f;     // about +Y
+};
+
+struct Camera {
+    std::string name;
+    glm::vec3 position{0.0f};
+    glm::vec3 target{0.0f, 0.0f, -1.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float xfovDegrees = 60.0f;  // horizontal field of view of the camera's own aspect
+    float aspect = 0.0f;        // the camera's own width / height, 0 when the file gives none
+};
+
+// What a scene uses: kernels are specialised to this (later issues), so it
+// must be exact: a flag is set if and only if the feature is present.
+struct FeatureSummary {
+    bool triangles = false;
+    bool spheres = false;
+    bool diffuse = false;
+    bool mirror = false;
+    bool glass = false;
+    bool emissiveSurfaces = false;
+    bool pointLights = false;
+    bool spotLights = false;
+    bool directionalLights = false;
+    bool environment = false;
+};
+
+struct Scene {
+    std::vector<Material> materials;
+    std::vector<Mesh> meshes;
+    std::vector<Sphere> spheres;
+    std::vector<PointLight> pointLights;
+    std::vector<SpotLight> spotLights;
+    std::vector<DirectionalLight> directionalLights;
+    std::optional<Environment> environment;
+    Camera camera;
+
+    FeatureSummary features() const;
+    size_t triangleCount() const;
+};
+
+}  // namespace vkpath::scene

@@ -1,0 +1,275 @@
+#include "vk/kernel.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include "vk/buffer.h"
+#include "vk/check.h"
+#include "vk/context.h"
+#include "vk/embedded_shaders.h"
+#include "vk/timestamps.h"
+
+namespace vkpath::vk {
+
+// Descriptor pools of one kernel layout; grows by whole pools when one is full.
+class DescriptorSetPool {
+  public:
+    DescriptorSetPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t storageBuffers,
+                      uint32_t uniformBuffers)
+        : m_device(device), m_layout(layout), m_storage(storageBuffers), m_uniform(uniformBuffers) {}
+    ~DescriptorSetPool() {
+        for (VkDescriptorPool pool : m_pools) vkDestroyDescriptorPool(m_device, pool, nullptr);
+    }
+
+    std::pair<VkDescriptorSet, VkDescriptorPool> allocate() {
+        if (!m_pools.empty()) {
+            if (VkDescriptorSet set = tryAllocate(m_pools.back())) return {set, m_pools.back()};
+        }
+        addPool();
+        VkDescriptorSet set = tryAllocate(m_pools.back());
+        if (!set) throw std::runtime_error("descriptor set allocation failed in a new pool");
+        return {set, m_pools.back()};
+    }
+
+    void free(VkDescriptorSet set) {
+        // Sets remember nothing of their pool; try each (there are few).
+        for (VkDescriptorPool pool : m_pools) {
+            if (m_owner.contains({pool, set})) {
+                vkFreeDescriptorSets(m_device, pool, 1, &set);
+                m_owner.erase({pool, set});
+                return;
+            }
+        }
+    }
+
+  private:
+    static constexpr uint32_t SETS_PER_POOL = 32;
+
+    VkDescriptorSet tryAllocate(VkDescriptorPool pool) {
+        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        alloc.descriptorPool = pool;
+        alloc.descriptorSetCount = 1;
+        alloc.pSetLayouts = &m_layout;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        const VkResult result = vkAllocateDescriptorSets(m_device, &alloc, &set);
+        if (result == VK_ERROR_OUT_OF_POOL_MEMORY || result == VK_ERROR_FRAGMENTED_POOL) return VK_NULL_HANDLE;
+        VK_CHECK(result);
+        m_owner.insert({pool, set});
+        return set;
+    }
+
+    void addPool() {
+        std::vector<VkDescriptorPoolSize> sizes;
+        if (m_storage) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m_storage * SETS_PER_POOL});
+        if (m_uniform) sizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m_uniform * SETS_PER_POOL});
+        VkDescriptorPoolCreateInfo create{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        create.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+        create.maxSets = SETS_PER_POOL;
+        create.poolSizeCount = static_cast<uint32_t>(sizes.size());
+        create.pPoolSizes = sizes.data();
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateDescriptorPool(m_device, &create, nullptr, &pool));
+        m_pools.push_back(pool);
+    }
+
+    VkDevice m_device;
+    VkDescriptorSetLayout m_layout;
+    uint32_t m_storage;
+    uint32_t m_uniform;
+    std::vector<VkDescriptorPool> m_pools;
+    std::set<std::pair<VkDescriptorPool, VkDescriptorSet>> m_owner;
+};
+
+DescriptorSet::DescriptorSet(std::shared_ptr<DescriptorSetPool> pool, VkDescriptorSet set)
+    : m_pool(std::move(pool)), m_set(set) {}
+
+DescriptorSet::~DescriptorSet() {
+    if (m_pool && m_set) m_pool->free(m_set);
+}
+
+DescriptorSet::DescriptorSet(DescriptorSet&& other) noexcept
+    : m_pool(std::move(other.m_pool)), m_set(std::exchange(other.m_set, VK_NULL_HANDLE)) {}
+
+DescriptorSet& DescriptorSet::operator=(DescriptorSet&& other) noexcept {
+    if (this != &other) {
+        if (m_pool && m_set) m_pool->free(m_set);
+        m_pool = std::move(other.m_pool);
+        m_set = std::exchange(other.m_set, VK_NULL_HANDLE);
+    }
+    return *this;
+}
+
+Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& options)
+    : m_context(context), m_name(name), m_workgroupSize(options.workgroupSize) {
+    const std::span<const uint32_t> spirv = shaders::findKernel(name);
+    m_reflection = reflectSpirv(spirv);
+    const DeviceInfo& info = context.info();
+    if (m_workgroupSize == 0 || m_workgroupSize > info.maxWorkgroupSize[0] ||
+        m_workgroupSize > info.maxWorkgroupInvocations)
+        throw std::invalid_argument(fmt::format("kernel {}: workgroup size {} is not supported (max {})",
+                                                m_name, m_workgroupSize, info.maxWorkgroupSize[0]));
+    if (m_reflection.pushConstantSize > info.maxPushConstantsSize)
+        throw std::invalid_argument(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",
+                                                m_name, m_reflection.pushConstantSize, info.maxPushConstantsSize));
+
+    VkDevice device = context.device();
+    try {
+        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        moduleInfo.codeSize = spirv.size_bytes();
+        moduleInfo.pCode = spirv.data();
+        VK_CHECK(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module));
+
+        std::vector<VkDescriptorSetLayoutBinding> bindings;
+        uint32_t storage = 0, uniform = 0;
+        for (const SpirvBinding& b : m_reflection.bindings) {
+            if (b.set != 0)
+                throw std::invalid_argument(fmt::format("kernel {}: only descriptor set 0 is supported", m_name));
+            VkDescriptorSetLayoutBinding binding{};
+            binding.binding = b.binding;
+            binding.descriptorType = b.uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            binding.descriptorCount = 1;
+            binding.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+            bindings.push_back(binding);
+            (b.uniform ? uniform : storage)++;
+        }
+        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        setInfo.bindingCount = static_cast<uint32_t>(bindings.size());
+        setInfo.pBindings = bindings.data();
+        VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout));
+
+        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, m_reflection.pushConstantSize};
+        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        layoutInfo.setLayoutCount = 1;
+        layoutInfo.pSetLayouts = &m_setLayout;
+        layoutInfo.pushConstantRangeCount = m_reflection.pushConstantSize ? 1 : 0;
+        layoutInfo.pPushConstantRanges = &range;
+        VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_pipelineLayout));
+
+        std::vector<SpecializationConstant> constants = options.specialization;
+        constants.push_back({0, m_workgroupSize});
+        std::vector<VkSpecializationMapEntry> entries;
+        std::vector<uint32_t> values;
+        for (const SpecializationConstant& c : constants) {
+            entries.push_back({c.id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+            values.push_back(c.value);
+        }
+        VkSpecializationInfo specialization{static_cast<uint32_t>(entries.size()), entries.data(),
+                                            values.size() * sizeof(uint32_t), values.data()};
+
+        VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        pipelineInfo.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipelineInfo.stage.module = m_module;
+        pipelineInfo.stage.pName = "main";
+        pipelineInfo.stage.pSpecializationInfo = &specialization;
+        pipelineInfo.layout = m_pipelineLayout;
+        VK_CHECK(vkCreateComputePipelines(device, context.pipelineCache(), 1, &pipelineInfo, nullptr,
+                                          &m_pipeline));
+        m_pool = std::make_shared<DescriptorSetPool>(device, m_setLayout, storage, uniform);
+    } catch (...) {
+        release();
+        throw;
+    }
+}
+
+Kernel::~Kernel() { release(); }
+
+void Kernel::release() {
+    VkDevice device = m_context.device();
+    m_pool.reset();
+    if (m_pipeline) vkDestroyPipeline(device, m_pipeline, nullptr);
+    if (m_pipelineLayout) vkDestroyPipelineLayout(device, m_pipelineLayout, nullptr);
+    if (m_setLayout) vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
+    if (m_module) vkDestroyShaderModule(device, m_module, nullptr);
+    m_pipeline = VK_NULL_HANDLE;
+    m_pipelineLayout = VK_NULL_HANDLE;
+    m_setLayout = VK_NULL_HANDLE;
+    m_module = VK_NULL_HANDLE;
+}
+
+DescriptorSet Kernel::bind(std::initializer_list<BufferBinding> buffers) {
+    std::set<uint32_t> declared;
+    for (const SpirvBinding& b : m_reflection.bindings) declared.insert(b.binding);
+    std::set<uint32_t> given;
+    for (const BufferBinding& b : buffers) {
+        if (!declared.contains(b.binding))
+            throw std::invalid_argument(fmt::format("kernel {} has no binding {}", m_name, b.binding));
+        if (!given.insert(b.binding).second)
+            throw std::invalid_argument(fmt::format("kernel {}: binding {} given twice", m_name, b.binding));
+        if (!b.buffer || !*b.buffer)
+            throw std::invalid_argument(fmt::format("kernel {}: binding {} has no buffer", m_name, b.binding));
+    }
+    for (uint32_t b : declared)
+        if (!given.contains(b))
+            throw std::invalid_argument(fmt::format("kernel {}: binding {} is not bound", m_name, b));
+
+    auto [set, pool] = m_pool->allocate();
+    DescriptorSet result(m_pool, set);
+    std::vector<VkDescriptorBufferInfo> infos;
+    infos.reserve(buffers.size());
+    std::vector<VkWriteDescriptorSet> writes;
+    for (const BufferBinding& b : buffers) {
+        infos.push_back({b.buffer->handle(), 0, VK_WHOLE_SIZE});
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = set;
+        write.dstBinding = b.binding;
+        write.descriptorCount = 1;
+        const auto it = std::find_if(m_reflection.bindings.begin(), m_reflection.bindings.end(),
+                                     [&](const SpirvBinding& s) { return s.binding == b.binding; });
+        write.descriptorType = it->uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        write.pBufferInfo = &infos.back();
+        writes.push_back(write);
+    }
+    vkUpdateDescriptorSets(m_context.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+    return result;
+}
+
+void Kernel::bindPipeline(VkCommandBuffer cmd, const DescriptorSet& set,
+                          std::span<const std::byte> push) const {
+    if (push.size() != m_reflection.pushConstantSize)
+        throw std::invalid_argument(fmt::format("kernel {}: {} bytes of push constants given, the kernel declares {}",
+                                                m_name, push.size(), m_reflection.pushConstantSize));
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
+    VkDescriptorSet handle = set.handle();
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipelineLayout, 0, 1, &handle, 0, nullptr);
+    if (!push.empty())
+        vkCmdPushConstants(cmd, m_pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                           static_cast<uint32_t>(push.size()), push.data());
+}
+
+void Kernel::record(VkCommandBuffer cmd, const DescriptorSet& set, uint32_t invocations,
+                    std::span<const std::byte> push) const {
+    const uint32_t groups = (invocations + m_workgroupSize - 1) / m_workgroupSize;
+    if (groups > m_context.info().maxWorkgroupCount[0])
+        throw std::invalid_argument(fmt::format("kernel {}: {} invocations need {} workgroups, the device allows {}",
+                                                m_name, invocations, groups, m_context.info().maxWorkgroupCount[0]));
+    bindPipeline(cmd, set, push);
+    if (groups > 0) vkCmdDispatch(cmd, groups, 1, 1);
+}
+
+void Kernel::recordIndirect(VkCommandBuffer cmd, const DescriptorSet& set, const Buffer& arguments,
+                            VkDeviceSize offset, std::span<const std::byte> push) const {
+    bindPipeline(cmd, set, push);
+    vkCmdDispatchIndirect(cmd, arguments.handle(), offset);
+}
+
+double Kernel::dispatch(uint32_t invocations, std::initializer_list<BufferBinding> buffers,
+                        std::span<const std::byte> push) {
+    DescriptorSet set = bind(buffers);
+    TimestampPool timestamps(m_context, 1);
+    m_context.submit([&](VkCommandBuffer cmd) {
+        timestamps.reset(cmd);
+        computeBarrier(cmd);  // earlier uploads are visible to the kernel
+        const uint32_t interval = timestamps.begin(cmd, m_name);
+        record(cmd, set, invocations, push);
+        timestamps.end(cmd, interval);
+        computeBarrier(cmd);  // the kernel's writes are visible to later copies
+    });
+    const auto results = timestamps.results();
+    return results.empty() ? 0.0 : results.front().milliseconds;
+}
+
+}  // namespace vkpath::vk

@@ -1,0 +1,36 @@
+// Just enough SPIR-V reflection for vkpath: the descriptor bindings and the
+// push-constant size a kernel declares (so the harness builds its layouts
+// without a hand-written table), and the member offsets and array strides of
+// named structs (so tests can check the GLSL layout against C++ sizeof).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace vkpath::vk {
+
+struct SpirvBinding {
+    uint32_t set = 0;
+    uint32_t binding = 0;
+    bool uniform = false;  // a uniform buffer (else a storage buffer)
+};
+
+struct SpirvStructLayout {
+    std::vector<uint32_t> memberOffsets;  // bytes, in declaration order
+    std::optional<uint32_t> arrayStride;  // stride of a runtime array of this struct, if any
+};
+
+struct SpirvReflection {
+    std::vector<SpirvBinding> bindings;          // sorted by (set, binding)
+    uint32_t pushConstantSize = 0;               // bytes; 0 if there is no push-constant block
+    std::map<std::string, SpirvStructLayout> structs;  // by the struct's GLSL name
+};
+
+// Throws std::runtime_error on a malformed module.
+SpirvReflection reflectSpirv(std::span<const uint32_t> words);
+
+}  // namespace vkpath::vk

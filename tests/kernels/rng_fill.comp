@@ -1,0 +1,26 @@
+// Test kernel: writes rngBits(key, dimension) for a grid of counters, so the
+// RNG test can compare GPU bits with the same function on the CPU.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+
+#include "shared/rng.h"
+
+layout(local_size_x_id = 0) in;
+
+layout(binding = 0, scalar) writeonly buffer Bits { uint bits[]; };
+layout(push_constant, scalar) uniform Push {
+    uint count;       // values to write
+    uint pixels;      // counter layout: i = (sample * dims + dimension) * pixels + pixel
+    uint dimensions;
+    uint seed;
+};
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    uint pixel = i % pixels;
+    uint dimension = (i / pixels) % dimensions;
+    uint sampleIndex = i / (pixels * dimensions);
+    bits[i] = rngBits(makeRngKey(pixel, sampleIndex, seed), dimension);
+}

@@ -1,0 +1,32 @@
+// Statistical tools for tests: chi-square goodness of fit, with pooling of
+// sparse cells, and the Sidak correction for many tests.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace vkpath::test {
+
+// Upper tail Q(a, x) = Gamma(a, x) / Gamma(a) of the regularised incomplete
+// gamma function (series for x < a + 1, Lentz continued fraction otherwise;
+// Numerical Recipes 3rd ed., section 6.2).
+double regularizedGammaQ(double a, double x);
+
+struct ChiSquareResult {
+    double statistic = 0;
+    int degreesOfFreedom = 0;
+    double pValue = 1;
+    size_t pooledCells = 0;  // cells merged because their expected count was below the minimum
+};
+
+// Pearson's chi-square test of observed counts against expected counts (same
+// total). Cells with expected count < minExpected are pooled into one cell,
+// as Mitsuba 3's ChiSquareTest does.
+ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected,
+                              double minExpected = 5.0);
+
+// Per-test significance so that `tests` independent tests together reject a
+// correct hypothesis with probability `alpha` (Sidak).
+double sidakAlpha(double alpha, int tests);
+
+}  // namespace vkpath::test

@@ -1,0 +1,39 @@
+// The chi-square machinery itself, against values from standard tables.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support/statistics.h"
+
+namespace {
+
+using namespace vkpath::test;
+
+TEST(Statistics, GammaQMatchesTables) {
+    // Chi-square upper-tail probabilities: Q(k/2, x/2).
+    EXPECT_NEAR(regularizedGammaQ(0.5, 3.841458820694124 / 2), 0.05, 1e-9);   // k = 1
+    EXPECT_NEAR(regularizedGammaQ(5.0, 23.209251158954356 / 2), 0.01, 1e-9);  // k = 10
+    EXPECT_NEAR(regularizedGammaQ(31.5, 82.52872654 / 2), 0.05, 1e-6);        // k = 63
+    EXPECT_NEAR(regularizedGammaQ(1.0, 2.0), std::exp(-2.0), 1e-12);          // Q(1, x) = e^-x
+}
+
+TEST(Statistics, ChiSquarePoolsAndRejects) {
+    // A perfect fit has statistic 0 and p = 1.
+    auto fit = chiSquareTest({10, 20, 30}, {10, 20, 30});
+    EXPECT_EQ(fit.statistic, 0.0);
+    EXPECT_EQ(fit.degreesOfFreedom, 2);
+    EXPECT_NEAR(fit.pValue, 1.0, 1e-12);
+    // Cells with expected < 5 are pooled: {2, 1} becomes one cell.
+    auto pooled = chiSquareTest({10, 2, 1}, {10, 1.5, 1.5});
+    EXPECT_EQ(pooled.pooledCells, 2u);
+    EXPECT_EQ(pooled.degreesOfFreedom, 1);
+    // Samples in a cell of zero expectation fail outright.
+    auto impossible = chiSquareTest({10, 1}, {11, 0});
+    EXPECT_EQ(impossible.pValue, 0.0);
+    // A grossly wrong distribution is rejected.
+    EXPECT_LT(chiSquareTest({100, 0}, {50, 50}).pValue, 1e-10);
+}
+
+TEST(Statistics, Sidak) { EXPECT_NEAR(sidakAlpha(0.01, 1), 0.01, 1e-15); EXPECT_LT(sidakAlpha(0.01, 10), 0.001006); }
+
+}  // namespace
