@@ -7,6 +7,7 @@
 
 #include "shared/bindings.h"
 #include "shared/camera.h"
+#include "shared/material.h"
 #include "shared/ray.h"
 
 layout(local_size_x = 1) in;
@@ -14,10 +15,12 @@ layout(local_size_x = 1) in;
 layout(binding = 0, scalar) buffer Rays { Ray rays[]; };
 layout(binding = 1, scalar) buffer Cameras { Camera cameras[]; };
 layout(binding = 2, scalar) buffer GeneratePushes { GeneratePush generatePushes[]; };
+layout(binding = 3, scalar) buffer Materials { Material materials[]; };
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
     rays[0] = rays[1];
     cameras[0] = cameras[1];
     generatePushes[0] = generatePushes[1];
+    materials[0] = materials[1];
 }

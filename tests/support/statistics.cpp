@@ -46,6 +46,12 @@ ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::ve
     double pooledObserved = 0, pooledExpected = 0;
     int cells = 0;
     for (size_t i = 0; i < observed.size(); ++i) {
+        if (expected[i] == 0 && observed[i] > 0) {
+            // A sample where the density is zero: the routine is wrong.
+            r.statistic = std::numeric_limits<double>::infinity();
+            r.pValue = 0;
+            return r;
+        }
         if (expected[i] < minExpected) {
             pooledObserved += observed[i];
             pooledExpected += expected[i];
@@ -60,12 +66,6 @@ ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::ve
         const double diff = pooledObserved - pooledExpected;
         r.statistic += diff * diff / pooledExpected;
         ++cells;
-    } else if (pooledObserved > 0) {
-        // Samples where the expected count is zero: the routine is wrong.
-        r.statistic = std::numeric_limits<double>::infinity();
-        r.pValue = 0;
-        r.degreesOfFreedom = cells;
-        return r;
     }
     r.degreesOfFreedom = cells - 1;
     r.pValue = r.degreesOfFreedom > 0 ? regularizedGammaQ(0.5 * r.degreesOfFreedom, 0.5 * r.statistic) : 1.0;

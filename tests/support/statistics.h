@@ -21,7 +21,8 @@ struct ChiSquareResult {
 
 // Pearson's chi-square test of observed counts against expected counts (same
 // total). Cells with expected count < minExpected are pooled into one cell,
-// as Mitsuba 3's ChiSquareTest does.
+// as Mitsuba 3's ChiSquareTest does. Any observation in a cell whose expected
+// count is exactly zero fails outright (p = 0).
 ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected,
                               double minExpected = 5.0);
 

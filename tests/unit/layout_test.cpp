@@ -8,6 +8,7 @@
 
 #include "shared/bindings.h"
 #include "shared/camera.h"
+#include "shared/material.h"
 #include "shared/ray.h"
 #include "vk/embedded_shaders.h"
 #include "vk/spirv_reflect.h"
@@ -35,6 +36,9 @@ std::vector<Expected> expectedLayouts() {
         {"GeneratePush", sizeof(GeneratePush),
          {VKP_OFFSET(GeneratePush, firstPixel), VKP_OFFSET(GeneratePush, count),
           VKP_OFFSET(GeneratePush, sampleIndex), VKP_OFFSET(GeneratePush, seed)}},
+        {"Material", sizeof(Material),
+         {VKP_OFFSET(Material, reflectance), VKP_OFFSET(Material, kind), VKP_OFFSET(Material, transmittance),
+          VKP_OFFSET(Material, ior), VKP_OFFSET(Material, emission)}},
     };
 }
 

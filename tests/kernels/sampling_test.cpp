@@ -1,0 +1,279 @@
+// Every sampling routine of shaders/shared/, run on the GPU: its samples
+// follow its own pdf (chi-square, 10^6 samples), its pdf integrates to 1, and
+// the discrete choices of the dielectric follow Fresnel. Significance: 1% for
+// the whole file, Sidak-corrected over its chi-square and z tests.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "kernels/sampling_routines.h"
+#include "shared/bsdf.h"
+#include "shared/sampling.h"
+#include "support/direction_chi2.h"
+#include "support/test_context.h"
+#include "vk/buffer.h"
+#include "vk/kernel.h"
+
+namespace {
+
+using namespace vkpath;
+using shared::SamplingPush;
+using shared::SamplingResult;
+
+constexpr uint32_t SAMPLES = 1000000;
+constexpr int TESTS_IN_FILE = 8;  // 6 chi-square tests, the solid-angle z-test, the dielectric z-tests
+const double ALPHA = test::sidakAlpha(0.01, TESTS_IN_FILE);
+
+std::vector<SamplingResult> runRoutine(SamplingPush push) {
+    vk::Context& context = test::context();
+    vk::Buffer results(context, push.count * sizeof(SamplingResult));
+    vk::Kernel kernel(context, "sampling_routines");
+    kernel.dispatch(push.count, {{0, &results}}, push);
+    return results.download<SamplingResult>();
+}
+
+SamplingPush pushFor(uint32_t routine, uint32_t seed = 1) {
+    SamplingPush p{};
+    p.routine = routine;
+    p.count = SAMPLES;
+    p.seed = seed;
+    return p;
+}
+
+std::vector<glm::vec3> directionsOf(const std::vector<SamplingResult>& results) {
+    std::vector<glm::vec3> d;
+    d.reserve(results.size());
+    for (const auto& r : results) d.push_back(r.direction);
+    return d;
+}
+
+void expectFits(const test::DirectionGrid& grid, const std::vector<glm::vec3>& directions,
+                const std::function<double(glm::vec3)>& pdf) {
+    EXPECT_NEAR(test::integrateOverSphere(grid, pdf), 1.0, 1e-3) << "pdf does not integrate to 1";
+    const auto result = test::chiSquareDirections(grid, directions, pdf);
+    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom
+                                    << ", pooled " << result.pooledCells;
+}
+
+TEST(Sampling, CosineHemisphere) {
+    const auto results = runRoutine(pushFor(ROUTINE_COSINE_HEMISPHERE));
+    for (const auto& r : results) ASSERT_NEAR(r.pdf, shared::cosineHemispherePdf(r.direction.z), 1e-5f);
+    expectFits({}, directionsOf(results), [](glm::vec3 d) { return shared::cosineHemispherePdf(d.z); });
+}
+
+// The test has power: cosine-weighted samples do not pass as uniform ones.
+TEST(Sampling, ChiSquareRejectsTheWrongPdf) {
+    const auto directions = directionsOf(runRoutine(pushFor(ROUTINE_COSINE_HEMISPHERE)));
+    const auto result = test::chiSquareDirections({}, directions, [](glm::vec3 d) {
+        return d.z > 0 ? shared::uniformHemispherePdf() : 0.0f;
+    });
+    EXPECT_LT(result.pValue, 1e-10);
+}
+
+TEST(Sampling, UniformSphere) {
+    expectFits({}, directionsOf(runRoutine(pushFor(ROUTINE_UNIFORM_SPHERE))),
+               [](glm::vec3) { return shared::uniformSpherePdf(); });
+}
+
+TEST(Sampling, UniformHemisphere) {
+    expectFits({}, directionsOf(runRoutine(pushFor(ROUTINE_UNIFORM_HEMISPHERE))),
+               [](glm::vec3 d) { return d.z > 0 ? shared::uniformHemispherePdf() : 0.0f; });
+}
+
+TEST(Sampling, LambertianAroundAnArbitraryNormal) {
+    SamplingPush p = pushFor(ROUTINE_LAMBERTIAN);
+    p.a = glm::normalize(glm::vec3(0.3f, -0.8f, 0.52f));
+    p.b = glm::normalize(glm::vec3(-0.9f, 0.9f, -0.2f));  // wo below the normal: reflects on wo's side
+    const auto results = runRoutine(p);
+    for (const auto& r : results) {
+        ASSERT_EQ(r.flags & 1u, 1u);
+        ASSERT_EQ(r.weight, glm::vec3(1.0f));  // albedo 1: f cos / pdf = 1
+    }
+    test::DirectionGrid grid;
+    grid.frame = shared::makeFrame(p.a);
+    expectFits(grid, directionsOf(results), [&](glm::vec3 d) { return shared::lambertianPdf(p.a, p.b, d); });
+}
+
+// The cone of a sphere light, seen from outside. The grid is aligned with the
+// cone axis and the cone's edge (cos theta_max) is put at the middle of a
+// cos-theta bin, where the even midpoint rule integrates the jump exactly.
+TEST(Sampling, SphereLightCone) {
+    const test::DirectionGrid grid0;
+    const double cosThetaMax = -1.0 + (2 * 90 + 1) / double(grid0.cosBins);  // middle of bin 90
+    const double distance = 5.0;
+    SamplingPush p = pushFor(ROUTINE_SPHERE_CONE);
+    p.a = glm::vec3(1.0f, 2.0f, -3.0f);
+    const glm::vec3 axis = glm::normalize(glm::vec3(-0.4f, 0.7f, 0.3f));
+    p.b = p.a + float(distance) * axis;
+    p.scalar = float(distance * std::sqrt(1 - cosThetaMax * cosThetaMax));
+    const auto results = runRoutine(p);
+    const shared::SphereCone cone = shared::sphereCone(p.b, p.scalar, p.a);
+    test::DirectionGrid grid;
+    grid.frame = shared::makeFrame(axis);
+    expectFits(grid, directionsOf(results), [&](glm::vec3 d) {
+        return double(glm::dot(d, axis)) >= cone.cosThetaMax ? double(shared::sphereConePdf(cone)) : 0.0;
+    });
+}
+
+// A far, tiny sphere (the sun seen from the earth subtends ~0.5 degrees; here
+// 1e-3 radians): every sampled direction hits it, and the pdf equals
+// 1 / (2 pi (1 - cos theta_max)) computed in double.
+TEST(Sampling, TinySphereConeStaysOnTheSphere) {
+    SamplingPush p = pushFor(ROUTINE_SPHERE_CONE);
+    p.count = 100000;
+    p.a = glm::vec3(0.0f);
+    p.b = glm::vec3(0.0f, 1e4f, 0.0f);
+    p.scalar = 10.0f;
+    const auto results = runRoutine(p);
+    const double sin2 = 1e-6, oneMinusCos = sin2 / (1 + std::sqrt(1 - sin2));
+    const double expectedPdf = 1 / (2 * 3.14159265358979323846 * oneMinusCos);
+    for (const auto& r : results) {
+        ASSERT_NEAR(r.pdf, expectedPdf, expectedPdf * 1e-4);
+        // Ray-sphere test in double: distance from the centre to the ray line.
+        const glm::dvec3 d = glm::normalize(glm::dvec3(r.direction));
+        const glm::dvec3 c(p.b);
+        const double along = glm::dot(c, d);
+        const double miss2 = glm::dot(c, c) - along * along;
+        ASSERT_LE(miss2, 100.0 * (1 + 1e-3)) << "sampled direction misses the sphere";
+    }
+}
+
+// Area sampling of a triangle: barycentrics uniform over the triangle, in a
+// 64 x 64 grid over (b0, b1) whose diagonal cells are exactly half inside.
+TEST(Sampling, TriangleAreaUniform) {
+    SamplingPush p = pushFor(ROUTINE_TRIANGLE_AREA);
+    p.a = glm::vec3(0, 0, 0);
+    p.b = glm::vec3(2, 0, 0);
+    p.c = glm::vec3(0, 1, 1);
+    const auto results = runRoutine(p);
+    constexpr int N = 64;
+    std::vector<double> observed(N * N, 0), expected(N * N, 0);
+    for (int i = 0; i < N; ++i)
+        for (int j = 0; j < N; ++j) {
+            const double fraction = i + j < N - 1 ? 1.0 : (i + j == N - 1 ? 0.5 : 0.0);
+            expected[i * N + j] = SAMPLES * fraction * 2.0 / (N * N);
+        }
+    const float area = glm::length(shared::triangleArea3(p.a, p.b, p.c));
+    for (const auto& r : results) {
+        ASSERT_NEAR(r.pdf, 1.0f / area, 1e-6f);
+        const int i = std::min(N - 1, int(r.direction.x * N)), j = std::min(N - 1, int(r.direction.y * N));
+        observed[i * N + j] += 1;
+    }
+    const auto result = test::chiSquareTest(observed, expected);
+    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+}
+
+// Area samples converted to solid angle estimate the triangle's solid angle:
+// E[1 / pdf_omega] = Omega, against the exact formula of Van Oosterom and
+// Strackee (IEEE Trans. Biomed. Eng. 30(2), 1983). Bound: 5 standard errors.
+TEST(Sampling, TriangleSolidAngleFromAreaSamples) {
+    SamplingPush p = pushFor(ROUTINE_TRIANGLE_AREA);
+    p.a = glm::vec3(-1, 1, -2);
+    p.b = glm::vec3(2, 0.5f, -2.5f);
+    p.c = glm::vec3(0, 2, -1.5f);
+    const auto results = runRoutine(p);
+    const glm::dvec3 a(p.a), b(p.b), c(p.c);
+    const double area = glm::length(glm::cross(b - a, c - a)) / 2;
+    const glm::dvec3 normal = glm::normalize(glm::cross(b - a, c - a));
+    double sum = 0, sum2 = 0;
+    for (const auto& r : results) {
+        const double b0 = r.direction.x, b1 = r.direction.y;
+        const glm::dvec3 x = b0 * a + b1 * b + (1 - b0 - b1) * c;  // viewed from the origin
+        const double dist2 = glm::dot(x, x);
+        const double cosLight = glm::dot(normal, x) / std::sqrt(dist2);
+        const double pdfOmega = shared::areaToSolidAnglePdf(float(area), float(dist2), float(cosLight));
+        sum += 1 / pdfOmega;
+        sum2 += 1 / (pdfOmega * pdfOmega);
+    }
+    const double n = double(results.size()), mean = sum / n;
+    const double standardError = std::sqrt((sum2 / n - mean * mean) / n);
+    const double numerator = std::abs(glm::dot(a, glm::cross(b, c)));
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const double denominator = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    const double exact = 2 * std::atan2(numerator, denominator);
+    EXPECT_NEAR(mean, exact, 5 * standardError);
+}
+
+// ---- the dielectric ---------------------------------------------------------------
+
+TEST(Fresnel, AnalyticValues) {
+    EXPECT_NEAR(shared::fresnelDielectric(1.0f, 1.5f), 0.04f, 1e-6f);  // ((1.5-1)/(1.5+1))^2
+    EXPECT_NEAR(shared::fresnelDielectric(-1.0f, 1.5f), 0.04f, 1e-6f);  // symmetric at normal incidence
+    // From glass (1.5) to air at 45 degrees: sin 45 * 1.5 = 1.06 > 1, total internal reflection.
+    EXPECT_EQ(shared::fresnelDielectric(-std::sqrt(0.5f), 1.5f), 1.0f);
+    // Just inside the critical angle (41.8 degrees) there is still transmission.
+    EXPECT_LT(shared::fresnelDielectric(-std::cos(0.70f), 1.5f), 1.0f);
+    // Index 1 is no interface at all.
+    EXPECT_EQ(shared::fresnelDielectric(0.3f, 1.0f), 0.0f);
+    // Grazing incidence reflects everything.
+    EXPECT_NEAR(shared::fresnelDielectric(1e-7f, 1.5f), 1.0f, 1e-5f);
+}
+
+struct DielectricCase {
+    float ior;
+    float cosThetaO;  // > 0: wo outside, < 0: wo inside
+};
+
+// The reflect/refract choice follows Fresnel (binomial z-test), reflection is
+// the mirror direction, refraction obeys Snell's law, and refracted radiance
+// is scaled by 1/eta^2, for indices 1.0, 1.33, 1.5, 2.4, from both sides and
+// past the critical angle.
+TEST(Dielectric, ChoiceDirectionsAndWeights) {
+    const DielectricCase cases[] = {{1.0f, 0.7f},  {1.33f, 0.9f}, {1.33f, -0.9f}, {1.5f, 0.2f}, {1.5f, -0.8f},
+                                    {1.5f, -0.5f}, {2.4f, 0.6f},  {2.4f, -0.95f}, {1.5f, 1.0f}};
+    const glm::vec3 n = glm::normalize(glm::vec3(0.2f, 0.9f, -0.3f));
+    const shared::Frame frame = shared::makeFrame(n);
+    const double zCritical = 4.0;  // two-sided; p ~ 6e-5 per case, well under ALPHA / cases
+    for (const DielectricCase& c : cases) {
+        SCOPED_TRACE(testing::Message() << "ior " << c.ior << " cos " << c.cosThetaO);
+        SamplingPush p = pushFor(ROUTINE_DIELECTRIC, 5);
+        p.count = 200000;
+        p.scalar = c.ior;
+        p.a = n;
+        const float sinO = std::sqrt(1 - c.cosThetaO * c.cosThetaO);
+        p.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(sinO, 0, c.cosThetaO)));
+        const auto results = runRoutine(p);
+        const float fresnel = shared::fresnelDielectric(c.cosThetaO, c.ior);
+        const bool outside = c.cosThetaO > 0;
+        const float eta = outside ? c.ior : 1 / c.ior;
+        double reflections = 0;
+        for (const auto& r : results) {
+            ASSERT_EQ(r.flags, 3u);  // valid and delta
+            const float cosI = glm::dot(r.direction, n);
+            if (cosI * c.cosThetaO > 0) {
+                reflections += 1;
+                ASSERT_NEAR(cosI, c.cosThetaO, 1e-5f);
+                ASSERT_NEAR(r.pdf, fresnel, 1e-6f);
+                ASSERT_EQ(r.weight, glm::vec3(1.0f));
+            } else {
+                // Snell: sin_t = sin_o / eta, measured in the frame of n.
+                const float sinT = std::sqrt(std::max(0.0f, 1 - cosI * cosI));
+                ASSERT_NEAR(sinT, sinO / eta, 2e-5f);
+                ASSERT_NEAR(r.pdf, 1 - fresnel, 1e-6f);
+                ASSERT_NEAR(r.weight.x, 1 / (eta * eta), 1e-6f);
+            }
+        }
+        const double n0 = double(results.size());
+        const double expected = n0 * fresnel;
+        const double sigma = std::sqrt(n0 * fresnel * (1 - fresnel));
+        if (sigma > 0)
+            EXPECT_LT(std::abs(reflections - expected) / sigma, zCritical) << "reflected " << reflections;
+        else
+            EXPECT_EQ(reflections, expected);
+    }
+}
+
+TEST(Mirror, ReflectsOnTheSideOfWo) {
+    SamplingPush p = pushFor(ROUTINE_MIRROR);
+    p.count = 64;
+    p.a = glm::vec3(0, 0, 1);
+    p.b = glm::normalize(glm::vec3(0.6f, 0.0f, -0.8f));  // from behind: two-sided
+    for (const auto& r : runRoutine(p)) {
+        EXPECT_NEAR(r.direction.x, -0.6f, 1e-6f);
+        EXPECT_NEAR(r.direction.z, -0.8f, 1e-6f);
+        EXPECT_EQ(r.flags, 3u);
+    }
+}
+
+}  // namespace
