@@ -51,6 +51,7 @@ int runCli(int argc, char** argv) {
     Commands commands;
     addInfoCommand(app, global, commands);
     addRaysCommand(app, global, commands);
+    addCompareCommand(app, global, commands);
 
     try {
         app.parse(argc, argv);

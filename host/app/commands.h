@@ -31,5 +31,6 @@ int withContext(const GlobalOptions& global, const std::function<int(vk::Context
 
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addRaysCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addCompareCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 
 }  // namespace vkpath::app
