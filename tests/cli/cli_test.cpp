@@ -1,0 +1,74 @@
+// The command line as a user meets it: help, info, flags and exit codes.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+#include "image/image.h"
+#include "support/run_vkpath.h"
+
+namespace {
+
+using vkpath::test::lineCount;
+using vkpath::test::runVkpath;
+
+TEST(Cli, HelpListsTheCommands) {
+    const auto r = runVkpath("--help");
+    EXPECT_EQ(r.exitCode, 0);
+    for (const char* command : {"info", "rays", "compare"}) EXPECT_NE(r.out.find(command), std::string::npos) << command;
+}
+
+TEST(Cli, UnknownFlagIsOneLineAndExitTwo) {
+    for (const char* args : {"--no-such-flag info", "info --no-such-flag", "no-such-command", ""}) {
+        SCOPED_TRACE(args);
+        const auto r = runVkpath(args);
+        EXPECT_EQ(r.exitCode, 2);
+        EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    }
+}
+
+TEST(Cli, InfoJsonNamesTheDeviceAndItsLimits) {
+    const auto r = runVkpath("--validation info --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto json = nlohmann::json::parse(r.out);
+    const auto& chosen = json["chosen"];
+    EXPECT_FALSE(chosen["name"].get<std::string>().empty());
+    EXPECT_GT(chosen["maxStorageBufferRange"].get<uint64_t>(), 0u);
+    EXPECT_GT(chosen["subgroupSize"].get<uint32_t>(), 0u);
+    EXPECT_TRUE(chosen["scalarBlockLayout"].get<bool>());
+    EXPECT_GE(json["devices"].size(), 1u);
+}
+
+TEST(Cli, DeviceIndexOutOfRangeIsBadInput) {
+    const auto r = runVkpath("--device-index 99 info");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    const auto env = runVkpath("info");  // the environment variable is read when the flag is absent
+    EXPECT_EQ(env.exitCode, 0);
+}
+
+TEST(Cli, RaysWritesExrAndPngThroughVulkan) {
+    const auto dir = std::filesystem::temp_directory_path() / ("vkpath-cli-" + std::to_string(getpid()));
+    const auto exr = dir / "rays.exr", png = dir / "rays.png";
+    const auto r = runVkpath("--validation rays -d 32x16 -o " + exr.string() + " --png " + png.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto image = vkpath::image::readImage(exr);
+    EXPECT_EQ(image.width, 32u);
+    EXPECT_EQ(image.height, 16u);
+    // The centre ray looks down -z: colour 0.5 + 0.5 * (0, 0, -1).
+    const glm::vec3 centre = image.at(16, 8);
+    EXPECT_NEAR(centre.z, 0.0f, 0.01f);
+    EXPECT_TRUE(std::filesystem::exists(png));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, BadFilmSizeWritesNothing) {
+    const auto dir = std::filesystem::temp_directory_path() / ("vkpath-cli-bad-" + std::to_string(getpid()));
+    const auto r = runVkpath("rays -d 0x5 -o " + (dir / "x.exr").string());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lineCount(r.err), 1);
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
+}
+
+}  // namespace
