@@ -37,3 +37,29 @@ TEST(Statistics, ChiSquarePoolsAndRejects) {
 TEST(Statistics, Sidak) { EXPECT_NEAR(sidakAlpha(0.01, 1), 0.01, 1e-15); EXPECT_LT(sidakAlpha(0.01, 10), 0.001006); }
 
 }  // namespace
+
+#include "shared/precise_math.h"
+
+namespace {
+
+// The shared inverse trigonometry against the C library in double. Results
+// reach pi, where one float ulp is 2.4e-7: the bound is 1.5 ulp there.
+TEST(PreciseMath, AtanAndAcosWithinOneAndAHalfUlpOfPi) {
+    double worst = 0;
+    for (int i = -1000; i <= 1000; ++i)
+        for (int j = -1000; j <= 1000; j += 7) {
+            const float y = i * 0.013f, x = j * 0.011f;
+            if (x == 0 && y == 0) continue;
+            worst = std::max(worst, std::abs(vkpath::shared::preciseAtan2(y, x) - std::atan2(double(y), double(x))));
+        }
+    EXPECT_LT(worst, 3.6e-7);
+    worst = 0;
+    for (int i = -100000; i <= 100000; ++i) {
+        const float c = i * 1e-5f;
+        worst = std::max(worst, std::abs(vkpath::shared::preciseAcos(c) - std::acos(double(c))));
+    }
+    EXPECT_LT(worst, 3.6e-7);
+    EXPECT_EQ(vkpath::shared::preciseAtan2(0.0f, 0.0f), 0.0f);
+}
+
+}  // namespace

@@ -1,0 +1,48 @@
+// Test kernel: samples the environment's alias table and, for each sample,
+// also evaluates the pdf of the sampled direction the way a BSDF-sampled ray
+// that hits the environment would (direction -> map uv -> texel -> pdf).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+
+#include "shared/environment_sampling.h"
+#include "shared/rng.h"
+
+layout(local_size_x_id = 0) in;
+
+struct EnvTestResult {
+    vec3 direction;
+    float pdf;        // from sampling
+    float pdfLookup;  // from evaluating the direction
+    uint texel;       // the texel chosen by the alias table
+    uint lookedUpTexel;  // the texel of the sampled direction, looked up
+};
+
+layout(binding = 0, scalar) readonly buffer Table { EnvAliasEntry table[]; };
+layout(binding = 1, scalar) writeonly buffer Results { EnvTestResult results[]; };
+layout(push_constant, scalar) uniform Push {
+    EnvironmentInfo info;
+    uint count;
+    uint seed;
+};
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    RngKey key = makeRngKey(i, 0u, seed);
+    uint texelCount = info.width * info.height;
+    uint bucket = envBucket(rngBits(key, 0u), texelCount);
+    uint texel = envResolveAlias(table[bucket], bucket, rngBits(key, 1u));
+    EnvSample s = envSampleInTexel(info, texel, rngUniform2(key, 2u));
+
+    // As a BSDF-sampled ray escaping in this direction would evaluate it.
+    vec3 mapDirection = envWorldToMap(info, s.direction);
+    uint lookedUp = envTexelOfUv(info, equirectUv(mapDirection));
+    EnvTestResult r;
+    r.direction = s.direction;
+    r.pdf = envDirectionPdf(info, table[s.pdfTexel].probability, s.direction);
+    r.pdfLookup = envDirectionPdf(info, table[lookedUp].probability, s.direction);
+    r.texel = texel;
+    r.lookedUpTexel = lookedUp;
+    results[i] = r;
+}
