@@ -1,37 +1,22 @@
 // Importance sampling of the environment map in proportion to
-// luminance x sin(theta), texel by texel, with an alias table (Walker 1977;
-// Vose, IEEE TSE 17(9), 1991) built on the host in double precision.
+// luminance x sin(theta), texel by texel, through an alias table over the
+// texels (shared/alias.h explains why not a float marginal/conditional CDF:
+// with a 10^7 sun, whole rows of sky fall below one float ulp of the CDF).
 //
-// Why not a float marginal/conditional CDF: with a 10^7 sun, whole rows of
-// sky hold less probability than one float ulp of the CDF near 1, so their
-// CDF intervals collapse to zero width while the pdf still says > 0: biased.
-// The alias table keeps each texel's share in its own 32-bit threshold, so
-// no texel with radiance > 0 drops to probability 0, and `probability` is
-// computed from the quantised table itself: the density the sampler really
-// draws from is the one the pdf reads.
-//
-// Sampling uses 4 random dimensions: bucket bits and threshold bits (full
-// 32-bit words), then a point inside the chosen texel. GLSL cannot pass
-// buffers to functions, so the caller reads table entries between the steps:
-//   bucket = envBucket(bits0, count); e = table[bucket];
-//   texel = envResolveAlias(e, bucket, bits1);
+// Sampling uses 4 random dimensions: two 32-bit words for the alias table,
+// then a point inside the chosen texel:
+//   bucket = aliasBucket(bits0, texels); texel = aliasResolve(table[bucket], bucket, bits1);
 //   s = envSampleInTexel(info, texel, jitter);
 //   pdf = envDirectionPdf(info, table[s.pdfTexel].probability, s.direction);
 #ifndef VKPATH_SHARED_ENVIRONMENT_SAMPLING_H
 #define VKPATH_SHARED_ENVIRONMENT_SAMPLING_H
 
 #include "shared/compat.h"
+#include "shared/alias.h"
 #include "shared/constants.h"
 #include "shared/environment_map.h"
 
 VKP_NAMESPACE_BEGIN
-
-// One entry per texel (row-major from the top-left).
-struct EnvAliasEntry {
-    uint threshold;     // the bucket keeps its own texel when bits < threshold, else takes `alias`
-    uint alias;         // texel index
-    float probability;  // this texel's exact probability under the quantised table
-};
 
 struct EnvironmentInfo {
     uint width;         // map size in texels
@@ -41,22 +26,6 @@ struct EnvironmentInfo {
     float sinRotation;
     vec3 color;         // constant radiance when there is no map (width = 0)
 };
-
-// floor(bits * count / 2^32): uniform over [0, count) for count <= 2^32.
-VKP_FN uint envBucket(uint bits, uint count) {
-#ifdef __cplusplus
-    return uint((uint64_t(bits) * uint64_t(count)) >> 32);
-#else
-    uint high;
-    uint low;
-    umulExtended(bits, count, high, low);
-    return high;
-#endif
-}
-
-VKP_FN uint envResolveAlias(EnvAliasEntry entry, uint bucket, uint bits) {
-    return bits < entry.threshold ? bucket : entry.alias;
-}
 
 // Map direction of a world direction (undoing the rotation), and back.
 VKP_FN vec3 envWorldToMap(EnvironmentInfo info, vec3 d) {
@@ -90,11 +59,11 @@ VKP_FN float envPdf(EnvironmentInfo info, float probability, vec3 mapDirection) 
 struct EnvSample {
     vec3 direction;  // world space
     vec2 uv;         // map coordinates
-    uint pdfTexel;   // the texel whose probability gives the pdf: read it, then call envSamplePdf
+    uint pdfTexel;   // the texel whose probability gives the pdf: read it, then call envDirectionPdf
 };
 
 // A point uniformly inside the chosen texel. Its pdf is evaluated from the
-// direction (envSamplePdf with the probability of s.pdfTexel), exactly as for
+// direction (envDirectionPdf with the probability of s.pdfTexel), exactly as for
 // a BSDF-sampled direction that escapes: the two MIS strategies then agree
 // to the bit. The texel looked up from the direction is the chosen one except
 // within ~1e-7 of a texel edge, where rounding of the mapping may pick the
@@ -122,7 +91,6 @@ VKP_FN float envDirectionPdf(EnvironmentInfo info, float texelProbability, vec3 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::EnvAliasEntry) == 12);
 static_assert(sizeof(vkpath::shared::EnvironmentInfo) == 32);
 #endif
 

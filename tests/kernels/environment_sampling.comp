@@ -18,7 +18,7 @@ struct EnvTestResult {
     uint lookedUpTexel;  // the texel of the sampled direction, looked up
 };
 
-layout(binding = 0, scalar) readonly buffer Table { EnvAliasEntry table[]; };
+layout(binding = 0, scalar) readonly buffer Table { AliasEntry table[]; };
 layout(binding = 1, scalar) writeonly buffer Results { EnvTestResult results[]; };
 layout(push_constant, scalar) uniform Push {
     EnvironmentInfo info;
@@ -31,8 +31,8 @@ void main() {
     if (i >= count) return;
     RngKey key = makeRngKey(i, 0u, seed);
     uint texelCount = info.width * info.height;
-    uint bucket = envBucket(rngBits(key, 0u), texelCount);
-    uint texel = envResolveAlias(table[bucket], bucket, rngBits(key, 1u));
+    uint bucket = aliasBucket(rngBits(key, 0u), texelCount);
+    uint texel = aliasResolve(table[bucket], bucket, rngBits(key, 1u));
     EnvSample s = envSampleInTexel(info, texel, rngUniform2(key, 2u));
 
     // As a BSDF-sampled ray escaping in this direction would evaluate it.

@@ -206,9 +206,9 @@ TEST(EnvironmentSampling, SkyWithSunAtExtremeRatios) {
 }
 
 TEST(EnvironmentSampling, LargestUniformsStayInRange) {
-    EXPECT_EQ(shared::envBucket(0xffffffffu, 7u), 6u);
-    EXPECT_EQ(shared::envBucket(0xffffffffu, 2048u * 1024u), 2048u * 1024u - 1);
-    EXPECT_EQ(shared::envBucket(0u, 5u), 0u);
+    EXPECT_EQ(shared::aliasBucket(0xffffffffu, 7u), 6u);
+    EXPECT_EQ(shared::aliasBucket(0xffffffffu, 2048u * 1024u), 2048u * 1024u - 1);
+    EXPECT_EQ(shared::aliasBucket(0u, 5u), 0u);
     const image::Image map = constantMap(4, 2);
     const auto info = infoFor(map);
     const float almostOne = 1.0f - std::ldexp(1.0f, -24);

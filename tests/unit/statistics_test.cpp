@@ -63,3 +63,39 @@ TEST(PreciseMath, AtanAndAcosWithinOneAndAHalfUlpOfPi) {
 }
 
 }  // namespace
+
+#include "scene/alias_table.h"
+#include "shared/alias.h"
+
+namespace {
+
+// The alias table's probabilities are exact for its own thresholds: counting
+// every (bucket, bits) outcome class gives them back, and tiny weights keep
+// a nonzero share.
+TEST(AliasTable, ProbabilitiesMatchWeightsAndSurviveTinyWeights) {
+    const std::vector<double> weights = {1e-12, 3.0, 0.0, 1.0, 1e7, -2.0, std::nan("")};
+    const auto table = vkpath::scene::buildAliasTable(weights);
+    ASSERT_EQ(table.size(), weights.size());
+    const double total = 1e-12 + 3.0 + 1.0 + 1e7;
+    for (size_t i = 0; i < weights.size(); ++i) {
+        const double expected = std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] / total : 0.0;
+        if (expected == 0) {
+            EXPECT_EQ(table[i].probability, 0.0f) << i;
+        } else {
+            EXPECT_GT(table[i].probability, 0.0f) << i;
+            // Quantisation: one part in 2^32 of a bucket, relative to N / 2^32.
+            EXPECT_NEAR(table[i].probability, expected, std::max(expected * 1e-6, 7.0 / 4294967296.0)) << i;
+        }
+    }
+    // Resolving extreme random words stays in range.
+    for (uint32_t bits : {0u, 0x7fffffffu, 0xffffffffu}) {
+        const uint32_t bucket = vkpath::shared::aliasBucket(bits, uint32_t(table.size()));
+        ASSERT_LT(bucket, table.size());
+        const uint32_t element = vkpath::shared::aliasResolve(table[bucket], bucket, bits);
+        ASSERT_LT(element, table.size());
+        EXPECT_GT(table[element].probability, 0.0f);
+    }
+    EXPECT_TRUE(vkpath::scene::buildAliasTable(std::vector<double>{0.0, -1.0}).empty());
+}
+
+}  // namespace
