@@ -50,8 +50,9 @@ int runCli(int argc, char** argv) {
 
     Commands commands;
     addInfoCommand(app, global, commands);
-    addRaysCommand(app, global, commands);
+    addRenderCommand(app, global, commands);
     addCompareCommand(app, global, commands);
+    addSceneInfoCommand(app, global, commands);
 
     try {
         app.parse(argc, argv);

@@ -30,7 +30,8 @@ struct Commands {
 int withContext(const GlobalOptions& global, const std::function<int(vk::Context&)>& body);
 
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
-void addRaysCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addCompareCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addSceneInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 
 }  // namespace vkpath::app

@@ -2,10 +2,9 @@
 // its descriptor-set layout and push-constant range taken from the SPIR-V
 // itself. Tests and the wavefront integrator use the same class:
 //
-//   vkpath::vk::Kernel generate(context, "generate");
-//   double ms = generate.dispatch(count, {{VKP_GENERATE_BINDING_CAMERA, &camera},
-//                                         {VKP_GENERATE_BINDING_RAYS, &rays}}, push);
-//   auto result = rays.download<Ray>();
+//   vkpath::vk::Kernel fill(context, "rng_fill");
+//   double ms = fill.dispatch(count, {{0, &bits}}, push);
+//   auto result = bits.download<uint32_t>();
 #pragma once
 
 #include <vulkan/vulkan.h>

@@ -7,6 +7,7 @@
 
 #include "image/image.h"
 #include "support/run_vkpath.h"
+#include "support/test_context.h"
 
 namespace {
 
@@ -16,7 +17,7 @@ using vkpath::test::runVkpath;
 TEST(Cli, HelpListsTheCommands) {
     const auto r = runVkpath("--help");
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* command : {"info", "rays", "compare"}) EXPECT_NE(r.out.find(command), std::string::npos) << command;
+    for (const char* command : {"info", "render", "compare", "scene-info"}) EXPECT_NE(r.out.find(command), std::string::npos) << command;
 }
 
 TEST(Cli, UnknownFlagIsOneLineAndExitTwo) {
@@ -48,24 +49,10 @@ TEST(Cli, DeviceIndexOutOfRangeIsBadInput) {
     EXPECT_EQ(env.exitCode, 0);
 }
 
-TEST(Cli, RaysWritesExrAndPngThroughVulkan) {
-    const auto dir = std::filesystem::temp_directory_path() / ("vkpath-cli-" + std::to_string(getpid()));
-    const auto exr = dir / "rays.exr", png = dir / "rays.png";
-    const auto r = runVkpath("--validation rays -d 32x16 -o " + exr.string() + " --png " + png.string());
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    const auto image = vkpath::image::readImage(exr);
-    EXPECT_EQ(image.width, 32u);
-    EXPECT_EQ(image.height, 16u);
-    // The centre ray looks down -z: colour 0.5 + 0.5 * (0, 0, -1).
-    const glm::vec3 centre = image.at(16, 8);
-    EXPECT_NEAR(centre.z, 0.0f, 0.01f);
-    EXPECT_TRUE(std::filesystem::exists(png));
-    std::filesystem::remove_all(dir);
-}
-
 TEST(Cli, BadFilmSizeWritesNothing) {
     const auto dir = std::filesystem::temp_directory_path() / ("vkpath-cli-bad-" + std::to_string(getpid()));
-    const auto r = runVkpath("rays -d 0x5 -o " + (dir / "x.exr").string());
+    const auto r = runVkpath("render " + vkpath::test::sourcePath("assets/cornell_box.gltf").string() +
+                             " -d 0x5 -o " + (dir / "x.exr").string());
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lineCount(r.err), 1);
     EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));

@@ -6,10 +6,11 @@
 #include <cmath>
 
 #include "scene/camera.h"
-#include "shared/bindings.h"
 #include "shared/camera.h"
 #include "shared/dimensions.h"
 #include "shared/rng.h"
+#include "shared/scene_data.h"
+#include "shared/wavefront.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
@@ -29,12 +30,28 @@ TEST(CameraStage, GpuRaysMatchCpu) {
     const shared::Camera gpuCamera = scene::makeGpuCamera(camera, width, height);
     const uint32_t count = width * height, seed = 1234, sampleIndex = 5;
 
+    // The wavefront's generate stage, for the wave holding sample
+    // `sampleIndex` of every pixel (path = sampleIndex * pixels + pixel).
+    shared::SceneInfo info{};
+    info.seed = seed;
+    info.width = width;
+    info.height = height;
+    vk::Buffer infoBuffer = vk::Buffer::fromSpan(context, std::span(&info, 1));
     vk::Buffer cameraBuffer = vk::Buffer::fromSpan(context, std::span(&gpuCamera, 1));
     vk::Buffer rays(context, count * sizeof(shared::Ray));
+    vk::Buffer throughput(context, count * sizeof(glm::vec3)), radiance(context, count * sizeof(glm::vec3));
+    vk::Buffer vertices(context, count * sizeof(shared::PathVertex)), queues(context, 3 * count * sizeof(uint32_t));
+    vk::Buffer counters(context, sizeof(shared::QueueCounters));
     vk::Kernel generate(context, "generate");
-    generate.dispatch(count, {{VKP_GENERATE_BINDING_CAMERA, &cameraBuffer}, {VKP_GENERATE_BINDING_RAYS, &rays}},
-                      shared::GeneratePush{0, count, sampleIndex, seed});
+    generate.dispatch(count,
+                      {{VKP_WF_SCENE_INFO, &infoBuffer}, {VKP_WF_CAMERA, &cameraBuffer}, {VKP_WF_RAYS, &rays},
+                       {VKP_WF_THROUGHPUT, &throughput}, {VKP_WF_RADIANCE, &radiance}, {VKP_WF_VERTEX, &vertices},
+                       {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters}},
+                      shared::WavePush{sampleIndex * count, count, 0, 0});
     const auto gpu = rays.download<shared::Ray>();
+    // Every path starts alive in ray queue 0 with throughput 1.
+    EXPECT_EQ(counters.download<shared::QueueCounters>()[0].rayCount0, count);
+    for (const glm::vec3& t : throughput.download<glm::vec3>()) ASSERT_EQ(t, glm::vec3(1.0f));
 
     // A direction component of magnitude ~1 has ulp 2^-23 ~ 1.2e-7; allow 4 ulp.
     constexpr float TOLERANCE = 4.8e-7f;

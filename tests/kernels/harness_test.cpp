@@ -2,8 +2,7 @@
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
-#include "shared/bindings.h"
-#include "shared/camera.h"
+#include "shared/wavefront.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
@@ -14,45 +13,42 @@ using namespace vkpath;
 
 TEST(KernelHarness, ReflectsBindingsAndPushConstants) {
     vk::Kernel generate(test::context(), "generate");
-    ASSERT_EQ(generate.reflection().bindings.size(), 2u);
-    EXPECT_EQ(generate.reflection().bindings[0].binding, uint32_t(VKP_GENERATE_BINDING_CAMERA));
-    EXPECT_EQ(generate.reflection().bindings[1].binding, uint32_t(VKP_GENERATE_BINDING_RAYS));
-    EXPECT_EQ(generate.reflection().pushConstantSize, sizeof(shared::GeneratePush));
+    std::vector<uint32_t> bindings;
+    for (const auto& b : generate.reflection().bindings) bindings.push_back(b.binding);
+    EXPECT_EQ(bindings, (std::vector<uint32_t>{VKP_WF_SCENE_INFO, VKP_WF_CAMERA, VKP_WF_RAYS, VKP_WF_THROUGHPUT,
+                                               VKP_WF_RADIANCE, VKP_WF_VERTEX, VKP_WF_QUEUES, VKP_WF_COUNTERS}));
+    EXPECT_EQ(generate.reflection().pushConstantSize, sizeof(shared::WavePush));
 }
 
 TEST(KernelHarness, RejectsWrongBindingsAndPushSize) {
     vk::Context& context = test::context();
-    vk::Kernel generate(context, "generate");
+    vk::Kernel fill(context, "rng_fill");
     vk::Buffer a(context, 64), b(context, 64);
-    EXPECT_THROW(generate.bind({{VKP_GENERATE_BINDING_CAMERA, &a}}), std::invalid_argument);  // one missing
-    EXPECT_THROW(generate.bind({{0, &a}, {1, &b}, {7, &b}}), std::invalid_argument);          // unknown
-    EXPECT_THROW(generate.dispatch(1, {{0, &a}, {1, &b}}, uint32_t{0}), std::invalid_argument);  // 4 bytes, not 16
+    EXPECT_THROW(fill.bind({}), std::invalid_argument);                          // binding 0 missing
+    EXPECT_THROW(fill.bind({{0, &a}, {7, &b}}), std::invalid_argument);          // unknown binding
+    EXPECT_THROW(fill.bind({{0, &a}, {0, &b}}), std::invalid_argument);          // given twice
+    EXPECT_THROW(fill.dispatch(1, {{0, &a}}, uint32_t{0}), std::invalid_argument);  // 4 bytes, not 16
     EXPECT_THROW(vk::Kernel(context, "no_such_kernel"), std::out_of_range);
     EXPECT_THROW(vk::Kernel(context, "generate", {.workgroupSize = 100000}), std::invalid_argument);
 }
 
 TEST(KernelHarness, SpecialisedWorkgroupSizesGiveTheSameResult) {
     vk::Context& context = test::context();
-    const uint32_t count = 1000;
-    shared::Camera camera{};
-    camera.forward = {0, 0, -1};
-    camera.right = {1, 0, 0};
-    camera.up = {0, 1, 0};
-    camera.width = 40;
-    camera.height = 25;
-    vk::Buffer cameraBuffer = vk::Buffer::fromSpan(context, std::span(&camera, 1));
-    std::vector<std::vector<shared::Ray>> results;
+    const uint32_t count = 1000;  // not a multiple of any size below: the bound check matters
+    struct Push {
+        uint32_t count, pixels, dimensions, seed;
+    } push{count, 10, 10, 3};
+    std::vector<std::vector<uint32_t>> results;
     for (uint32_t size : {1u, 8u, 64u, 256u}) {
-        vk::Buffer rays(context, count * sizeof(shared::Ray));
-        vk::Kernel generate(context, "generate", {.workgroupSize = size});
-        EXPECT_EQ(generate.workgroupSize(), size);
-        const double ms = generate.dispatch(count, {{0, &cameraBuffer}, {1, &rays}},
-                                            shared::GeneratePush{0, count, 0, 0});
-        EXPECT_GE(ms, 0.0);
-        results.push_back(rays.download<shared::Ray>());
+        vk::Buffer bits(context, (count + 256) * sizeof(uint32_t));
+        bits.clear();
+        vk::Kernel fill(context, "rng_fill", {.workgroupSize = size});
+        EXPECT_EQ(fill.workgroupSize(), size);
+        EXPECT_GE(fill.dispatch(count, {{0, &bits}}, push), 0.0);
+        results.push_back(bits.download<uint32_t>());
     }
-    for (size_t r = 1; r < results.size(); ++r)
-        for (uint32_t i = 0; i < count; ++i) ASSERT_EQ(results[r][i].direction, results[0][i].direction);
+    for (size_t r = 1; r < results.size(); ++r) EXPECT_EQ(results[r], results[0]);
+    for (uint32_t i = count; i < count + 256; ++i) EXPECT_EQ(results[3][i], 0u) << "wrote past count";
 }
 
 TEST(Buffers, UploadDownloadRoundTripAtOffsets) {

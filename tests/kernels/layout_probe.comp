@@ -5,22 +5,49 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 
-#include "shared/bindings.h"
+#include "shared/alias.h"
+#include "shared/bvh.h"
 #include "shared/camera.h"
+#include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/ray.h"
+#include "shared/scene_data.h"
+#include "shared/wavefront.h"
 
 layout(local_size_x = 1) in;
 
-layout(binding = 0, scalar) buffer Rays { Ray rays[]; };
-layout(binding = 1, scalar) buffer Cameras { Camera cameras[]; };
-layout(binding = 2, scalar) buffer GeneratePushes { GeneratePush generatePushes[]; };
-layout(binding = 3, scalar) buffer Materials { Material materials[]; };
+#define PROBE(T, b) layout(binding = b, scalar) buffer T##Array { T items##b[]; };
+PROBE(Ray, 0)
+PROBE(Camera, 1)
+PROBE(Material, 2)
+PROBE(BvhNode, 3)
+PROBE(BvhPrimitive, 4)
+PROBE(Hit, 5)
+PROBE(TracePush, 6)
+PROBE(AliasEntry, 7)
+PROBE(EnvironmentInfo, 8)
+PROBE(SceneInfo, 9)
+PROBE(Light, 10)
+PROBE(PathVertex, 11)
+PROBE(QueueCounters, 12)
+PROBE(FilmPixel, 13)
+PROBE(WavePush, 14)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
-    rays[0] = rays[1];
-    cameras[0] = cameras[1];
-    generatePushes[0] = generatePushes[1];
-    materials[0] = materials[1];
+    items0[0] = items0[1];
+    items1[0] = items1[1];
+    items2[0] = items2[1];
+    items3[0] = items3[1];
+    items4[0] = items4[1];
+    items5[0] = items5[1];
+    items6[0] = items6[1];
+    items7[0] = items7[1];
+    items8[0] = items8[1];
+    items9[0] = items9[1];
+    items10[0] = items10[1];
+    items11[0] = items11[1];
+    items12[0] = items12[1];
+    items13[0] = items13[1];
+    items14[0] = items14[1];
 }

@@ -6,10 +6,14 @@
 #include <cstddef>
 #include <vector>
 
-#include "shared/bindings.h"
+#include "shared/alias.h"
+#include "shared/bvh.h"
 #include "shared/camera.h"
+#include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/ray.h"
+#include "shared/scene_data.h"
+#include "shared/wavefront.h"
 #include "vk/embedded_shaders.h"
 #include "vk/spirv_reflect.h"
 
@@ -26,19 +30,47 @@ struct Expected {
 
 #define VKP_OFFSET(T, m) static_cast<uint32_t>(offsetof(T, m))
 
+#define VKP_O(T, m) VKP_OFFSET(T, m)
+
 std::vector<Expected> expectedLayouts() {
     return {
-        {"Ray", sizeof(Ray),
-         {VKP_OFFSET(Ray, origin), VKP_OFFSET(Ray, tMax), VKP_OFFSET(Ray, direction), VKP_OFFSET(Ray, pixel)}},
+        {"Ray", sizeof(Ray), {VKP_O(Ray, origin), VKP_O(Ray, tMax), VKP_O(Ray, direction), VKP_O(Ray, pixel)}},
         {"Camera", sizeof(Camera),
-         {VKP_OFFSET(Camera, origin), VKP_OFFSET(Camera, forward), VKP_OFFSET(Camera, right),
-          VKP_OFFSET(Camera, up), VKP_OFFSET(Camera, width), VKP_OFFSET(Camera, height)}},
-        {"GeneratePush", sizeof(GeneratePush),
-         {VKP_OFFSET(GeneratePush, firstPixel), VKP_OFFSET(GeneratePush, count),
-          VKP_OFFSET(GeneratePush, sampleIndex), VKP_OFFSET(GeneratePush, seed)}},
+         {VKP_O(Camera, origin), VKP_O(Camera, forward), VKP_O(Camera, right), VKP_O(Camera, up),
+          VKP_O(Camera, width), VKP_O(Camera, height)}},
         {"Material", sizeof(Material),
-         {VKP_OFFSET(Material, reflectance), VKP_OFFSET(Material, kind), VKP_OFFSET(Material, transmittance),
-          VKP_OFFSET(Material, ior), VKP_OFFSET(Material, emission)}},
+         {VKP_O(Material, reflectance), VKP_O(Material, kind), VKP_O(Material, transmittance), VKP_O(Material, ior),
+          VKP_O(Material, emission)}},
+        {"BvhNode", sizeof(BvhNode),
+         {VKP_O(BvhNode, boundsMin), VKP_O(BvhNode, offset), VKP_O(BvhNode, boundsMax), VKP_O(BvhNode, count)}},
+        {"BvhPrimitive", sizeof(BvhPrimitive),
+         {VKP_O(BvhPrimitive, p0), VKP_O(BvhPrimitive, kind), VKP_O(BvhPrimitive, p1), VKP_O(BvhPrimitive, id),
+          VKP_O(BvhPrimitive, p2), VKP_O(BvhPrimitive, material)}},
+        {"Hit", sizeof(Hit), {VKP_O(Hit, t), VKP_O(Hit, primitive), VKP_O(Hit, barycentrics)}},
+        {"TracePush", sizeof(TracePush), {VKP_O(TracePush, count)}},
+        {"AliasEntry", sizeof(AliasEntry),
+         {VKP_O(AliasEntry, threshold), VKP_O(AliasEntry, alias), VKP_O(AliasEntry, probability)}},
+        {"EnvironmentInfo", sizeof(EnvironmentInfo),
+         {VKP_O(EnvironmentInfo, width), VKP_O(EnvironmentInfo, height), VKP_O(EnvironmentInfo, strength),
+          VKP_O(EnvironmentInfo, cosRotation), VKP_O(EnvironmentInfo, sinRotation), VKP_O(EnvironmentInfo, color)}},
+        {"SceneInfo", sizeof(SceneInfo),
+         {VKP_O(SceneInfo, environment), VKP_O(SceneInfo, hasEnvironment), VKP_O(SceneInfo, lightCount),
+          VKP_O(SceneInfo, environmentLight), VKP_O(SceneInfo, lightSamples), VKP_O(SceneInfo, maxDepth),
+          VKP_O(SceneInfo, rouletteDepth), VKP_O(SceneInfo, seed), VKP_O(SceneInfo, width),
+          VKP_O(SceneInfo, height)}},
+        {"Light", sizeof(Light),
+         {VKP_O(Light, p0), VKP_O(Light, type), VKP_O(Light, p1), VKP_O(Light, radius), VKP_O(Light, p2),
+          VKP_O(Light, cosInner), VKP_O(Light, emission), VKP_O(Light, cosOuter)}},
+        {"PathVertex", sizeof(PathVertex),
+         {VKP_O(PathVertex, position), VKP_O(PathVertex, bsdfPdf), VKP_O(PathVertex, specular)}},
+        {"QueueCounters", sizeof(QueueCounters),
+         {VKP_O(QueueCounters, rayCount0), VKP_O(QueueCounters, rayCount1), VKP_O(QueueCounters, shadowCount),
+          VKP_O(QueueCounters, nonFinite), VKP_O(QueueCounters, rayDispatch), VKP_O(QueueCounters, shadowDispatch)}},
+        {"FilmPixel", sizeof(FilmPixel),
+         {VKP_O(FilmPixel, sum), VKP_O(FilmPixel, sumCompensation), VKP_O(FilmPixel, sumSquares),
+          VKP_O(FilmPixel, sumSquaresCompensation)}},
+        {"WavePush", sizeof(WavePush),
+         {VKP_O(WavePush, firstPath), VKP_O(WavePush, pathCount), VKP_O(WavePush, bounce), VKP_O(WavePush, mode)}},
     };
 }
 

@@ -1,0 +1,182 @@
+// `vkpath render SCENE`: the wavefront path tracer, start to EXR.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "app/commands.h"
+#include "app/film_size.h"
+#include "image/image.h"
+#include "input_error.h"
+#include "scene/environment.h"
+#include "scene/load.h"
+#include "vk/context.h"
+#include "wavefront/renderer.h"
+
+namespace vkpath::app {
+namespace {
+
+struct RenderOptions {
+    std::string scene;
+    std::string output = "out/render.exr";
+    std::string png;
+    std::string size = "640x480";
+    uint32_t spp = 16;
+    uint32_t maxDepth = 8;
+    uint32_t lightSamples = 1;
+    uint32_t seed = 0;
+    std::optional<double> timeBudget;
+    std::string environment;
+    std::vector<float> environmentColor;
+    float environmentStrength = 1.0f;
+    float environmentRotation = 0.0f;
+    std::string camera;
+    float exposure = 0.0f;
+    std::vector<std::string> aovs;
+    uint32_t workgroupSize = 64;
+    uint32_t pathsInFlight = 1u << 20;
+    bool timings = false;
+};
+
+void ensureParent(const std::filesystem::path& path) {
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+}
+
+// "out/x.exr" + "variance" -> "out/x.variance.exr"
+std::filesystem::path aovPath(const std::filesystem::path& output, const std::string& aov) {
+    auto path = output;
+    path.replace_filename(fmt::format("{}.{}{}", output.stem().string(), aov, output.extension().string()));
+    return path;
+}
+
+void printProgress(const wavefront::RenderProgress& p, uint64_t pixels) {
+    const double fraction = p.samplesTotal ? double(p.samplesDone) / p.samplesTotal : 1.0;
+    const int width = 30;
+    const int filled = int(fraction * width);
+    const double mpaths = p.seconds > 0 ? double(p.samplesDone) * pixels / p.seconds * 1e-6 : 0.0;
+    const double eta = fraction > 0 ? p.seconds * (1 - fraction) / fraction : 0.0;
+    std::fprintf(stderr, "\r[%.*s%*s] %u/%u spp  %.2f Mpaths/s  ETA %.1f s ", filled,
+                 "##############################", width - filled, "", p.samplesDone, p.samplesTotal, mpaths, eta);
+}
+
+int runRender(const GlobalOptions& global, const RenderOptions& o) {
+    const FilmSize film = parseFilmSize(o.size);
+    if (o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
+    if (uint64_t(film.width) * film.height * o.spp >= (uint64_t(1) << 32))
+        throw InputError(fmt::format("{}x{} pixels x {} spp is more than 2^32 paths in one render", film.width,
+                                     film.height, o.spp));
+    scene::LoadOptions loadOptions;
+    loadOptions.cameraName = o.camera;
+    scene::Scene scene = scene::loadScene(o.scene, loadOptions);
+    if (!o.environment.empty() || !o.environmentColor.empty()) {
+        scene::Environment env;
+        if (!o.environment.empty()) env.map = scene::loadEnvironmentMap(o.environment);
+        if (!o.environmentColor.empty()) env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
+        scene.environment = env;
+    }
+    if (scene.environment) {
+        if (!(o.environmentStrength >= 0) || !std::isfinite(o.environmentStrength))
+            throw InputError("--env-strength must be a finite number >= 0");
+        scene.environment->strength = o.environmentStrength;
+        scene.environment->rotationDegrees = o.environmentRotation;
+    }
+
+    wavefront::RenderSettings settings;
+    settings.width = film.width;
+    settings.height = film.height;
+    settings.samplesPerPixel = o.spp;
+    settings.maxDepth = o.maxDepth;
+    settings.lightSamples = o.lightSamples;
+    settings.seed = o.seed;
+    settings.timeBudgetSeconds = o.timeBudget;
+    settings.workgroupSize = o.workgroupSize;
+    settings.maxPathsInFlight = o.pathsInFlight;
+
+    return withContext(global, [&](vk::Context& context) {
+        wavefront::WavefrontRenderer renderer(context, scene, settings);
+        const bool terminal = isatty(STDERR_FILENO);
+        const uint64_t pixels = uint64_t(film.width) * film.height;
+        const auto result = renderer.render([&](const wavefront::RenderProgress& p) {
+            if (terminal) printProgress(p, pixels);
+        });
+        if (terminal) std::fprintf(stderr, "\n");
+
+        const std::filesystem::path output(o.output);
+        ensureParent(output);
+        const image::Metadata metadata = {
+            {"vkpath:version", VKPATH_VERSION},
+            {"vkpath:spp", std::to_string(result.samplesPerPixel)},
+            {"vkpath:seed", std::to_string(o.seed)},
+            {"vkpath:maxDepth", std::to_string(o.maxDepth)},
+            {"vkpath:lightSamples", std::to_string(o.lightSamples)},
+            {"vkpath:device", context.info().name},
+            {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
+            {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
+            {"vkpath:scene", o.scene}};
+        image::writeExr(output, result.image, metadata);
+        std::printf("%s\n", output.string().c_str());
+        for (const std::string& aov : o.aovs) {
+            const auto path = aovPath(output, aov);
+            image::writeExr(path, result.varianceOfMean, metadata);
+            std::printf("%s\n", path.string().c_str());
+        }
+        if (!o.png.empty()) {
+            ensureParent(o.png);
+            image::writePng(o.png, result.image, o.exposure);
+            std::printf("%s\n", o.png.c_str());
+        }
+        double deviceMs = 0;
+        for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
+        const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
+        std::fprintf(stderr,
+                     "rendered %ux%u at %u spp in %.3f s (device %.3f s): %.3f Mpaths/s, %u waves of %u paths, "
+                     "%llu NaN/Inf samples dropped, on %s\n",
+                     film.width, film.height, result.samplesPerPixel, result.seconds, deviceMs * 1e-3, mpaths,
+                     result.waves, result.pathsInFlight, (unsigned long long)result.nonFiniteSamples,
+                     context.info().name.c_str());
+        if (o.timings) {
+            for (const auto& [stage, ms] : result.stageMilliseconds)
+                std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms, deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
+        }
+        return 0;
+    });
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
+    auto o = std::make_shared<RenderOptions>();
+    auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer");
+    cmd->add_option("scene", o->scene, "Scene file (.gltf, .glb, .dae)")->required();
+    cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
+    cmd->add_option("-s,--spp", o->spp, "Samples per pixel")->capture_default_str();
+    cmd->add_option("-m,--max-depth", o->maxDepth,
+                    "Maximum bounces (0: emitters seen directly only, 1: direct lighting)")
+        ->capture_default_str();
+    cmd->add_option("-d,--size", o->size, "Film size WxH")->capture_default_str();
+    cmd->add_option("-l,--light-samples", o->lightSamples, "Light samples per diffuse vertex")->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+    cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
+    cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->capture_default_str();
+    cmd->add_option("--time-budget", o->timeBudget, "Stop after the wave that spends this many seconds");
+    cmd->add_option("-e,--env", o->environment, "Environment map (.exr, .hdr), equirectangular");
+    cmd->add_option("--env-color", o->environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
+    cmd->add_option("--env-strength", o->environmentStrength, "Environment multiplier")->capture_default_str();
+    cmd->add_option("--env-rotate", o->environmentRotation, "Environment rotation about +Y, degrees")
+        ->capture_default_str();
+    cmd->add_option("--camera", o->camera, "glTF: render from the camera with this name");
+    cmd->add_option("--aov", o->aovs, "Extra outputs beside the EXR: variance (of each pixel's mean)")
+        ->check(CLI::IsMember({"variance"}));
+    cmd->add_option("--workgroup-size", o->workgroupSize, "Threads per workgroup of the stage kernels")
+        ->capture_default_str();
+    cmd->add_option("--paths-in-flight", o->pathsInFlight, "Upper bound on the paths of one wave")
+        ->capture_default_str();
+    cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
+    cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
+}
+
+}  // namespace vkpath::app

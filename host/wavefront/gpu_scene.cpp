@@ -1,0 +1,184 @@
+#include "wavefront/gpu_scene.h"
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "scene/alias_table.h"
+#include "scene/environment_table.h"
+
+namespace vkpath::wavefront {
+namespace {
+
+constexpr double PI = std::numbers::pi;
+
+shared::Material toGpu(const scene::Material& m) {
+    shared::Material g;
+    g.reflectance = m.reflectance;
+    g.kind = static_cast<uint32_t>(m.kind);
+    g.transmittance = m.transmittance;
+    g.ior = m.ior;
+    g.emission = m.emission;
+    return g;
+}
+
+// Centre and radius of a sphere around all geometry.
+std::pair<glm::dvec3, double> boundingSphere(const scene::Scene& scene) {
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (const auto& mesh : scene.meshes)
+        for (const glm::vec3& p : mesh.positions)
+            if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+                lo = glm::min(lo, glm::dvec3(p));
+                hi = glm::max(hi, glm::dvec3(p));
+            }
+    for (const auto& s : scene.spheres) {
+        lo = glm::min(lo, glm::dvec3(s.center) - double(s.radius));
+        hi = glm::max(hi, glm::dvec3(s.center) + double(s.radius));
+    }
+    if (!(lo.x <= hi.x)) return {glm::dvec3(0), 1.0};
+    return {(lo + hi) * 0.5, std::max(1e-30, glm::length(hi - lo) * 0.5)};
+}
+
+template <typename T>
+vk::Buffer uploadOrPlaceholder(vk::Context& context, const std::vector<T>& data, const char* name) {
+    if (data.empty()) return vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, name);
+    return vk::Buffer::fromSpan(context, std::span(data), name);
+}
+
+}  // namespace
+
+SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions) {
+    SceneTables t;
+    t.bvh = bvh::buildBvh(scene, bvhOptions);
+    for (const auto& m : scene.materials) t.materials.push_back(toGpu(m));
+    if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
+
+    std::vector<double> power;
+    // Emissive surfaces, keyed by (kind, BvhPrimitive::id) for the leaf map.
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> surfaceLight;
+    uint32_t triangleId = 0;
+    for (const auto& mesh : scene.meshes) {
+        const scene::Material& m = scene.materials.at(mesh.material);
+        for (const glm::uvec3& tri : mesh.triangles) {
+            const uint32_t id = triangleId++;
+            if (!m.emissive()) continue;
+            const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y), p2 = mesh.positions.at(tri.z);
+            if (bvh::isDegenerateTriangle(p0, p1, p2)) continue;
+            shared::Light light{};
+            light.type = VKP_LIGHT_TRIANGLE;
+            light.p0 = p0;
+            light.p1 = p1;
+            light.p2 = p2;
+            light.emission = m.emission;
+            const double area = 0.5 * glm::length(glm::cross(glm::dvec3(p1 - p0), glm::dvec3(p2 - p0)));
+            surfaceLight[{VKP_PRIMITIVE_TRIANGLE, id}] = uint32_t(t.lights.size());
+            t.lights.push_back(light);
+            power.push_back(scene::luminance(m.emission) * area * PI * 2.0);  // both faces emit
+        }
+    }
+    for (uint32_t i = 0; i < scene.spheres.size(); ++i) {
+        const scene::Sphere& s = scene.spheres[i];
+        const scene::Material& m = scene.materials.at(s.material);
+        if (!m.emissive() || bvh::isDegenerateSphere(s.center, s.radius)) continue;
+        shared::Light light{};
+        light.type = VKP_LIGHT_SPHERE;
+        light.p0 = s.center;
+        light.radius = s.radius;
+        light.emission = m.emission;
+        surfaceLight[{VKP_PRIMITIVE_SPHERE, i}] = uint32_t(t.lights.size());
+        t.lights.push_back(light);
+        power.push_back(scene::luminance(m.emission) * 4.0 * PI * double(s.radius) * s.radius * PI);
+    }
+    if (!surfaceLight.empty()) {
+        t.primitiveLight.assign(t.bvh.primitives.size(), VKP_NO_LIGHT);
+        for (size_t i = 0; i < t.bvh.primitives.size(); ++i) {
+            const auto it = surfaceLight.find({t.bvh.primitives[i].kind, t.bvh.primitives[i].id});
+            if (it != surfaceLight.end()) t.primitiveLight[i] = it->second;
+        }
+    }
+    for (const auto& p : scene.pointLights) {
+        shared::Light light{};
+        light.type = VKP_LIGHT_POINT;
+        light.p0 = p.position;
+        light.emission = p.intensity;
+        t.lights.push_back(light);
+        power.push_back(4.0 * PI * scene::luminance(p.intensity));
+    }
+    for (const auto& s : scene.spotLights) {
+        shared::Light light{};
+        light.type = VKP_LIGHT_SPOT;
+        light.p0 = s.position;
+        light.p1 = glm::normalize(s.direction);
+        light.emission = s.intensity;
+        light.cosInner = std::cos(s.innerConeAngle);
+        light.cosOuter = std::cos(s.outerConeAngle);
+        t.lights.push_back(light);
+        power.push_back(2.0 * PI * (1.0 - 0.5 * (light.cosInner + light.cosOuter)) * scene::luminance(s.intensity));
+    }
+    const auto [center, radius] = boundingSphere(scene);
+    for (const auto& d : scene.directionalLights) {
+        shared::Light light{};
+        light.type = VKP_LIGHT_DIRECTIONAL;
+        light.p1 = glm::normalize(d.direction);
+        light.emission = d.irradiance;
+        t.lights.push_back(light);
+        power.push_back(scene::luminance(d.irradiance) * PI * radius * radius);
+    }
+
+    t.info.environmentLight = VKP_NO_LIGHT;
+    if (scene.environment) {
+        const scene::Environment& env = *scene.environment;
+        t.info.hasEnvironment = 1;
+        t.info.environment.strength = env.strength;
+        t.info.environment.cosRotation = std::cos(glm::radians(env.rotationDegrees));
+        t.info.environment.sinRotation = std::sin(glm::radians(env.rotationDegrees));
+        t.info.environment.color = env.color;
+        double radiantIntensity = 0;  // integral of luminance over the sphere
+        if (env.map) {
+            t.info.environment.width = env.map->width;
+            t.info.environment.height = env.map->height;
+            const scene::EnvironmentTable table = scene::buildEnvironmentTable(*env.map);
+            t.envAlias = table.entries;
+            t.envRadiance = env.map->pixels;
+            // totalWeight sums luminance x sin(theta); a texel spans (2 pi / w)(pi / h).
+            radiantIntensity = table.totalWeight * (2 * PI / env.map->width) * (PI / env.map->height);
+            if (t.envAlias.empty()) radiantIntensity = 0;  // a black map is not worth sampling
+        } else {
+            radiantIntensity = 4 * PI * scene::luminance(env.color);
+        }
+        if (radiantIntensity > 0 && env.strength > 0) {
+            shared::Light light{};
+            light.type = VKP_LIGHT_ENVIRONMENT;
+            t.info.environmentLight = uint32_t(t.lights.size());
+            t.lights.push_back(light);
+            power.push_back(PI * radius * radius * radiantIntensity * env.strength);
+        }
+    }
+    t.lightAlias = scene::buildAliasTable(power);
+    if (t.lightAlias.empty()) {  // nothing with power: no light sampling, emission counts fully
+        t.lights.clear();
+        t.primitiveLight.clear();
+    }
+    t.info.lightCount = uint32_t(t.lights.size());
+    if (t.lights.empty()) t.info.environmentLight = VKP_NO_LIGHT;
+    return t;
+}
+
+uint64_t GpuScene::bytes() const {
+    return bvh.bytes() + materials.size() + lights.size() + lightAlias.size() + primitiveLight.size() +
+           envAlias.size() + envRadiance.size();
+}
+
+GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
+    GpuScene g;
+    g.bvh = bvh::uploadBvh(context, t.bvh);
+    g.materials = uploadOrPlaceholder(context, t.materials, "materials");
+    g.lights = uploadOrPlaceholder(context, t.lights, "lights");
+    g.lightAlias = uploadOrPlaceholder(context, t.lightAlias, "lightAlias");
+    g.primitiveLight = uploadOrPlaceholder(context, t.primitiveLight, "primitiveLight");
+    g.envAlias = uploadOrPlaceholder(context, t.envAlias, "envAlias");
+    g.envRadiance = uploadOrPlaceholder(context, t.envRadiance, "envRadiance");
+    return g;
+}
+
+}  // namespace vkpath::wavefront

@@ -1,0 +1,59 @@
+// The scene in device memory, in the layouts of shaders/shared/: the BVH,
+// materials, the light list with its alias table, the map from emissive leaf
+// primitives to lights, and the environment with its sampling table. Only
+// what the scene uses takes memory: absent features get 4-byte placeholders
+// (Vulkan needs every declared binding bound).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "bvh/gpu_bvh.h"
+#include "scene/scene.h"
+#include "shared/alias.h"
+#include "shared/bvh.h"
+#include "shared/lights.h"
+#include "shared/material.h"
+#include "shared/scene_data.h"
+#include "vk/buffer.h"
+
+namespace vkpath::wavefront {
+
+// The scene flattened for the integrators, on the host: what the GPU
+// buffers hold and what the CPU reference reads directly.
+struct SceneTables {
+    bvh::BvhBuild bvh;
+    std::vector<shared::Material> materials;
+    std::vector<shared::Light> lights;
+    std::vector<shared::AliasEntry> lightAlias;
+    std::vector<uint32_t> primitiveLight;  // per leaf primitive; empty when nothing is emissive
+    std::vector<shared::AliasEntry> envAlias;
+    std::vector<glm::vec3> envRadiance;
+    shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
+};
+
+// Builds the tables. Lights: one per emissive non-degenerate triangle and
+// sphere, each punctual light, and the environment when present, chosen in
+// proportion to their power in luminance: pi x area x L for surfaces (both
+// faces of a triangle), 4 pi I for points, the cone's solid angle x I for
+// spots, and pi R^2 x E (directional) or pi R^2 x the integral of L over the
+// sphere (environment), R the radius of a sphere around the geometry.
+SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions = {});
+
+struct GpuScene {
+    bvh::GpuBvh bvh;
+    vk::Buffer materials;
+    vk::Buffer lights;
+    vk::Buffer lightAlias;
+    vk::Buffer primitiveLight;
+    vk::Buffer envAlias;
+    vk::Buffer envRadiance;
+
+    uint64_t bytes() const;
+};
+
+GpuScene uploadScene(vk::Context& context, const SceneTables& tables);
+
+}  // namespace vkpath::wavefront

@@ -1,0 +1,157 @@
+// Lights as the kernels see them, and sampling them from a surface point.
+// Emissive triangles and spheres are area lights (their emission comes from
+// their material); point, spot and directional lights are delta lights; the
+// environment is one light whose directions come from its own alias table.
+// One alias table over all lights picks a light in proportion to its power.
+#ifndef VKPATH_SHARED_LIGHTS_H
+#define VKPATH_SHARED_LIGHTS_H
+
+#include "shared/compat.h"
+#include "shared/constants.h"
+#include "shared/sampling.h"
+
+#define VKP_LIGHT_TRIANGLE 0u
+#define VKP_LIGHT_SPHERE 1u
+#define VKP_LIGHT_POINT 2u
+#define VKP_LIGHT_SPOT 3u
+#define VKP_LIGHT_DIRECTIONAL 4u
+#define VKP_LIGHT_ENVIRONMENT 5u
+
+VKP_NAMESPACE_BEGIN
+
+struct Light {
+    vec3 p0;          // triangle: vertex 0; sphere: centre; point, spot: position (world space)
+    uint type;        // VKP_LIGHT_*
+    vec3 p1;          // triangle: vertex 1; spot: unit axis; directional: unit direction of travel
+    float radius;     // sphere: radius
+    vec3 p2;          // triangle: vertex 2
+    float cosInner;   // spot: cosine of the inner cone angle (full intensity inside)
+    vec3 emission;    // triangle, sphere: radiance W/(m^2 sr), both faces of a triangle;
+                      // point, spot: intensity W/sr; directional: irradiance W/m^2
+    float cosOuter;   // spot: cosine of the outer cone angle (dark outside)
+};
+
+// What a light sample brings to a point.
+struct LightSample {
+    vec3 direction;  // unit, from the point toward the light
+    float distance;  // to the sampled point on the light; VKP_FLOAT_MAX for directional and environment
+    vec3 radiance;   // incident radiance (area), or intensity / distance^2 (point, spot), or irradiance
+    float pdf;       // solid-angle density of `direction` for area lights; 1 for delta lights
+                     // (neither includes the probability of choosing the light)
+    bool delta;      // point, spot, directional: no MIS
+};
+
+VKP_FN LightSample noLightSample() {
+    LightSample s;
+    s.direction = vec3(0.0f, 0.0f, 1.0f);
+    s.distance = 0.0f;
+    s.radiance = vec3(0.0f);
+    s.pdf = 0.0f;
+    s.delta = false;
+    return s;
+}
+
+// Spot falloff of KHR_lights_punctual (the extension's recommended
+// implementation): (clamp((cos - cosOuter) / (cosInner - cosOuter), 0, 1))^2.
+VKP_FN float spotFalloff(Light light, float cosAngle) {
+    float scale = 1.0f / max(1e-4f, light.cosInner - light.cosOuter);
+    float t = clamp((cosAngle - light.cosOuter) * scale, 0.0f, 1.0f);
+    return t * t;
+}
+
+// Density in solid angle, seen from `p`, of sampling `light` toward a point
+// `x` on it with unit normal `n` (area lights only).
+VKP_FN float areaLightPdf(Light light, vec3 p, vec3 x, vec3 n) {
+    vec3 d = x - p;
+    float dist2 = dot(d, d);
+    if (light.type == VKP_LIGHT_SPHERE) {
+        SphereCone cone = sphereCone(light.p0, light.radius, p);
+        if (!cone.inside) return sphereConePdf(cone);
+        // From inside: uniform by area over the whole sphere.
+        return areaToSolidAnglePdf(4.0f * VKP_PI * light.radius * light.radius, dist2,
+                                   dot(n, d) / sqrt(dist2));
+    }
+    float area = length(triangleArea3(light.p0, light.p1, light.p2));
+    return areaToSolidAnglePdf(area, dist2, dot(n, d) / sqrt(dist2));
+}
+
+// Samples a direction toward a triangle, sphere, point, spot or directional
+// light (the environment is sampled by the caller, which holds its table).
+// `u` uniform in [0, 1)^2. The sphere from outside is sampled by its cone
+// of directions; the returned distance then comes from intersecting the
+// cone's direction with the sphere.
+VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
+    LightSample s = noLightSample();
+    if (light.type == VKP_LIGHT_TRIANGLE) {
+        vec2 b = sampleTriangleBarycentrics(u);
+        vec3 x = b.x * light.p0 + b.y * light.p1 + (1.0f - b.x - b.y) * light.p2;
+        vec3 d = x - p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f)) return s;
+        float dist = sqrt(dist2);
+        s.direction = d / dist;
+        s.distance = dist;
+        vec3 n = normalize(cross(light.p1 - light.p0, light.p2 - light.p0));
+        float area = length(triangleArea3(light.p0, light.p1, light.p2));
+        s.pdf = areaToSolidAnglePdf(area, dist2, dot(n, s.direction));
+        s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
+        return s;
+    }
+    if (light.type == VKP_LIGHT_SPHERE) {
+        SphereCone cone = sphereCone(light.p0, light.radius, p);
+        if (cone.inside) {
+            vec3 n = sampleUniformSphere(u);
+            vec3 x = light.p0 + light.radius * n;
+            vec3 d = x - p;
+            float dist2 = dot(d, d);
+            if (!(dist2 > 0.0f)) return s;
+            float dist = sqrt(dist2);
+            s.direction = d / dist;
+            s.distance = dist;
+            s.pdf = areaToSolidAnglePdf(4.0f * VKP_PI * light.radius * light.radius, dist2, dot(n, s.direction));
+        } else {
+            vec3 toCenter = light.p0 - p;
+            float centerDistance = length(toCenter);
+            s.direction = sampleSphereCone(cone, toCenter / centerDistance, u);
+            // Distance to the near surface along the direction; tangent
+            // directions (rounding) fall back to the point of closest approach.
+            float along = dot(toCenter, s.direction);
+            float miss2 = max(0.0f, dot(toCenter, toCenter) - along * along);
+            float halfChord = sqrt(max(0.0f, light.radius * light.radius - miss2));
+            s.distance = max(0.0f, along - halfChord);
+            s.pdf = sphereConePdf(cone);
+        }
+        s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
+        return s;
+    }
+    if (light.type == VKP_LIGHT_POINT || light.type == VKP_LIGHT_SPOT) {
+        vec3 d = light.p0 - p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f)) return s;
+        float dist = sqrt(dist2);
+        s.direction = d / dist;
+        s.distance = dist;
+        s.pdf = 1.0f;
+        s.delta = true;
+        s.radiance = light.emission / dist2;
+        if (light.type == VKP_LIGHT_SPOT) s.radiance *= spotFalloff(light, dot(-s.direction, light.p1));
+        return s;
+    }
+    if (light.type == VKP_LIGHT_DIRECTIONAL) {
+        s.direction = -light.p1;
+        s.distance = VKP_FLOAT_MAX;
+        s.pdf = 1.0f;
+        s.delta = true;
+        s.radiance = light.emission;
+        return s;
+    }
+    return s;
+}
+
+VKP_NAMESPACE_END
+
+#ifdef __cplusplus
+static_assert(sizeof(vkpath::shared::Light) == 64);
+#endif
+
+#endif  // VKPATH_SHARED_LIGHTS_H

@@ -1,0 +1,222 @@
+// The path tracer's per-vertex math, shared by the wavefront stages and the
+// CPU reference renderer: emission with its MIS weight, one light sample
+// (next-event estimation), and the BSDF sample that continues the path with
+// Russian roulette. Like shared/bvh_traverse.h it reads the scene through
+// accessors its includer defines:
+//
+//   SceneInfo sceneInfo();
+//   Material sceneMaterial(uint index);
+//   Light sceneLight(uint index);
+//   AliasEntry sceneLightAlias(uint index);
+//   uint scenePrimitiveLight(uint leafPrimitive);   // VKP_NO_LIGHT if not emissive
+//   AliasEntry sceneEnvAlias(uint texel);
+//   vec3 sceneEnvRadiance(uint texel);              // linear RGB, before strength
+//   BvhPrimitive bvhPrimitive(uint index);          // from the BVH
+//
+// No include guard: include once per scope (C++: inside the reference
+// renderer's scene view struct, so these become const member functions).
+//
+// Multiple importance sampling: light sampling (N = lightSamples samples per
+// vertex) and BSDF sampling are combined with the power heuristic with
+// sample counts (Veach's thesis, section 9.2): a light sample of density p_l
+// (light choice times direction) is weighted (N p_l)^2 / ((N p_l)^2 + p_b^2)
+// and divided by N; an emitter hit by the BSDF sample of density p_b gets
+// p_b^2 / (p_b^2 + (N p_l)^2). Delta lights and delta BSDFs take weight 1.
+
+#ifdef __cplusplus
+#define VKP_SCENE_CONST const
+#else
+#define VKP_SCENE_CONST
+#endif
+
+// Random dimensions: after the pixel jitter, each bounce uses
+// VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * lightSamples numbers.
+#define VKP_DIMS_PER_BOUNCE_BASE 3u  // BSDF direction (2), Russian roulette (1)
+#define VKP_DIMS_PER_LIGHT_SAMPLE 6u  // light choice (2 words), environment texel (2 words), position (2)
+
+VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
+    return 2u + bounce * (VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * sceneInfo().lightSamples);
+}
+
+// ---- the environment ---------------------------------------------------------------
+
+VKP_FN uint environmentTexel(vec3 worldDirection) VKP_SCENE_CONST {
+    EnvironmentInfo env = sceneInfo().environment;
+    return envTexelOfUv(env, equirectUv(envWorldToMap(env, worldDirection)));
+}
+
+VKP_FN vec3 environmentRadiance(vec3 worldDirection) VKP_SCENE_CONST {
+    SceneInfo info = sceneInfo();
+    if (info.hasEnvironment == 0u) return vec3(0.0f);
+    if (info.environment.width == 0u) return info.environment.color * info.environment.strength;
+    return sceneEnvRadiance(environmentTexel(worldDirection)) * info.environment.strength;
+}
+
+// Solid-angle density of sampling `worldDirection` from the environment light
+// (without the probability of choosing it). A constant environment is
+// sampled uniformly over the sphere.
+VKP_FN float environmentPdf(vec3 worldDirection) VKP_SCENE_CONST {
+    EnvironmentInfo env = sceneInfo().environment;
+    if (env.width == 0u) return uniformSpherePdf();
+    return envDirectionPdf(env, sceneEnvAlias(environmentTexel(worldDirection)).probability, worldDirection);
+}
+
+// ---- emission seen by a path ----------------------------------------------------------
+
+// The weight of emission reached by a BSDF sample of density `bsdfPdf` whose
+// light-sampling density (choice x direction) would have been `lightPdf`.
+VKP_FN float bsdfMisWeight(float bsdfPdf, float lightPdf) VKP_SCENE_CONST {
+    return powerHeuristic(bsdfPdf, float(sceneInfo().lightSamples) * lightPdf);
+}
+
+// What a path sees when its ray escapes. `specular`: the ray came from the
+// camera or a delta BSDF (no light sample could have found this direction).
+VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SCENE_CONST {
+    SceneInfo info = sceneInfo();
+    vec3 le = environmentRadiance(direction);
+    if (specular || info.environmentLight == VKP_NO_LIGHT || info.lightSamples == 0u) return le;
+    float lightPdf = sceneLightAlias(info.environmentLight).probability * environmentPdf(direction);
+    return le * bsdfMisWeight(bsdfPdf, lightPdf);
+}
+
+// Emission at a hit: `surface` on leaf primitive `primitive`, seen from
+// `previous` (the last vertex) along a ray of BSDF density `bsdfPdf`.
+VKP_FN vec3 emittedRadiance(Material material, uint primitive, SurfacePoint surface, vec3 previous, bool specular,
+                            float bsdfPdf) VKP_SCENE_CONST {
+    vec3 le = material.emission;
+    SceneInfo info = sceneInfo();
+    if (le == vec3(0.0f) || specular || info.lightSamples == 0u || info.lightCount == 0u) return le;
+    uint lightIndex = scenePrimitiveLight(primitive);
+    if (lightIndex == VKP_NO_LIGHT) return le;
+    Light light = sceneLight(lightIndex);
+    float lightPdf = sceneLightAlias(lightIndex).probability * areaLightPdf(light, previous, surface.position, surface.normal);
+    return le * bsdfMisWeight(bsdfPdf, lightPdf);
+}
+
+// ---- next-event estimation ---------------------------------------------------------------
+
+struct ShadowRequest {
+    Ray ray;            // toward the light; tMax stops short of it
+    vec3 contribution;  // added to the path's radiance if the ray is unoccluded
+    bool valid;
+};
+
+// f * |cos| of the non-delta BSDF (only Lambertian is non-delta).
+VKP_FN vec3 evalBsdf(Material material, vec3 n, vec3 wo, vec3 wi) {
+    if (material.kind != VKP_MATERIAL_DIFFUSE) return vec3(0.0f);
+    return evalLambertian(material.reflectance, n, wo, wi);
+}
+
+VKP_FN float bsdfPdf(Material material, vec3 n, vec3 wo, vec3 wi) {
+    if (material.kind != VKP_MATERIAL_DIFFUSE) return 0.0f;
+    return lambertianPdf(n, wo, wi);
+}
+
+// Light sample `index` (of lightSamples) at a diffuse vertex.
+VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, vec3 wo, vec3 throughput,
+                                       RngKey key, uint bounce, uint index) VKP_SCENE_CONST {
+    ShadowRequest request;
+    request.valid = false;
+    request.contribution = vec3(0.0f);
+    request.ray.origin = surface.position;
+    request.ray.direction = vec3(0.0f, 0.0f, 1.0f);
+    request.ray.tMax = 0.0f;
+    request.ray.pixel = key.pixel;
+    SceneInfo info = sceneInfo();
+    if (info.lightCount == 0u || material.kind != VKP_MATERIAL_DIFFUSE) return request;
+
+    uint dim = bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
+    uint bucket = aliasBucket(rngBits(key, dim), info.lightCount);
+    uint lightIndex = aliasResolve(sceneLightAlias(bucket), bucket, rngBits(key, dim + 1u));
+    float choice = sceneLightAlias(lightIndex).probability;
+    Light light = sceneLight(lightIndex);
+
+    LightSample ls;
+    if (light.type == VKP_LIGHT_ENVIRONMENT) {
+        ls = noLightSample();
+        EnvironmentInfo env = info.environment;
+        if (env.width == 0u) {
+            ls.direction = sampleUniformSphere(rngUniform2(key, dim + 4u));
+            ls.pdf = uniformSpherePdf();
+        } else {
+            uint texels = env.width * env.height;
+            uint envBucket = aliasBucket(rngBits(key, dim + 2u), texels);
+            uint texel = aliasResolve(sceneEnvAlias(envBucket), envBucket, rngBits(key, dim + 3u));
+            EnvSample es = envSampleInTexel(env, texel, rngUniform2(key, dim + 4u));
+            ls.direction = es.direction;
+            ls.pdf = envDirectionPdf(env, sceneEnvAlias(es.pdfTexel).probability, es.direction);
+        }
+        ls.distance = VKP_FLOAT_MAX;
+        ls.radiance = environmentRadiance(ls.direction);
+    } else {
+        ls = sampleLight(light, surface.position, rngUniform2(key, dim + 4u));
+    }
+    if (!(ls.pdf > 0.0f) || ls.radiance == vec3(0.0f)) return request;
+
+    vec3 f = evalBsdf(material, surface.normal, wo, ls.direction);
+    if (f == vec3(0.0f)) return request;
+    float n = float(info.lightSamples);
+    float lightPdf = choice * ls.pdf;
+    float weight = ls.delta ? 1.0f : powerHeuristic(n * lightPdf, bsdfPdf(material, surface.normal, wo, ls.direction));
+    request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
+
+    request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
+    if (ls.distance < VKP_FLOAT_MAX) {
+        // Stop short of the light's own surface: the shadow ray asks whether
+        // anything lies strictly between (relative margin, so at any scale).
+        vec3 target = surface.position + ls.distance * ls.direction;
+        request.ray.tMax = length(target - request.ray.origin) * (1.0f - 1e-4f);
+    }
+    request.valid = true;
+    return request;
+}
+
+// ---- continuing the path --------------------------------------------------------------------
+
+struct PathStep {
+    Ray ray;           // the next ray
+    vec3 throughput;   // the path throughput after this vertex (and roulette)
+    float bsdfPdf;     // density of the sampled direction (for MIS at the next hit)
+    bool specular;     // the sample came from a delta BSDF
+    bool alive;        // false: the path ends here
+};
+
+VKP_FN PathStep continuePath(Material material, SurfacePoint surface, vec3 wo, vec3 throughput, RngKey key,
+                             uint bounce) VKP_SCENE_CONST {
+    PathStep step;
+    step.alive = false;
+    step.throughput = throughput;
+    step.bsdfPdf = 0.0f;
+    step.specular = false;
+    step.ray.origin = surface.position;
+    step.ray.direction = vec3(0.0f, 0.0f, 1.0f);
+    step.ray.tMax = 0.0f;
+    step.ray.pixel = key.pixel;
+
+    uint dim = bounceDimension(bounce);
+    vec2 u = rngUniform2(key, dim);
+    BsdfSample s;
+    if (material.kind == VKP_MATERIAL_DIFFUSE)
+        s = sampleLambertian(material.reflectance, surface.normal, wo, u);
+    else if (material.kind == VKP_MATERIAL_MIRROR)
+        s = sampleMirror(material.reflectance, surface.normal, wo);
+    else
+        s = sampleDielectric(material.reflectance, material.transmittance, material.ior, surface.normal, wo, u.x);
+    if (!s.valid) return step;
+    vec3 beta = throughput * s.weight;
+
+    // Russian roulette (from rouletteDepth on): survive with probability
+    // min(1, max component of the throughput), reweighted to stay unbiased.
+    if (bounce + 1u >= sceneInfo().rouletteDepth) {
+        float survive = min(1.0f, max(max(beta.x, beta.y), beta.z));
+        if (!(rngUniform(key, dim + 2u) < survive)) return step;
+        beta /= survive;
+    }
+    if (beta == vec3(0.0f)) return step;
+    step.ray = spawnRay(surface, s.direction, VKP_FLOAT_MAX, key.pixel);
+    step.throughput = beta;
+    step.bsdfPdf = s.pdf;
+    step.specular = s.delta;
+    step.alive = true;
+    return step;
+}

@@ -1,0 +1,34 @@
+// The scene as the integrators read it, besides the BVH (shared/bvh.h):
+// materials, lights with the alias table that picks them by power, the
+// environment and its sampling table, and the settings of a render.
+#ifndef VKPATH_SHARED_SCENE_DATA_H
+#define VKPATH_SHARED_SCENE_DATA_H
+
+#include "shared/compat.h"
+#include "shared/environment_sampling.h"
+
+// SceneInfo::environmentLight and the per-primitive light index when there is none.
+#define VKP_NO_LIGHT 0xffffffffu
+
+VKP_NAMESPACE_BEGIN
+
+struct SceneInfo {
+    EnvironmentInfo environment;  // width 0: constant `color` (when hasEnvironment)
+    uint hasEnvironment;          // 0: rays that escape see black
+    uint lightCount;              // entries in the light list and its alias table
+    uint environmentLight;        // index of the environment in the light list, or VKP_NO_LIGHT
+    uint lightSamples;            // light samples per non-specular vertex (-l)
+    uint maxDepth;                // bounces, pbrt-v4's meaning: 0 = emitters seen directly only
+    uint rouletteDepth;           // bounce from which Russian roulette may end paths
+    uint seed;                    // the render's seed (RNG counter)
+    uint width;                   // film size in pixels
+    uint height;
+};
+
+VKP_NAMESPACE_END
+
+#ifdef __cplusplus
+static_assert(sizeof(vkpath::shared::SceneInfo) == 68);
+#endif
+
+#endif  // VKPATH_SHARED_SCENE_DATA_H

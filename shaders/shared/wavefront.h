@@ -1,0 +1,80 @@
+// The wavefront integrator's buffers: path state as structure-of-arrays over
+// the paths of one wave, two alternating ray queues and a shadow queue with
+// their counters, the indirect-dispatch arguments, and the film. Binding
+// indices are shared by all stage kernels; each declares only what it uses.
+#ifndef VKPATH_SHARED_WAVEFRONT_H
+#define VKPATH_SHARED_WAVEFRONT_H
+
+#include "shared/compat.h"
+
+// ---- bindings (descriptor set 0) ----------------------------------------------
+#define VKP_WF_SCENE_INFO 0        // SceneInfo
+#define VKP_WF_BVH_NODES 1         // BvhNode[]
+#define VKP_WF_BVH_PRIMITIVES 2    // BvhPrimitive[]
+#define VKP_WF_MATERIALS 3         // Material[]
+#define VKP_WF_LIGHTS 4            // Light[]
+#define VKP_WF_LIGHT_ALIAS 5       // AliasEntry[lightCount]
+#define VKP_WF_PRIMITIVE_LIGHT 6   // uint[primitives]: light index of an emissive leaf primitive
+#define VKP_WF_ENV_ALIAS 7         // AliasEntry[texels]
+#define VKP_WF_ENV_RADIANCE 8      // vec3[texels]
+#define VKP_WF_CAMERA 9            // Camera
+#define VKP_WF_RAYS 10             // Ray[W]: each path's current ray
+#define VKP_WF_HITS 11             // Hit[W]
+#define VKP_WF_THROUGHPUT 12       // vec3[W]
+#define VKP_WF_RADIANCE 13         // vec3[W]: radiance gathered by the path so far
+#define VKP_WF_VERTEX 14           // PathVertex[W]
+#define VKP_WF_QUEUES 15           // uint[3 W]: ray queue 0, ray queue 1, shadow queue
+#define VKP_WF_COUNTERS 16         // QueueCounters
+#define VKP_WF_SHADOW_RAYS 17      // Ray[W lightSamples]
+#define VKP_WF_SHADOW_RADIANCE 18  // vec3[W lightSamples]: contribution if unoccluded
+#define VKP_WF_FILM 19             // FilmPixel[width height]
+
+VKP_NAMESPACE_BEGIN
+
+// What shading at the next hit needs from the previous vertex.
+struct PathVertex {
+    vec3 position;  // world space: the last scattering point (the camera for the first ray)
+    float bsdfPdf;  // density of the direction sampled there
+    uint specular;  // 1: the camera or a delta BSDF produced the ray (no MIS)
+};
+
+// Counters of the queues and the indirect-dispatch arguments computed from them.
+struct QueueCounters {
+    uint rayCount0;       // entries in ray queue 0 (even bounces)
+    uint rayCount1;       // entries in ray queue 1 (odd bounces)
+    uint shadowCount;     // entries in the shadow queue
+    uint nonFinite;       // path samples dropped because their radiance was NaN or infinite
+    uvec3 rayDispatch;    // VkDispatchIndirectCommand for intersect and shade
+    uvec3 shadowDispatch; // VkDispatchIndirectCommand for shadow
+};
+
+// Per-pixel sums over all samples so far, compensated (Kahan) so that 10^5
+// and more samples keep every bit that matters: plain float sums stall once
+// the sum reaches 2^24 times the addend.
+struct FilmPixel {
+    vec3 sum;
+    vec3 sumCompensation;
+    vec3 sumSquares;  // for the variance AOV
+    vec3 sumSquaresCompensation;
+};
+
+struct WavePush {
+    uint firstPath;  // global index of the wave's first path: path = sampleIndex * pixels + pixel
+    uint pathCount;  // paths in this wave
+    uint bounce;     // the bounce the stage works on
+    uint mode;       // queue_dispatch: what to prepare (VKP_PREPARE_*)
+};
+
+#define VKP_PREPARE_RAYS 0u     // rayDispatch from the current ray queue; clear the next and the shadow queue
+#define VKP_PREPARE_SHADOWS 1u  // shadowDispatch from the shadow queue
+
+VKP_NAMESPACE_END
+
+#ifdef __cplusplus
+static_assert(sizeof(vkpath::shared::PathVertex) == 20);
+static_assert(sizeof(vkpath::shared::QueueCounters) == 40);
+static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
+static_assert(sizeof(vkpath::shared::WavePush) == 16);
+#endif
+
+#endif  // VKPATH_SHARED_WAVEFRONT_H

@@ -1,0 +1,55 @@
+// Stage "accumulate": adds each path's radiance to its pixel with
+// compensated (Kahan) sums, one thread per pixel looping over the wave's
+// samples of that pixel in order (deterministic). A sample whose radiance is
+// NaN or infinite is dropped and counted, never added.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#include "stages/lib/common.glsl"
+#include "shared/scene_data.h"
+
+layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo info; };
+layout(binding = VKP_WF_RADIANCE, scalar) readonly buffer RadianceBuffer { vec3 radiance[]; };
+layout(binding = VKP_WF_COUNTERS, scalar) buffer CounterBuffer { QueueCounters counters; };
+layout(binding = VKP_WF_FILM, scalar) buffer FilmBuffer { FilmPixel film[]; };
+
+// By bit pattern: a compiler may fold isnan()/isinf() away under fast-math
+// assumptions; exponent all ones means NaN or infinity.
+bool finiteBits(vec3 v) {
+    uvec3 bits = floatBitsToUint(v) & 0x7f800000u;
+    return all(notEqual(bits, uvec3(0x7f800000u)));
+}
+
+// Kahan summation; `precise` forbids the reassociation that would cancel
+// the compensation to zero.
+void kahanAdd(inout vec3 sum, inout vec3 compensation, vec3 value) {
+    precise vec3 y = value - compensation;
+    precise vec3 t = sum + y;
+    precise vec3 c = (t - sum) - y;
+    compensation = c;
+    sum = t;
+}
+
+void main() {
+    uint pixel = gl_GlobalInvocationID.x;
+    uint pixels = info.width * info.height;
+    if (pixel >= pixels) return;
+    // The wave holds global paths [firstPath, firstPath + pathCount); this
+    // pixel's are those congruent to it modulo the pixel count.
+    uint first = push.firstPath + (pixel + pixels - push.firstPath % pixels) % pixels;
+    uint end = push.firstPath + push.pathCount;
+    if (first >= end) return;
+    FilmPixel f = film[pixel];
+    uint dropped = 0u;
+    for (uint path = first; path < end; path += pixels) {
+        vec3 l = radiance[path - push.firstPath];
+        if (!finiteBits(l)) {
+            dropped++;
+            continue;
+        }
+        kahanAdd(f.sum, f.sumCompensation, l);
+        kahanAdd(f.sumSquares, f.sumSquaresCompensation, l * l);
+    }
+    film[pixel] = f;
+    if (dropped > 0u) atomicAdd(counters.nonFinite, dropped);
+}

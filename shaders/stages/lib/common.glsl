@@ -1,0 +1,9 @@
+// Declarations every stage kernel starts with (after #version and the
+// include and scalar-layout extensions).
+
+#include "shared/bindings.h"
+#include "shared/wavefront.h"
+
+layout(local_size_x_id = VKP_SPEC_WORKGROUP_SIZE) in;
+
+layout(push_constant, scalar) uniform Push { WavePush push; };
