@@ -1,0 +1,238 @@
+// The wavefront path tracer against scenes whose answer is known exactly
+// (furnaces, mirrors, invisible glass), plus determinism and no NaN/Inf.
+// Tolerances are z-tests with the standard error measured by the render's own
+// variance AOV: a bound of 5 standard errors has a false-alarm rate of
+// 6e-7 per check, so a failure means a bias, not bad luck.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/scene.h"
+#include "support/image_stats.h"
+#include "support/test_context.h"
+#include "wavefront/renderer.h"
+
+namespace {
+
+using namespace vkpath;
+
+constexpr double Z_BOUND = 5.0;
+
+scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 reflectance, float ior = 1.5f) {
+    scene::Scene s;
+    scene::Material m;
+    m.kind = kind;
+    m.reflectance = reflectance;
+    m.ior = ior;
+    s.materials.push_back(m);
+    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
+    s.camera.position = {0.0f, 0.0f, 4.0f};
+    s.camera.target = {0.0f, 0.0f, 0.0f};
+    s.camera.xfovDegrees = 40.0f;
+    scene::Environment env;
+    env.color = glm::vec3(1.0f);
+    s.environment = env;
+    return s;
+}
+
+wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size = 48,
+                               uint32_t seed = 1, uint32_t lightSamples = 1) {
+    wavefront::RenderSettings settings;
+    settings.width = size;
+    settings.height = size;
+    settings.samplesPerPixel = spp;
+    settings.maxDepth = maxDepth;
+    settings.seed = seed;
+    settings.lightSamples = lightSamples;
+    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    return renderer.render();
+}
+
+// Pixels whose whole footprint sees the sphere (radius 1 at distance 4, 40
+// degree fov: the sphere spans about 0.73 of the half-width), and pixels
+// that see only the environment.
+bool onSphere(uint32_t x, uint32_t y, uint32_t size) {
+    const double cx = (x + 0.5) / size * 2 - 1, cy = (y + 0.5) / size * 2 - 1;
+    return cx * cx + cy * cy < 0.6 * 0.6;
+}
+bool offSphere(uint32_t x, uint32_t y, uint32_t size) {
+    const double cx = (x + 0.5) / size * 2 - 1, cy = (y + 0.5) / size * 2 - 1;
+    return cx * cx + cy * cy > 0.85 * 0.85;
+}
+
+void expectRegion(const wavefront::RenderResult& r, bool sphere, double expected) {
+    const auto region = test::regionMean(r.image, r.varianceOfMean, [&](uint32_t x, uint32_t y) {
+        return sphere ? onSphere(x, y, r.image.width) : offSphere(x, y, r.image.width);
+    });
+    ASSERT_GT(region.pixels, 100u);
+    EXPECT_NEAR(region.mean, expected, Z_BOUND * region.standardError + 1e-6)
+        << "standard error " << region.standardError;
+}
+
+// White furnace: a diffuse sphere of albedo 1 in a constant environment of
+// radiance 1 is invisible: every pixel is 1 (light sampling and BSDF
+// sampling, combined by MIS, must add up).
+TEST(Furnace, WhiteSphereIsInvisible) {
+    for (uint32_t lightSamples : {1u, 3u}) {
+        SCOPED_TRACE(lightSamples);
+        const auto r = render(sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(1.0f)), 16, 8, 48, 1,
+                              lightSamples);
+        EXPECT_EQ(r.nonFiniteSamples, 0u);
+        expectRegion(r, true, 1.0);
+        expectRegion(r, false, 1.0);
+    }
+}
+
+// Albedo 0.5: the sphere is convex, so light reflects once and escapes:
+// 0.5 for any depth >= 1, 0 at depth 0 (only emitters are seen).
+TEST(Furnace, GreySphereReflectsItsAlbedo) {
+    const auto grey = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.5f));
+    expectRegion(render(grey, 16, 3), true, 0.5);
+    expectRegion(render(grey, 4, 0), true, 0.0);
+}
+
+// Inside a closed emissive sphere of albedo rho and emitted radiance 1, the
+// radiance after at most m bounces is the geometric series sum_{k=0..m} rho^k
+// (every bounce sees the same emitter and reflects rho of it). Exercises
+// sampling a sphere light from inside it, and MIS with area lights.
+TEST(Furnace, InsideAnEmitterGivesTheGeometricSeries) {
+    for (float rho : {0.5f, 0.9f})
+        for (uint32_t depth : {0u, 1u, 5u}) {
+            SCOPED_TRACE(testing::Message() << "albedo " << rho << " depth " << depth);
+            scene::Scene s;
+            scene::Material m;
+            m.reflectance = glm::vec3(rho);
+            m.emission = glm::vec3(1.0f);
+            s.materials.push_back(m);
+            s.spheres.push_back({"room", glm::vec3(0.0f, 0.5f, 0.0f), 3.0f, 0});
+            s.camera.position = {0.0f, 0.0f, 0.0f};
+            s.camera.target = {0.0f, 0.0f, -1.0f};
+            s.camera.xfovDegrees = 60.0f;
+            const auto r = render(s, 8, depth, 32);
+            double expected = 0;
+            for (uint32_t k = 0; k <= depth; ++k) expected += std::pow(double(rho), double(k));
+            const auto region = test::regionMean(r.image, r.varianceOfMean, [](uint32_t, uint32_t) { return true; });
+            EXPECT_NEAR(region.mean, expected, Z_BOUND * region.standardError + 1e-5 * expected);
+            EXPECT_EQ(r.nonFiniteSamples, 0u);
+        }
+}
+
+// A mirror sphere of reflectance 0.7 in a constant environment of radiance 1
+// shows exactly 0.7 (no noise: the mirror is deterministic).
+TEST(Specular, MirrorSphereShowsItsReflectance) {
+    const auto r = render(sphereInEnvironment(scene::MaterialKind::Mirror, glm::vec3(0.7f)), 2, 8);
+    for (uint32_t y = 0; y < r.image.height; ++y)
+        for (uint32_t x = 0; x < r.image.width; ++x)
+            if (onSphere(x, y, r.image.width)) {
+                ASSERT_NEAR(r.image.at(x, y).x, 0.7f, 1e-5f) << x << "," << y;
+            }
+}
+
+// Glass of index 1 is no interface: a scene with a glass ball of ior 1 in
+// front of a diffuse floor lit by the environment and an area light renders
+// the same as the scene without it (8x8 blocks, Welch z-tests, 1% false-alarm
+// rate over all blocks). Light reaches the floor under the ball only through
+// BSDF sampling (shadow rays stop at glass), which MIS then weights fully: the
+// estimate stays unbiased. A point light could not shine through glass at all.
+TEST(Specular, GlassOfIndexOneIsInvisible) {
+    auto base = [] {
+        scene::Scene s;
+        scene::Material floor;
+        floor.reflectance = glm::vec3(0.6f, 0.4f, 0.3f);
+        s.materials.push_back(floor);
+        scene::Material glass;
+        glass.kind = scene::MaterialKind::Dielectric;
+        glass.reflectance = glm::vec3(1.0f);
+        glass.ior = 1.0f;
+        s.materials.push_back(glass);
+        scene::Mesh mesh;
+        mesh.positions = {{-5, -1, -5}, {5, -1, -5}, {5, -1, 5}, {-5, -1, 5}};
+        mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
+        s.meshes.push_back(mesh);
+        s.camera.position = {0, 1, 4};
+        s.camera.target = {0, -0.5f, 0};
+        s.camera.xfovDegrees = 50;
+        scene::Environment env;
+        env.color = glm::vec3(0.8f, 0.9f, 1.0f);
+        s.environment = env;
+        scene::Material lamp;
+        lamp.emission = glm::vec3(6.0f);
+        s.materials.push_back(lamp);
+        scene::Mesh quad;
+        quad.positions = {{-0.5f, 2.5f, -0.5f}, {0.5f, 2.5f, -0.5f}, {0.5f, 2.5f, 0.5f}, {-0.5f, 2.5f, 0.5f}};
+        quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+        quad.material = 2;
+        s.meshes.push_back(quad);
+        return s;
+    };
+    scene::Scene without = base();
+    scene::Scene with = base();
+    with.spheres.push_back({"glass", glm::vec3(0, 0, 0), 0.8f, 1});
+    const auto a = render(without, 32, 6, 48, 1);
+    const auto b = render(with, 32, 6, 48, 2);
+    const auto c = test::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
+    EXPECT_EQ(c.rejected, 0) << "worst z " << c.worstZ << " over " << c.blocks << " blocks";
+}
+
+// The block comparison has power: glass of index 1.5 is visible.
+TEST(Specular, GlassOfIndexOnePointFiveIsVisible) {
+    scene::Scene s = sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(1.0f), 1.5f);
+    s.environment.reset();
+    s.pointLights.push_back({glm::vec3(2, 3, 3), glm::vec3(30.0f)});
+    scene::Material floor;
+    s.materials.push_back(floor);
+    scene::Mesh mesh;
+    mesh.positions = {{-5, -1, -5}, {5, -1, -5}, {5, -1, 5}, {-5, -1, 5}};
+    mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
+    mesh.material = 1;
+    s.meshes.push_back(mesh);
+    scene::Scene invisible = s;
+    invisible.materials[0].ior = 1.0f;
+    const auto a = render(s, 32, 6, 48, 1);
+    const auto b = render(invisible, 32, 6, 48, 2);
+    EXPECT_GT(test::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01).rejected, 0);
+}
+
+TEST(Determinism, SameSeedSameBits) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    const auto a = render(s, 4, 8, 32, 7), b = render(s, 4, 8, 32, 7), c = render(s, 4, 8, 32, 8);
+    ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_NE(std::memcmp(a.image.pixels.data(), c.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+}
+
+// Many waves give the same image as one: the wave size changes which paths
+// share a command buffer, never the numbers.
+TEST(Determinism, WaveSizeDoesNotChangeTheImage) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    wavefront::RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 6;
+    settings.seed = 3;
+    wavefront::WavefrontRenderer one(test::context(), s, settings);
+    const auto a = one.render();
+    settings.maxPathsInFlight = 24 * 24 * 2;  // 3 waves of 2 samples
+    wavefront::WavefrontRenderer three(test::context(), s, settings);
+    const auto b = three.render();
+    EXPECT_EQ(a.waves, 1u);
+    EXPECT_EQ(b.waves, 3u);
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+}
+
+TEST(TimeBudget, StopsWithinOneWave) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    wavefront::RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 100000;
+    settings.maxPathsInFlight = 32 * 32;  // one sample per wave
+    settings.timeBudgetSeconds = 0.5;
+    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    const auto r = renderer.render();
+    EXPECT_LT(r.samplesPerPixel, 100000u);
+    EXPECT_GE(r.samplesPerPixel, 1u);
+    const double perWave = r.seconds / r.waves;
+    EXPECT_GE(r.seconds, 0.5);
+    EXPECT_LE(r.seconds, 0.5 + perWave * 1.5 + 0.05) << r.waves << " waves";
+}
+
+}  // namespace
