@@ -1,0 +1,172 @@
+// `vkpath scene-info FILE [--json]`: what a scene file becomes after import:
+// counts, materials by kind, emitters, lights, the framed camera, bounds and
+// the feature summary the kernels are specialised to. Needs no Vulkan device.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "scene/load.h"
+#include "scene/scene.h"
+
+namespace vkpath::app {
+namespace {
+
+struct SceneCounts {
+    size_t diffuse = 0, mirror = 0, glass = 0, emissive = 0;  // materials by kind
+    size_t emissiveMeshes = 0, emissiveSpheres = 0, emissiveTriangles = 0;
+    bool hasBounds = false;
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // meshes and spheres, world space
+};
+
+SceneCounts countScene(const scene::Scene& s) {
+    SceneCounts c;
+    for (const scene::Material& m : s.materials) {
+        c.diffuse += m.kind == scene::MaterialKind::Diffuse;
+        c.mirror += m.kind == scene::MaterialKind::Mirror;
+        c.glass += m.kind == scene::MaterialKind::Dielectric;
+        c.emissive += m.emissive();
+    }
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const scene::Mesh& mesh : s.meshes) {
+        if (mesh.material < s.materials.size() && s.materials[mesh.material].emissive() &&
+            !mesh.triangles.empty()) {
+            ++c.emissiveMeshes;
+            c.emissiveTriangles += mesh.triangles.size();
+        }
+        for (const glm::vec3& p : mesh.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+            c.hasBounds = true;
+        }
+    }
+    for (const scene::Sphere& sphere : s.spheres) {
+        if (sphere.material < s.materials.size() && s.materials[sphere.material].emissive())
+            ++c.emissiveSpheres;
+        lo = glm::min(lo, sphere.center - sphere.radius);
+        hi = glm::max(hi, sphere.center + sphere.radius);
+        c.hasBounds = true;
+    }
+    if (c.hasBounds) {
+        c.boundsMin = lo;
+        c.boundsMax = hi;
+    }
+    return c;
+}
+
+// The FeatureSummary flags as (name, value), in declaration order.
+std::vector<std::pair<const char*, bool>> featureList(const scene::FeatureSummary& f) {
+    return {{"triangles", f.triangles},
+            {"spheres", f.spheres},
+            {"diffuse", f.diffuse},
+            {"mirror", f.mirror},
+            {"glass", f.glass},
+            {"emissiveSurfaces", f.emissiveSurfaces},
+            {"pointLights", f.pointLights},
+            {"spotLights", f.spotLights},
+            {"directionalLights", f.directionalLights},
+            {"environment", f.environment}};
+}
+
+nlohmann::json vecJson(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+
+std::string vecText(const glm::vec3& v) {
+    return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
+}
+
+nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const SceneCounts& c) {
+    nlohmann::json features = nlohmann::json::object();
+    for (const auto& [name, value] : featureList(s.features())) features[name] = value;
+    return {
+        {"file", file},
+        {"triangles", s.triangleCount()},
+        {"meshes", s.meshes.size()},
+        {"spheres", s.spheres.size()},
+        {"materials",
+         {{"total", s.materials.size()},
+          {"diffuse", c.diffuse},
+          {"mirror", c.mirror},
+          {"glass", c.glass},
+          {"emissive", c.emissive}}},
+        {"emitters",
+         {{"meshes", c.emissiveMeshes},
+          {"spheres", c.emissiveSpheres},
+          {"triangles", c.emissiveTriangles}}},
+        {"lights",
+         {{"point", s.pointLights.size()},
+          {"spot", s.spotLights.size()},
+          {"directional", s.directionalLights.size()},
+          {"environment", s.environment.has_value()}}},
+        {"camera",
+         {{"name", s.camera.name},
+          {"position", vecJson(s.camera.position)},
+          {"target", vecJson(s.camera.target)},
+          {"up", vecJson(s.camera.up)},
+          {"xfovDegrees", s.camera.xfovDegrees},
+          {"aspect", s.camera.aspect}}},
+        {"bounds", c.hasBounds ? nlohmann::json{{"min", vecJson(c.boundsMin)},
+                                                {"max", vecJson(c.boundsMax)}}
+                               : nlohmann::json(nullptr)},
+        {"features", features},
+    };
+}
+
+void printScene(const std::string& file, const scene::Scene& s, const SceneCounts& c) {
+    std::printf("scene       %s\n", file.c_str());
+    std::printf("triangles   %zu\n", s.triangleCount());
+    std::printf("meshes      %zu\n", s.meshes.size());
+    std::printf("spheres     %zu\n", s.spheres.size());
+    std::printf("materials   %zu (diffuse %zu, mirror %zu, glass %zu; emissive %zu)\n",
+                s.materials.size(), c.diffuse, c.mirror, c.glass, c.emissive);
+    std::printf("emitters    %zu (meshes %zu, spheres %zu; emissive triangles %zu)\n",
+                c.emissiveMeshes + c.emissiveSpheres, c.emissiveMeshes, c.emissiveSpheres,
+                c.emissiveTriangles);
+    std::printf("lights      point %zu, spot %zu, directional %zu, environment %s\n",
+                s.pointLights.size(), s.spotLights.size(), s.directionalLights.size(),
+                s.environment ? "yes" : "no");
+    std::printf("camera      '%s' position %s target %s up %s xfov %.6g aspect %.6g\n",
+                s.camera.name.c_str(), vecText(s.camera.position).c_str(),
+                vecText(s.camera.target).c_str(), vecText(s.camera.up).c_str(),
+                s.camera.xfovDegrees, s.camera.aspect);
+    if (c.hasBounds)
+        std::printf("bounds      min %s max %s\n", vecText(c.boundsMin).c_str(),
+                    vecText(c.boundsMax).c_str());
+    else
+        std::printf("bounds      empty\n");
+    std::string features;
+    for (const auto& [name, value] : featureList(s.features()))
+        if (value) features += (features.empty() ? "" : " ") + std::string(name);
+    std::printf("features    %s\n", features.empty() ? "(none)" : features.c_str());
+}
+
+}  // namespace
+
+void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
+    struct Options {
+        std::string file;
+        bool json = false;
+    };
+    auto o = std::make_shared<Options>();
+    auto* cmd = app.add_subcommand("scene-info", "Import a scene and summarise what it contains");
+    cmd->add_option("FILE", o->file, "Scene file (.gltf, .glb or .dae)")->required();
+    cmd->add_flag("--json", o->json, "Print JSON instead of text");
+    cmd->callback([&commands, o] {
+        commands.run = [o] {
+            // Bad input throws InputError: runCli prints it as one line, exit 2.
+            const scene::Scene s = scene::loadScene(o->file);
+            const SceneCounts counts = countScene(s);
+            if (o->json)
+                std::printf("%s\n", sceneJson(o->file, s, counts).dump(2).c_str());
+            else
+                printScene(o->file, s, counts);
+            return 0;
+        };
+    });
+}
+
+}  // namespace vkpath::app
