@@ -1,0 +1,589 @@
+// The binned SAH builder (Wald, "On fast Construction of SAH-based Bounding
+// Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007): at each
+// node the primitive centroids are sorted into equal-width bins along each
+// axis, a sweep over the bins evaluates the surface area heuristic at every
+// bin boundary, and the cheapest split (or a leaf) wins.
+//
+// Subtrees are built on other threads near the root; each builds its nodes in
+// depth-first order into a vector of its own, and the parent appends it, so
+// the result is the serial build's bit for bit.
+#include "bvh/bvh.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+#include "input_error.h"
+
+namespace vkpath::bvh {
+
+using glm::vec3;
+using shared::BvhNode;
+using shared::BvhPrimitive;
+
+namespace {
+
+constexpr float INF = std::numeric_limits<float>::infinity();
+
+struct Aabb {
+    vec3 lo{INF};
+    vec3 hi{-INF};
+
+    void grow(const Aabb& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+    void grow(vec3 p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+    // Half the surface area (the SAH only uses ratios).
+    float halfArea() const {
+        if (empty()) return 0.0f;
+        const vec3 e = hi - lo;
+        return e.x * e.y + e.y * e.z + e.z * e.x;
+    }
+};
+
+// One primitive as the builder sees it: where it is, and where it came from.
+struct BuildPrimitive {
+    Aabb bounds;
+    vec3 centroid;
+    uint32_t kind;  // VKP_PRIMITIVE_*
+    uint32_t id;    // shared::BvhPrimitive::id
+    uint32_t source;  // triangle: mesh index; sphere: unused
+    uint32_t local;   // triangle: index within the mesh; sphere: index into Scene::spheres
+};
+
+// A node before flattening: interior nodes keep their second child's index
+// in `offset`, relative to the start of the vector they were built into.
+struct BuildNode {
+    Aabb bounds;
+    uint32_t offset = 0;
+    uint32_t count = 0;  // 0: interior
+};
+
+uint32_t ceilLog2(size_t n) { return n <= 1 ? 0u : static_cast<uint32_t>(std::bit_width(n - 1)); }
+
+float roundDown(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -INF);
+    return f;
+}
+
+float roundUp(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, INF);
+    return f;
+}
+
+Aabb sphereBounds(vec3 c, float r) {
+    Aabb b;
+    for (int k = 0; k < 3; ++k) {
+        b.lo[k] = roundDown(static_cast<double>(c[k]) - r);
+        b.hi[k] = roundUp(static_cast<double>(c[k]) + r);
+    }
+    return b;
+}
+
+class Builder {
+  public:
+    Builder(const BvhOptions& options, const std::vector<BuildPrimitive>& primitives,
+            std::vector<uint32_t>& refs)
+        : m_options(options), m_primitives(primitives), m_refs(refs) {
+        uint32_t threads = options.threads ? options.threads : std::thread::hardware_concurrency();
+        threads = std::max(threads, 1u);
+        // Two subtrees per thread near the root balance uneven splits a little.
+        m_spawnDepth = threads > 1 ? ceilLog2(threads) + 1 : 0;
+    }
+
+    // Builds the subtree over m_refs[begin, end) into `out`, depth-first.
+    void build(uint32_t begin, uint32_t end, uint32_t depth, std::vector<BuildNode>& out) const {
+        const size_t nodeIndex = out.size();
+        out.emplace_back();
+        Aabb bounds, centroids;
+        for (uint32_t i = begin; i < end; ++i) {
+            const BuildPrimitive& p = m_primitives[m_refs[i]];
+            bounds.grow(p.bounds);
+            centroids.grow(p.centroid);
+        }
+        out[nodeIndex].bounds = bounds;
+
+        const uint32_t mid = split(begin, end, depth, bounds, centroids);
+        if (mid == 0) {
+            out[nodeIndex].offset = begin;
+            out[nodeIndex].count = end - begin;
+            return;
+        }
+        if (depth < m_spawnDepth && end - begin >= m_options.parallelThreshold) {
+            auto second = std::async(std::launch::async, [this, mid, end, depth] {
+                std::vector<BuildNode> nodes;
+                build(mid, end, depth + 1, nodes);
+                return nodes;
+            });
+            build(begin, mid, depth + 1, out);
+            std::vector<BuildNode> nodes = second.get();
+            const auto base = static_cast<uint32_t>(out.size());
+            out[nodeIndex].offset = base;
+            for (BuildNode& node : nodes) {
+                if (node.count == 0) node.offset += base;
+                out.push_back(node);
+            }
+        } else {
+            build(begin, mid, depth + 1, out);
+            out[nodeIndex].offset = static_cast<uint32_t>(out.size());
+            build(mid, end, depth + 1, out);
+        }
+    }
+
+  private:
+    struct Bin {
+        Aabb bounds;
+        uint32_t count = 0;
+    };
+
+    uint32_t binOf(float c, float lo, float scale) const {
+        const float x = (c - lo) * scale;
+        return std::min(m_options.binCount - 1, static_cast<uint32_t>(x));
+    }
+
+    // Partitions m_refs[begin, end) and returns where the second child
+    // starts, or 0 to make a leaf.
+    uint32_t split(uint32_t begin, uint32_t end, uint32_t depth, const Aabb& bounds,
+                   const Aabb& centroids) const {
+        const uint32_t n = end - begin;
+        if (n == 1) return 0;
+        const bool mustSplit = n > m_options.maxLeafSize;
+
+        // ---- the SAH sweep over the bins of each axis -------------------------
+        const uint32_t binCount = m_options.binCount;
+        const float nodeArea = bounds.halfArea();
+        float bestCost = INF;
+        int bestAxis = -1;
+        uint32_t bestBin = 0;  // bins 0..bestBin go to the first child
+        uint32_t bestFirstCount = 0;
+        std::array<Bin, 256> bins;
+        std::array<float, 256> secondArea;
+        std::array<uint32_t, 256> secondCount;
+        for (int axis = 0; axis < 3; ++axis) {
+            const float lo = centroids.lo[axis];
+            const float extent = centroids.hi[axis] - lo;
+            const float scale = static_cast<float>(binCount) / extent;
+            if (!(extent > 0.0f) || !std::isfinite(scale)) continue;
+            std::fill(bins.begin(), bins.begin() + binCount, Bin{});
+            for (uint32_t i = begin; i < end; ++i) {
+                const BuildPrimitive& p = m_primitives[m_refs[i]];
+                Bin& bin = bins[binOf(p.centroid[axis], lo, scale)];
+                bin.bounds.grow(p.bounds);
+                ++bin.count;
+            }
+            Aabb acc;
+            uint32_t count = 0;
+            for (uint32_t b = binCount - 1; b > 0; --b) {
+                acc.grow(bins[b].bounds);
+                count += bins[b].count;
+                secondArea[b - 1] = acc.halfArea();
+                secondCount[b - 1] = count;
+            }
+            acc = Aabb{};
+            count = 0;
+            for (uint32_t b = 0; b + 1 < binCount; ++b) {
+                acc.grow(bins[b].bounds);
+                count += bins[b].count;
+                if (count == 0 || secondCount[b] == 0) continue;
+                const float areas = acc.halfArea() * static_cast<float>(count) +
+                                    secondArea[b] * static_cast<float>(secondCount[b]);
+                const float cost = m_options.traversalCost +
+                                   (nodeArea > 0.0f ? areas / nodeArea : static_cast<float>(n));
+                if (cost < bestCost) {
+                    bestCost = cost;
+                    bestAxis = axis;
+                    bestBin = b;
+                    bestFirstCount = count;
+                }
+            }
+        }
+
+        if (bestAxis >= 0) {
+            if (!mustSplit && static_cast<float>(n) <= bestCost) return 0;
+            // The depth guard: both children must still fit below maxDepth with
+            // halving splits (which preserve depth + ceilLog2(n) <= maxDepth).
+            const uint32_t larger = std::max(bestFirstCount, n - bestFirstCount);
+            if (depth + 1 + ceilLog2(larger) <= m_options.maxDepth) {
+                const float lo = centroids.lo[bestAxis];
+                const float scale =
+                    static_cast<float>(binCount) / (centroids.hi[bestAxis] - lo);
+                auto* first = m_refs.data() + begin;
+                auto* middle = std::partition(first, m_refs.data() + end, [&](uint32_t r) {
+                    return binOf(m_primitives[r].centroid[bestAxis], lo, scale) <= bestBin;
+                });
+                return begin + static_cast<uint32_t>(middle - first);
+            }
+        } else if (!mustSplit) {
+            return 0;  // every centroid in one point and few enough for a leaf
+        }
+        return medianSplit(begin, end, centroids);
+    }
+
+    // Halves the range at the median centroid of the widest axis, ties broken
+    // by primitive index, so the order is fully determined.
+    uint32_t medianSplit(uint32_t begin, uint32_t end, const Aabb& centroids) const {
+        const vec3 extent = centroids.hi - centroids.lo;
+        const int axis = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2)
+                                              : (extent.y >= extent.z ? 1 : 2);
+        const uint32_t mid = begin + (end - begin) / 2;
+        std::nth_element(m_refs.data() + begin, m_refs.data() + mid, m_refs.data() + end,
+                         [&](uint32_t a, uint32_t b) {
+                             const float ca = m_primitives[a].centroid[axis];
+                             const float cb = m_primitives[b].centroid[axis];
+                             return ca < cb || (ca == cb && a < b);
+                         });
+        return mid;
+    }
+
+    const BvhOptions& m_options;
+    const std::vector<BuildPrimitive>& m_primitives;
+    std::vector<uint32_t>& m_refs;
+    uint32_t m_spawnDepth = 0;
+};
+
+void validate(const BvhOptions& options) {
+    if (options.maxLeafSize < 1)
+        throw std::invalid_argument("BVH: maxLeafSize must be at least 1");
+    if (options.binCount < 2 || options.binCount > 256)
+        throw std::invalid_argument(
+            fmt::format("BVH: binCount must be 2 to 256, not {}", options.binCount));
+    if (options.maxDepth < 1 || options.maxDepth > VKP_BVH_MAX_DEPTH)
+        throw std::invalid_argument(fmt::format("BVH: maxDepth must be 1 to {}, not {}",
+                                                VKP_BVH_MAX_DEPTH, options.maxDepth));
+    if (!(options.traversalCost >= 0.0f))
+        throw std::invalid_argument("BVH: traversalCost must be >= 0");
+}
+
+// The primitives of the scene the BVH holds, in scene order (triangles mesh
+// by mesh, then spheres), with the counts of those left out.
+std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene, BvhStats& stats) {
+    std::vector<BuildPrimitive> primitives;
+    primitives.reserve(scene.triangleCount() + scene.spheres.size());
+    uint64_t triangleId = 0;
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+        const scene::Mesh& mesh = scene.meshes[m];
+        for (uint32_t t = 0; t < mesh.triangles.size(); ++t, ++triangleId) {
+            const glm::uvec3 tri = mesh.triangles[t];
+            if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() ||
+                tri.z >= mesh.positions.size())
+                throw InputError(fmt::format("mesh '{}': triangle {} has a vertex index beyond its {} vertices",
+                                             mesh.name, t, mesh.positions.size()));
+            const vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+            if (isDegenerateTriangle(a, b, c)) {
+                ++stats.degenerateTriangles;
+                continue;
+            }
+            BuildPrimitive p;
+            p.bounds.grow(a);
+            p.bounds.grow(b);
+            p.bounds.grow(c);
+            p.centroid = 0.5f * (p.bounds.lo + p.bounds.hi);
+            p.kind = VKP_PRIMITIVE_TRIANGLE;
+            p.id = static_cast<uint32_t>(triangleId);
+            p.source = m;
+            p.local = t;
+            primitives.push_back(p);
+            ++stats.triangles;
+        }
+    }
+    for (uint32_t s = 0; s < scene.spheres.size(); ++s) {
+        const scene::Sphere& sphere = scene.spheres[s];
+        if (isDegenerateSphere(sphere.center, sphere.radius)) {
+            ++stats.degenerateSpheres;
+            continue;
+        }
+        BuildPrimitive p;
+        p.bounds = sphereBounds(sphere.center, sphere.radius);
+        p.centroid = sphere.center;
+        p.kind = VKP_PRIMITIVE_SPHERE;
+        p.id = s;
+        p.source = 0;
+        p.local = s;
+        primitives.push_back(p);
+        ++stats.spheres;
+    }
+    return primitives;
+}
+
+BvhPrimitive flattenPrimitive(const scene::Scene& scene, const BuildPrimitive& p) {
+    BvhPrimitive out{};
+    out.kind = p.kind;
+    out.id = p.id;
+    if (p.kind == VKP_PRIMITIVE_SPHERE) {
+        const scene::Sphere& s = scene.spheres[p.local];
+        out.p0 = s.center;
+        out.p1 = vec3(s.radius, 0.0f, 0.0f);
+        out.p2 = vec3(0.0f);
+        out.material = s.material;
+    } else {
+        const scene::Mesh& mesh = scene.meshes[p.source];
+        const glm::uvec3 tri = mesh.triangles[p.local];
+        out.p0 = mesh.positions[tri.x];
+        out.p1 = mesh.positions[tri.y];
+        out.p2 = mesh.positions[tri.z];
+        out.material = mesh.material;
+    }
+    return out;
+}
+
+}  // namespace
+
+bool isDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2) {
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(p0[k]) || !std::isfinite(p1[k]) || !std::isfinite(p2[k])) return true;
+    // The edge vectors and their cross product in double: differences of floats
+    // of similar size are exact there, and their products are, so exactly
+    // collinear vertices give exactly zero.
+    const glm::dvec3 e1 = glm::dvec3(p1) - glm::dvec3(p0);
+    const glm::dvec3 e2 = glm::dvec3(p2) - glm::dvec3(p0);
+    const glm::dvec3 n = glm::cross(e1, e2);
+    return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
+}
+
+bool isDegenerateSphere(vec3 center, float radius) {
+    return !(radius > 0.0f) || !std::isfinite(radius) || !std::isfinite(center.x) ||
+           !std::isfinite(center.y) || !std::isfinite(center.z);
+}
+
+float padBelow(float x) {
+    const double d = x;
+    return roundDown(d - (std::abs(d) * 0x1p-21 + 0x1p-100));
+}
+
+float padAbove(float x) {
+    const double d = x;
+    return roundUp(d + (std::abs(d) * 0x1p-21 + 0x1p-100));
+}
+
+BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
+    validate(options);
+    const auto start = std::chrono::steady_clock::now();
+    BvhBuild result;
+    std::vector<BuildPrimitive> primitives = collectPrimitives(scene, result.stats);
+    if (primitives.size() >= std::numeric_limits<uint32_t>::max() - 1)
+        throw std::length_error(fmt::format("BVH: {} primitives, more than 2^32 - 2", primitives.size()));
+    if (ceilLog2(primitives.size()) > options.maxDepth)
+        throw std::invalid_argument(fmt::format("BVH: {} primitives cannot fit below maxDepth {}",
+                                                primitives.size(), options.maxDepth));
+
+    if (primitives.empty()) {
+        result.nodes.push_back(BvhNode{vec3(0.0f), 0u, vec3(0.0f), 0u});  // the empty tree
+        result.stats.nodes = 1;
+    } else {
+        std::vector<uint32_t> refs(primitives.size());
+        for (uint32_t i = 0; i < refs.size(); ++i) refs[i] = i;
+        std::vector<BuildNode> nodes;
+        nodes.reserve(2 * primitives.size());
+        Builder(options, primitives, refs).build(0, static_cast<uint32_t>(refs.size()), 0, nodes);
+
+        result.nodes.resize(nodes.size());
+        for (size_t i = 0; i < nodes.size(); ++i) {
+            const BuildNode& n = nodes[i];
+            BvhNode& out = result.nodes[i];
+            out.boundsMin = vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
+            out.boundsMax = vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
+            out.offset = n.offset;
+            out.count = n.count;
+        }
+        result.primitives.resize(refs.size());
+        for (size_t i = 0; i < refs.size(); ++i)
+            result.primitives[i] = flattenPrimitive(scene, primitives[refs[i]]);
+
+        // Depth and leaf statistics: nodes are in preorder, so a node's depth
+        // is known when it is reached.
+        std::vector<uint32_t> depth(nodes.size(), 0);
+        result.stats.nodes = nodes.size();
+        for (size_t i = 0; i < nodes.size(); ++i) {
+            if (nodes[i].count == 0) {
+                depth[i + 1] = depth[i] + 1;
+                depth[nodes[i].offset] = depth[i] + 1;
+            } else {
+                ++result.stats.leaves;
+                result.stats.maxDepth = std::max(result.stats.maxDepth, depth[i]);
+                result.stats.largestLeaf = std::max(result.stats.largestLeaf, nodes[i].count);
+            }
+        }
+    }
+    result.stats.sahCost = sahCost(result.nodes, options.traversalCost);
+    result.stats.buildMilliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+double sahCost(std::span<const BvhNode> nodes, float traversalCost) {
+    if (nodes.empty() || (nodes[0].count == 0 && nodes[0].offset == 0)) return 0.0;
+    auto halfArea = [](const BvhNode& n) {
+        const glm::dvec3 e = glm::dvec3(n.boundsMax) - glm::dvec3(n.boundsMin);
+        return e.x * e.y + e.y * e.z + e.z * e.x;
+    };
+    const double root = halfArea(nodes[0]);
+    if (!(root > 0.0)) return 0.0;
+    double cost = 0.0;
+    for (const BvhNode& n : nodes)
+        cost += halfArea(n) / root * (n.count == 0 ? traversalCost : static_cast<double>(n.count));
+    return cost;
+}
+
+std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene& scene) {
+    constexpr size_t MAX_PROBLEMS = 20;
+    std::vector<std::string> problems;
+    auto report = [&](std::string message) {
+        if (problems.size() < MAX_PROBLEMS) problems.push_back(std::move(message));
+    };
+    const auto& nodes = bvh.nodes;
+    const auto& prims = bvh.primitives;
+
+    // What the BVH must hold: every non-degenerate primitive of the scene.
+    size_t triangleTotal = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> triangleSource;  // global id -> (mesh, triangle)
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        for (uint32_t t = 0; t < scene.meshes[m].triangles.size(); ++t) triangleSource.emplace_back(m, t);
+    triangleTotal = triangleSource.size();
+    std::vector<uint8_t> triangleSeen(triangleTotal, 0), sphereSeen(scene.spheres.size(), 0);
+    size_t expected = 0;
+    for (const auto& [m, t] : triangleSource) {
+        const scene::Mesh& mesh = scene.meshes[m];
+        const glm::uvec3 tri = mesh.triangles[t];
+        const bool valid = tri.x < mesh.positions.size() && tri.y < mesh.positions.size() &&
+                           tri.z < mesh.positions.size();
+        if (valid && !isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]))
+            ++expected;
+    }
+    for (const scene::Sphere& s : scene.spheres)
+        if (!isDegenerateSphere(s.center, s.radius)) ++expected;
+    if (prims.size() != expected)
+        report(fmt::format("{} primitives in the BVH, the scene has {} non-degenerate ones", prims.size(),
+                           expected));
+
+    if (nodes.empty()) {
+        report("no nodes (an empty BVH has one empty root)");
+        return problems;
+    }
+    if (nodes[0].count == 0 && nodes[0].offset == 0) {
+        if (nodes.size() != 1 || !prims.empty()) report("an empty root with other nodes or primitives");
+        return problems;
+    }
+
+    auto inside = [](const BvhNode& inner, const BvhNode& outer) {
+        return glm::all(glm::greaterThanEqual(inner.boundsMin, outer.boundsMin)) &&
+               glm::all(glm::lessThanEqual(inner.boundsMax, outer.boundsMax));
+    };
+    auto finiteBox = [](const BvhNode& n) {
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(n.boundsMin[k]) || !std::isfinite(n.boundsMax[k]) ||
+                !(n.boundsMin[k] <= n.boundsMax[k]))
+                return false;
+        return true;
+    };
+
+    // Walk the tree from the root: every node must be reached exactly once,
+    // in preorder (so the walk's visiting order is 0, 1, 2, ...).
+    std::vector<uint32_t> primitiveLeaf(prims.size(), std::numeric_limits<uint32_t>::max());
+    struct Item {
+        uint32_t node;
+        uint32_t depth;
+        uint32_t parent;
+    };
+    std::vector<Item> stack{{0u, 0u, std::numeric_limits<uint32_t>::max()}};
+    size_t visited = 0;
+    while (!stack.empty()) {
+        const Item item = stack.back();
+        stack.pop_back();
+        if (item.node != visited) {
+            report(fmt::format("node {} reached as the {}th node of a depth-first walk", item.node, visited));
+            return problems;
+        }
+        ++visited;
+        const BvhNode& node = nodes[item.node];
+        if (!finiteBox(node)) report(fmt::format("node {}: box is not finite and ordered", item.node));
+        if (item.parent != std::numeric_limits<uint32_t>::max() && !inside(node, nodes[item.parent]))
+            report(fmt::format("node {}: box is not inside its parent {}'s", item.node, item.parent));
+        if (node.count == 0) {
+            if (item.depth + 1 > VKP_BVH_MAX_DEPTH)
+                report(fmt::format("node {}: interior node at depth {} has children below the limit {}",
+                                   item.node, item.depth, VKP_BVH_MAX_DEPTH));
+            if (node.offset <= item.node + 1 || node.offset >= nodes.size()) {
+                report(fmt::format("node {}: second child {} out of order or range", item.node, node.offset));
+                return problems;
+            }
+            stack.push_back({node.offset, item.depth + 1, item.node});
+            stack.push_back({item.node + 1, item.depth + 1, item.node});
+            continue;
+        }
+        if (item.depth > VKP_BVH_MAX_DEPTH)
+            report(fmt::format("leaf {} at depth {} beyond the limit {}", item.node, item.depth, VKP_BVH_MAX_DEPTH));
+        if (static_cast<uint64_t>(node.offset) + node.count > prims.size()) {
+            report(fmt::format("leaf {}: primitives [{}, {}) beyond the {} primitives", item.node, node.offset,
+                               static_cast<uint64_t>(node.offset) + node.count, prims.size()));
+            continue;
+        }
+        for (uint32_t i = node.offset; i < node.offset + node.count; ++i) {
+            if (primitiveLeaf[i] != std::numeric_limits<uint32_t>::max())
+                report(fmt::format("primitive {} is in leaves {} and {}", i, primitiveLeaf[i], item.node));
+            primitiveLeaf[i] = item.node;
+            const BvhPrimitive& p = prims[i];
+            glm::vec3 lo, hi;
+            if (p.kind == VKP_PRIMITIVE_SPHERE) {
+                lo = p.p0 - p.p1.x;
+                hi = p.p0 + p.p1.x;
+            } else {
+                lo = glm::min(glm::min(p.p0, p.p1), p.p2);
+                hi = glm::max(glm::max(p.p0, p.p1), p.p2);
+            }
+            if (!glm::all(glm::lessThan(node.boundsMin, lo)) || !glm::all(glm::lessThan(hi, node.boundsMax)))
+                report(fmt::format("primitive {} is not strictly inside leaf {}'s box", i, item.node));
+        }
+    }
+    if (visited != nodes.size())
+        report(fmt::format("{} nodes, {} reachable from the root", nodes.size(), visited));
+    for (size_t i = 0; i < prims.size(); ++i)
+        if (primitiveLeaf[i] == std::numeric_limits<uint32_t>::max())
+            report(fmt::format("primitive {} is in no leaf", i));
+
+    // Every primitive carries its scene data, and each scene primitive appears once.
+    for (size_t i = 0; i < prims.size(); ++i) {
+        const BvhPrimitive& p = prims[i];
+        if (p.kind == VKP_PRIMITIVE_SPHERE) {
+            if (p.id >= scene.spheres.size()) {
+                report(fmt::format("primitive {}: sphere id {} out of range", i, p.id));
+                continue;
+            }
+            const scene::Sphere& s = scene.spheres[p.id];
+            if (sphereSeen[p.id]++) report(fmt::format("sphere {} appears twice", p.id));
+            if (p.p0 != s.center || p.p1.x != s.radius || p.material != s.material)
+                report(fmt::format("primitive {}: data differs from sphere {}", i, p.id));
+        } else if (p.kind == VKP_PRIMITIVE_TRIANGLE) {
+            if (p.id >= triangleTotal) {
+                report(fmt::format("primitive {}: triangle id {} out of range", i, p.id));
+                continue;
+            }
+            const auto [m, t] = triangleSource[p.id];
+            const scene::Mesh& mesh = scene.meshes[m];
+            const glm::uvec3 tri = mesh.triangles[t];
+            if (triangleSeen[p.id]++) report(fmt::format("triangle {} appears twice", p.id));
+            if (p.p0 != mesh.positions[tri.x] || p.p1 != mesh.positions[tri.y] ||
+                p.p2 != mesh.positions[tri.z] || p.material != mesh.material)
+                report(fmt::format("primitive {}: data differs from triangle {}", i, p.id));
+        } else {
+            report(fmt::format("primitive {}: unknown kind {}", i, p.kind));
+        }
+    }
+    return problems;
+}
+
+}  // namespace vkpath::bvh

@@ -1,0 +1,97 @@
+// The bounding volume hierarchy over a scene's triangles and spheres: a binned
+// SAH builder, flattened into the depth-first node array and leaf-ordered
+// primitive array whose layouts shaders/shared/bvh.h defines.
+//
+//   bvh::BvhBuild build = bvh::buildBvh(scene);               // host arrays + stats
+//   std::vector<std::string> problems = bvh::integrityCheck(build, scene);
+//   bvh::GpuBvh gpu = bvh::uploadBvh(context, build);         // host/bvh/gpu_bvh.h
+//   shared::BvhView view{build.nodes, build.primitives};     // CPU traversal, host/bvh/bvh_view.h
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+#include "shared/bvh.h"
+
+namespace vkpath::bvh {
+
+struct BvhOptions {
+    // Leaves hold at most this many primitives; below it the SAH decides
+    // between a leaf and a split. 4 measured fastest on lavapipe (docs/BENCHMARKS.md).
+    uint32_t maxLeafSize = 4;
+    // Bins per axis for the SAH sweep, 2 to 256.
+    uint32_t binCount = 16;
+    // SAH cost of visiting an interior node (two box tests), in units of one
+    // primitive test.
+    float traversalCost = 1.0f;
+    // Leaves lie at depth <= maxDepth (root 0). At most VKP_BVH_MAX_DEPTH, the
+    // traversal stack's size; tests lower it to exercise the guard.
+    uint32_t maxDepth = VKP_BVH_MAX_DEPTH;
+    // Worker threads for building subtrees: 0 uses every hardware thread, 1
+    // builds serially. The result is the same for any value.
+    uint32_t threads = 0;
+    // A subtree is handed to another thread only if it has at least this many
+    // primitives (and it lies near the root).
+    uint32_t parallelThreshold = 8192;
+};
+
+struct BvhStats {
+    size_t triangles = 0;            // in the BVH
+    size_t spheres = 0;              // in the BVH
+    size_t degenerateTriangles = 0;  // left out: zero area or a non-finite vertex (never hit anyway)
+    size_t degenerateSpheres = 0;    // left out: radius <= 0 or non-finite
+    size_t nodes = 0;
+    size_t leaves = 0;
+    uint32_t maxDepth = 0;           // of a leaf, root at 0
+    uint32_t largestLeaf = 0;        // primitives in the fullest leaf
+    double sahCost = 0;              // see sahCost()
+    double buildMilliseconds = 0;    // wall clock, scene to flattened arrays
+};
+
+struct BvhBuild {
+    std::vector<shared::BvhNode> nodes;            // depth-first preorder, root at 0
+    std::vector<shared::BvhPrimitive> primitives;  // in leaf order
+    BvhStats stats;
+
+    size_t nodeBytes() const { return nodes.size() * sizeof(shared::BvhNode); }
+    size_t primitiveBytes() const { return primitives.size() * sizeof(shared::BvhPrimitive); }
+    size_t bytes() const { return nodeBytes() + primitiveBytes(); }
+};
+
+// Builds the BVH of every non-degenerate triangle and sphere of `scene`.
+// Deterministic: the same scene and options give the same arrays bit for bit,
+// whatever the number of threads. Throws InputError for a triangle whose
+// vertex index is out of range, std::invalid_argument for bad options, and
+// std::length_error for more than 2^32 - 2 primitives.
+BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options = {});
+
+// Checks everything traversal relies on: the node array is one tree in
+// depth-first order, every leaf is at depth <= VKP_BVH_MAX_DEPTH, every
+// non-degenerate primitive of `scene` is in exactly one leaf with its scene
+// data, every child box lies inside its parent's and every primitive strictly
+// inside its leaf's. Returns the problems found, one line each (at most 20);
+// empty when the BVH is sound.
+std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene& scene);
+
+// The surface area heuristic cost of a tree: traversalCost times the summed
+// areas of interior nodes plus the summed area times primitive count of the
+// leaves, all relative to the root's area. The expected number of node visits
+// and primitive tests for a ray that crosses the root box.
+double sahCost(std::span<const shared::BvhNode> nodes, float traversalCost = 1.0f);
+
+// What the builder leaves out (exposed for tests and integrityCheck).
+bool isDegenerateTriangle(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2);
+bool isDegenerateSphere(glm::vec3 center, float radius);
+
+// Outward padding of a bound (monotone, so a child inside its parent stays
+// inside after padding): a relative 2^-21 plus 2^-100, rounded outward. Boxes
+// strictly contain their primitives, which traversal relies on (see
+// shared/intersect.h: safeInverse).
+float padBelow(float x);
+float padAbove(float x);
+
+}  // namespace vkpath::bvh

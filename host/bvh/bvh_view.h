@@ -1,0 +1,33 @@
+// CPU traversal of a flattened BVH with the kernels' own code: the body of
+// shaders/shared/bvh_traverse.h becomes the const member functions of BvhView,
+// reading the two arrays through std::span where a kernel reads its storage
+// buffers. The CPU reference renderer and the tests trace with it:
+//
+//   shared::BvhView view{build.nodes, build.primitives};
+//   shared::Hit hit = view.bvhClosestHit(ray);
+//   bool blocked = view.bvhOccluded(shadowRay);
+//
+// It lives in vkpath::shared because the included code names shared types and
+// GLM functions unqualified, as GLSL does.
+#pragma once
+
+#include <span>
+
+#include "shared/bvh.h"
+#include "shared/intersect.h"
+#include "shared/ray.h"
+
+namespace vkpath::shared {
+
+struct BvhView {
+    std::span<const BvhNode> nodes;            // depth-first, as bvh::BvhBuild::nodes
+    std::span<const BvhPrimitive> primitives;  // leaf order, as bvh::BvhBuild::primitives
+
+    // The accessors shared/bvh_traverse.h reads through.
+    BvhNode bvhNode(uint index) const { return nodes[index]; }
+    BvhPrimitive bvhPrimitive(uint index) const { return primitives[index]; }
+
+#include "shared/bvh_traverse.h"
+};
+
+}  // namespace vkpath::shared

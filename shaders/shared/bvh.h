@@ -1,0 +1,76 @@
+// The bounding volume hierarchy as the kernels read it: a depth-first array of
+// 32-byte nodes and an array of 48-byte primitives in leaf order, both built
+// and flattened by host/bvh/ and uploaded as two storage buffers, plus the hit
+// record that closest-hit traversal returns.
+//
+// Node layout (depth-first preorder, root at index 0):
+//   interior node i: children i + 1 and `offset`, count == 0
+//   leaf:            primitives [offset, offset + count), count >= 1
+//   empty BVH:       a single node with offset == 0 and count == 0 (no ray hits it)
+// The builder guarantees that every leaf lies at depth <= VKP_BVH_MAX_DEPTH
+// (root at depth 0), which bounds the traversal stack (shared/bvh_traverse.h).
+#ifndef VKPATH_SHARED_BVH_H
+#define VKPATH_SHARED_BVH_H
+
+#include "shared/compat.h"
+
+// The deepest a leaf may be (root at depth 0). Traversal pushes at most one
+// node per level, so this is also the size of its stack.
+#define VKP_BVH_MAX_DEPTH 64
+
+// BvhPrimitive::kind
+#define VKP_PRIMITIVE_TRIANGLE 0u
+#define VKP_PRIMITIVE_SPHERE 1u
+
+// Hit::primitive of a ray that hits nothing.
+#define VKP_NO_HIT 0xffffffffu
+
+// ---- the test-level trace kernels (tests/kernels/bvh_closest.comp, bvh_anyhit.comp)
+#define VKP_TRACE_BINDING_NODES 0       // BvhNode[], read
+#define VKP_TRACE_BINDING_PRIMITIVES 1  // BvhPrimitive[], read
+#define VKP_TRACE_BINDING_RAYS 2        // Ray[count], read
+#define VKP_TRACE_BINDING_RESULTS 3     // bvh_closest: Hit[count]; bvh_anyhit: uint[count], 1 = occluded
+
+VKP_NAMESPACE_BEGIN
+
+struct BvhNode {
+    vec3 boundsMin;  // world space, padded outward so it strictly contains its subtree (host/bvh)
+    uint offset;     // interior: index of the second child (the first is this node + 1); leaf: first primitive
+    vec3 boundsMax;  // world space, rounded outward
+    uint count;      // leaf: number of primitives (>= 1); interior: 0
+};
+
+// One triangle or sphere in leaf order. Triangles keep their three world-space
+// vertices here so a leaf is one contiguous read; the original ids tell
+// shading where the rest of the data lives.
+struct BvhPrimitive {
+    vec3 p0;        // world space. triangle: vertex 0; sphere: centre
+    uint kind;      // VKP_PRIMITIVE_TRIANGLE or VKP_PRIMITIVE_SPHERE
+    vec3 p1;        // world space. triangle: vertex 1; sphere: (radius, 0, 0)
+    uint id;        // triangle: index over all scene triangles, mesh by mesh in scene order;
+                    // sphere: index into Scene::spheres
+    vec3 p2;        // world space. triangle: vertex 2; sphere: unused (0)
+    uint material;  // index into Scene::materials
+};
+
+// The result of closest-hit traversal.
+struct Hit {
+    float t;            // ray parameter of the hit, 0 <= t < ray.tMax; ray.tMax when nothing was hit
+    uint primitive;     // index into the leaf-ordered BvhPrimitive array; VKP_NO_HIT when nothing was hit
+    vec2 barycentrics;  // triangle: weights of p1 and p2 (p0's is 1 - x - y); sphere: (0, 0)
+};
+
+struct TracePush {
+    uint count;  // number of rays
+};
+
+VKP_NAMESPACE_END
+
+#ifdef __cplusplus
+static_assert(sizeof(vkpath::shared::BvhNode) == 32);
+static_assert(sizeof(vkpath::shared::BvhPrimitive) == 48);
+static_assert(sizeof(vkpath::shared::Hit) == 16);
+static_assert(sizeof(vkpath::shared::TracePush) == 4);
+#endif
+
+#endif  // VKPATH_SHARED_BVH_H

@@ -1,0 +1,113 @@
+// BVH traversal: closest hit and any hit (shadow rays), the same code on GPU
+// and CPU. GLSL has neither pointers nor recursion, and a GLSL function cannot
+// take a buffer, so this file reads the BVH through two accessors that its
+// includer defines before including it:
+//
+//   BvhNode bvhNode(uint index);            // shared/bvh.h layouts
+//   BvhPrimitive bvhPrimitive(uint index);
+//
+// GLSL: a kernel declares its two storage buffers and the accessors over them
+//   (shared/bvh_buffers.h does both), then includes this file at global scope.
+// C++: host/bvh/bvh_view.h includes it inside the body of struct BvhView,
+//   whose member accessors read std::spans; the functions below become const
+//   member functions (VKP_BVH_CONST).
+//
+// There is no include guard: include it exactly once per scope.
+//
+// The traversal keeps an explicit stack of node indices. At an interior node
+// both children's boxes are tested; the nearer is visited next and the other
+// pushed, so the stack holds at most one node per level below the root, and
+// the builder keeps every leaf at depth <= VKP_BVH_MAX_DEPTH: the stack of
+// VKP_BVH_MAX_DEPTH entries cannot overflow.
+//
+// Ties: primitives are tested in leaf order and a hit must be strictly nearer
+// than the best so far (the interval is [0, tMax) and tMax shrinks to each hit),
+// so among hits at exactly the same distance the first found wins. Which one
+// that is depends on the tree and the order children are visited in (nearer
+// box entry first, the first child on equal entries).
+
+#ifdef __cplusplus
+#define VKP_BVH_CONST const
+#else
+#define VKP_BVH_CONST
+#endif
+
+// anyHit: stop at the first hit in [0, ray.tMax) (it need not be the closest).
+VKP_FN Hit bvhTrace(Ray ray, bool anyHit) VKP_BVH_CONST {
+    Hit hit;
+    hit.t = ray.tMax;
+    hit.primitive = VKP_NO_HIT;
+    hit.barycentrics = vec2(0.0f, 0.0f);
+
+    BvhNode node = bvhNode(0u);
+    if (node.count == 0u && node.offset == 0u) return hit;  // empty BVH
+    TriangleRay triangleRay = makeTriangleRay(ray.origin, ray.direction);
+    vec3 inverseDirection = safeInverse(ray.direction);
+    float entry;
+    if (!intersectBox(node.boundsMin, node.boundsMax, ray.origin, inverseDirection, hit.t, entry)) {
+        return hit;
+    }
+
+    uint stack[VKP_BVH_MAX_DEPTH];
+    uint stackSize = 0u;
+    uint index = 0u;
+    while (true) {
+        node = bvhNode(index);
+        if (node.count > 0u) {
+            // ---- leaf: test its primitives ------------------------------------
+            uint end = node.offset + node.count;
+            for (uint i = node.offset; i < end; ++i) {
+                BvhPrimitive primitive = bvhPrimitive(i);
+                float t;
+                vec2 barycentrics = vec2(0.0f, 0.0f);
+                bool found;
+                if (primitive.kind == VKP_PRIMITIVE_SPHERE) {
+                    found = intersectSphere(ray.origin, ray.direction, primitive.p0, primitive.p1.x,
+                                            hit.t, t);
+                } else {
+                    found = intersectTriangle(triangleRay, primitive.p0, primitive.p1, primitive.p2,
+                                              hit.t, t, barycentrics);
+                }
+                if (found) {
+                    hit.t = t;
+                    hit.primitive = i;
+                    hit.barycentrics = barycentrics;
+                    if (anyHit) return hit;
+                }
+            }
+        } else {
+            // ---- interior: visit the nearer child, push the farther -----------
+            uint first = index + 1u;
+            uint second = node.offset;
+            BvhNode a = bvhNode(first);
+            BvhNode b = bvhNode(second);
+            float entryA, entryB;
+            bool hitA = intersectBox(a.boundsMin, a.boundsMax, ray.origin, inverseDirection, hit.t,
+                                     entryA);
+            bool hitB = intersectBox(b.boundsMin, b.boundsMax, ray.origin, inverseDirection, hit.t,
+                                     entryB);
+            if (hitA && hitB) {
+                bool firstNearer = entryA <= entryB;
+                stack[stackSize] = firstNearer ? second : first;
+                stackSize += 1u;
+                index = firstNearer ? first : second;
+                continue;
+            }
+            if (hitA || hitB) {
+                index = hitA ? first : second;
+                continue;
+            }
+        }
+        if (stackSize == 0u) break;
+        stackSize -= 1u;
+        index = stack[stackSize];
+    }
+    return hit;
+}
+
+// The nearest hit in [0, ray.tMax), or Hit::primitive == VKP_NO_HIT.
+VKP_FN Hit bvhClosestHit(Ray ray) VKP_BVH_CONST { return bvhTrace(ray, false); }
+
+// Whether anything lies in [0, ray.tMax): for shadow rays, whose tMax is the
+// distance to the light (a surface exactly at tMax does not occlude).
+VKP_FN bool bvhOccluded(Ray ray) VKP_BVH_CONST { return bvhTrace(ray, true).primitive != VKP_NO_HIT; }

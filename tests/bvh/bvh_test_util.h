@@ -1,0 +1,306 @@
+// Scenes, rays and tracers shared by the BVH tests: generated geometry (triangle
+// soups, sphere fields, closed meshes), brute-force closest hits on the CPU
+// with the kernels' own intersection functions, and the test trace kernels
+// dispatched through the harness. Every BVH built here passes integrityCheck.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <random>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "bvh/bvh_view.h"
+#include "bvh/gpu_bvh.h"
+#include "scene/scene.h"
+#include "shared/bvh.h"
+#include "shared/intersect.h"
+#include "shared/ray.h"
+#include "support/test_context.h"
+#include "vk/buffer.h"
+#include "vk/kernel.h"
+
+namespace vkpath::test::bvh {
+
+using glm::vec3;
+using shared::BvhPrimitive;
+using shared::Hit;
+using shared::Ray;
+
+constexpr float FLT_MAX_VALUE = 3.402823466e+38f;
+
+// ---- scenes ------------------------------------------------------------------
+
+inline scene::Scene emptyScene() {
+    scene::Scene s;
+    s.materials.push_back(scene::Material{});
+    s.materials.push_back(scene::Material{.name = "second"});
+    return s;
+}
+
+inline vec3 randomInBox(std::mt19937& rng, vec3 lo, vec3 hi) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    return lo + vec3(u(rng), u(rng), u(rng)) * (hi - lo);
+}
+
+inline vec3 randomDirection(std::mt19937& rng) {
+    std::normal_distribution<float> n(0.0f, 1.0f);
+    while (true) {
+        const vec3 d(n(rng), n(rng), n(rng));
+        const float len = glm::length(d);
+        if (len > 1e-3f) return d / len;
+    }
+}
+
+// `count` triangles with random vertices, each within `size` of a random
+// centre in [-1, 1]^3; they intersect each other freely.
+inline void addTriangleSoup(scene::Scene& s, uint32_t count, float size, uint32_t seed) {
+    std::mt19937 rng(seed);
+    scene::Mesh mesh;
+    mesh.name = "soup";
+    mesh.material = 1;
+    for (uint32_t i = 0; i < count; ++i) {
+        const vec3 c = randomInBox(rng, vec3(-1.0f), vec3(1.0f));
+        const auto base = static_cast<uint32_t>(mesh.positions.size());
+        for (int k = 0; k < 3; ++k) mesh.positions.push_back(c + randomInBox(rng, vec3(-size), vec3(size)));
+        mesh.triangles.emplace_back(base, base + 1, base + 2);
+    }
+    s.meshes.push_back(std::move(mesh));
+}
+
+inline void addSphereField(scene::Scene& s, uint32_t count, float minRadius, float maxRadius, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> radius(minRadius, maxRadius);
+    for (uint32_t i = 0; i < count; ++i)
+        s.spheres.push_back(scene::Sphere{.name = "s", .center = randomInBox(rng, vec3(-1.0f), vec3(1.0f)),
+                                          .radius = radius(rng), .material = i % 2});
+}
+
+// A closed icosphere: the icosahedron with each face split into 4^subdivisions
+// triangles, vertices shared between faces (edge midpoints deduplicated), so
+// neighbouring triangles use bit-identical vertices.
+inline scene::Mesh icosphere(uint32_t subdivisions, float radius, vec3 center) {
+    const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
+    std::vector<vec3> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    for (vec3& v : unit) v = glm::normalize(v);
+    std::vector<glm::uvec3> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                     {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                     {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                     {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (uint32_t s = 0; s < subdivisions; ++s) {
+        std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
+        auto midpoint = [&](uint32_t a, uint32_t b) {
+            const auto key = std::minmax(a, b);
+            const auto it = midpoints.find(key);
+            if (it != midpoints.end()) return it->second;
+            unit.push_back(glm::normalize(unit[a] + unit[b]));
+            const auto index = static_cast<uint32_t>(unit.size() - 1);
+            midpoints.emplace(key, index);
+            return index;
+        };
+        std::vector<glm::uvec3> next;
+        for (const glm::uvec3& f : faces) {
+            const uint32_t a = midpoint(f.x, f.y), b = midpoint(f.y, f.z), c = midpoint(f.z, f.x);
+            next.insert(next.end(), {{f.x, a, c}, {f.y, b, a}, {f.z, c, b}, {a, b, c}});
+        }
+        faces = std::move(next);
+    }
+    scene::Mesh mesh;
+    mesh.name = "icosphere";
+    for (const vec3& v : unit) mesh.positions.push_back(center + radius * v);
+    mesh.triangles = std::move(faces);
+    return mesh;
+}
+
+// The closed surface of the cube [-1, 1]^3, each face an n x n grid of quads
+// split into two triangles; vertices on the cube's edges are shared by the
+// faces that meet there.
+inline scene::Mesh tessellatedCube(uint32_t n) {
+    scene::Mesh mesh;
+    mesh.name = "cube";
+    std::map<std::tuple<float, float, float>, uint32_t> index;
+    auto vertex = [&](vec3 p) {
+        const auto key = std::make_tuple(p.x, p.y, p.z);
+        const auto it = index.find(key);
+        if (it != index.end()) return it->second;
+        mesh.positions.push_back(p);
+        const auto i = static_cast<uint32_t>(mesh.positions.size() - 1);
+        index.emplace(key, i);
+        return i;
+    };
+    auto coordinate = [n](uint32_t i) { return -1.0f + 2.0f * static_cast<float>(i) / static_cast<float>(n); };
+    for (int axis = 0; axis < 3; ++axis) {
+        for (float side : {-1.0f, 1.0f}) {
+            for (uint32_t i = 0; i < n; ++i) {
+                for (uint32_t j = 0; j < n; ++j) {
+                    auto at = [&](uint32_t a, uint32_t b) {
+                        vec3 p;
+                        p[axis] = side;
+                        p[(axis + 1) % 3] = coordinate(a);
+                        p[(axis + 2) % 3] = coordinate(b);
+                        return vertex(p);
+                    };
+                    const uint32_t v00 = at(i, j), v10 = at(i + 1, j), v01 = at(i, j + 1), v11 = at(i + 1, j + 1);
+                    mesh.triangles.emplace_back(v00, v10, v11);
+                    mesh.triangles.emplace_back(v00, v11, v01);
+                }
+            }
+        }
+    }
+    return mesh;
+}
+
+// ---- building --------------------------------------------------------------
+
+// Builds and runs the integrity check (every BVH the tests build is checked).
+inline vkpath::bvh::BvhBuild buildChecked(const scene::Scene& s, const vkpath::bvh::BvhOptions& options = {}) {
+    vkpath::bvh::BvhBuild build = vkpath::bvh::buildBvh(s, options);
+    const std::vector<std::string> problems = vkpath::bvh::integrityCheck(build, s);
+    for (const std::string& p : problems) ADD_FAILURE() << "BVH integrity: " << p;
+    return build;
+}
+
+// ---- rays ----------------------------------------------------------------------
+
+inline Ray makeRay(vec3 origin, vec3 direction, float tMax = FLT_MAX_VALUE, uint32_t pixel = 0) {
+    Ray r;
+    r.origin = origin;
+    r.direction = direction;
+    r.tMax = tMax;
+    r.pixel = pixel;
+    return r;
+}
+
+// A point inside primitive `p` (triangle: barycentrics at least `margin`;
+// sphere: a point of its surface facing `from`... any surface point).
+inline vec3 pointOn(const BvhPrimitive& p, std::mt19937& rng, float margin = 0.0f) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    if (p.kind == VKP_PRIMITIVE_SPHERE) return p.p0 + p.p1.x * randomDirection(rng);
+    float b1 = u(rng), b2 = u(rng);
+    if (b1 + b2 > 1.0f) {
+        b1 = 1.0f - b1;
+        b2 = 1.0f - b2;
+    }
+    const float scale = 1.0f - 3.0f * margin;
+    b1 = margin + scale * b1;
+    b2 = margin + scale * b2;
+    return (1.0f - b1 - b2) * p.p0 + b1 * p.p1 + b2 * p.p2;
+}
+
+// Half random rays from the box [-2, 2]^3, half aimed from there at a random
+// point of a random primitive (so most of them hit something).
+inline std::vector<Ray> randomRays(const vkpath::bvh::BvhBuild& build, uint32_t count, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::vector<Ray> rays(count);
+    std::uniform_int_distribution<size_t> pick(0, build.primitives.size() - 1);
+    for (uint32_t i = 0; i < count; ++i) {
+        const vec3 origin = randomInBox(rng, vec3(-2.0f), vec3(2.0f));
+        vec3 direction = randomDirection(rng);
+        if (i % 2 == 1) {
+            const vec3 to = pointOn(build.primitives[pick(rng)], rng) - origin;
+            if (glm::length(to) > 1e-4f) direction = glm::normalize(to);
+        }
+        rays[i] = makeRay(origin, direction, FLT_MAX_VALUE, i);
+    }
+    return rays;
+}
+
+// ---- CPU brute force -----------------------------------------------------------
+
+// The intersection of one primitive, with the traversal's functions.
+inline bool intersectPrimitive(const BvhPrimitive& p, const Ray& ray, float tMax, float& t, glm::vec2& bary) {
+    bary = glm::vec2(0.0f);
+    if (p.kind == VKP_PRIMITIVE_SPHERE)
+        return shared::intersectSphere(ray.origin, ray.direction, p.p0, p.p1.x, tMax, t);
+    return shared::intersectTriangle(shared::makeTriangleRay(ray.origin, ray.direction), p.p0, p.p1, p.p2, tMax,
+                                     t, bary);
+}
+
+inline Hit bruteForceClosest(const std::vector<BvhPrimitive>& primitives, const Ray& ray) {
+    Hit hit{ray.tMax, VKP_NO_HIT, glm::vec2(0.0f)};
+    const shared::TriangleRay triangleRay = shared::makeTriangleRay(ray.origin, ray.direction);
+    for (uint32_t i = 0; i < primitives.size(); ++i) {
+        const BvhPrimitive& p = primitives[i];
+        float t;
+        glm::vec2 bary(0.0f);
+        const bool found =
+            p.kind == VKP_PRIMITIVE_SPHERE
+                ? shared::intersectSphere(ray.origin, ray.direction, p.p0, p.p1.x, hit.t, t)
+                : shared::intersectTriangle(triangleRay, p.p0, p.p1, p.p2, hit.t, t, bary);
+        if (found) hit = Hit{t, i, bary};
+    }
+    return hit;
+}
+
+// Runs f(i) for i in [0, n) on every hardware thread.
+template <typename F>
+void parallelFor(size_t n, F f) {
+    const size_t threads = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<std::thread> pool;
+    for (size_t w = 0; w < threads; ++w)
+        pool.emplace_back([&, w] {
+            for (size_t i = w; i < n; i += threads) f(i);
+        });
+    for (std::thread& t : pool) t.join();
+}
+
+inline std::vector<Hit> bruteForceClosest(const std::vector<BvhPrimitive>& primitives, const std::vector<Ray>& rays) {
+    std::vector<Hit> hits(rays.size());
+    parallelFor(rays.size(), [&](size_t i) { hits[i] = bruteForceClosest(primitives, rays[i]); });
+    return hits;
+}
+
+// ---- the GPU trace kernels -------------------------------------------------------
+
+class GpuTracer {
+  public:
+    GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build)
+        : m_context(context),
+          m_bvh(vkpath::bvh::uploadBvh(context, build)),
+          m_closest(context, "bvh_closest"),
+          m_anyHit(context, "bvh_anyhit") {}
+
+    std::vector<Hit> closest(const std::vector<Ray>& rays) {
+        vk::Buffer rayBuffer = vk::Buffer::fromSpan(m_context, std::span(rays));
+        vk::Buffer hitBuffer(m_context, rays.size() * sizeof(Hit));
+        m_lastMilliseconds = m_closest.dispatch(
+            static_cast<uint32_t>(rays.size()),
+            {{VKP_TRACE_BINDING_NODES, &m_bvh.nodes},
+             {VKP_TRACE_BINDING_PRIMITIVES, &m_bvh.primitives},
+             {VKP_TRACE_BINDING_RAYS, &rayBuffer},
+             {VKP_TRACE_BINDING_RESULTS, &hitBuffer}},
+            shared::TracePush{static_cast<uint32_t>(rays.size())});
+        return hitBuffer.download<Hit>();
+    }
+
+    std::vector<uint32_t> occluded(const std::vector<Ray>& rays) {
+        vk::Buffer rayBuffer = vk::Buffer::fromSpan(m_context, std::span(rays));
+        vk::Buffer flagBuffer(m_context, rays.size() * sizeof(uint32_t));
+        m_lastMilliseconds = m_anyHit.dispatch(
+            static_cast<uint32_t>(rays.size()),
+            {{VKP_TRACE_BINDING_NODES, &m_bvh.nodes},
+             {VKP_TRACE_BINDING_PRIMITIVES, &m_bvh.primitives},
+             {VKP_TRACE_BINDING_RAYS, &rayBuffer},
+             {VKP_TRACE_BINDING_RESULTS, &flagBuffer}},
+            shared::TracePush{static_cast<uint32_t>(rays.size())});
+        return flagBuffer.download<uint32_t>();
+    }
+
+    double lastMilliseconds() const { return m_lastMilliseconds; }
+
+  private:
+    vk::Context& m_context;
+    vkpath::bvh::GpuBvh m_bvh;
+    vk::Kernel m_closest;
+    vk::Kernel m_anyHit;
+    double m_lastMilliseconds = 0;
+};
+
+}  // namespace vkpath::test::bvh

@@ -1,0 +1,31 @@
+// Test kernel: any-hit (shadow) BVH traversal of a buffer of rays, one flag
+// per ray: 1 if anything lies in [0, tMax), else 0.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+
+#include "shared/bindings.h"
+#include "shared/bvh.h"
+#include "shared/ray.h"
+
+#define VKP_BVH_NODES_BINDING VKP_TRACE_BINDING_NODES
+#define VKP_BVH_PRIMITIVES_BINDING VKP_TRACE_BINDING_PRIMITIVES
+#include "shared/bvh_buffers.h"
+
+layout(local_size_x_id = VKP_SPEC_WORKGROUP_SIZE) in;
+
+layout(binding = VKP_TRACE_BINDING_RAYS, scalar) readonly buffer RayBuffer {
+    Ray rays[];
+};
+layout(binding = VKP_TRACE_BINDING_RESULTS, scalar) writeonly buffer OcclusionBuffer {
+    uint occluded[];
+};
+layout(push_constant, scalar) uniform Push {
+    TracePush push;
+};
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= push.count) return;
+    occluded[i] = bvhOccluded(rays[i]) ? 1u : 0u;
+}
