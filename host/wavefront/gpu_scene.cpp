@@ -73,7 +73,7 @@ SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& b
             const double area = 0.5 * glm::length(glm::cross(glm::dvec3(p1 - p0), glm::dvec3(p2 - p0)));
             surfaceLight[{VKP_PRIMITIVE_TRIANGLE, id}] = uint32_t(t.lights.size());
             t.lights.push_back(light);
-            power.push_back(scene::luminance(m.emission) * area * PI * 2.0);  // both faces emit
+            power.push_back(scene::luminance(m.emission) * area * PI);  // the front face emits
         }
     }
     for (uint32_t i = 0; i < scene.spheres.size(); ++i) {

@@ -36,8 +36,8 @@ struct SceneTables {
 
 // Builds the tables. Lights: one per emissive non-degenerate triangle and
 // sphere, each punctual light, and the environment when present, chosen in
-// proportion to their power in luminance: pi x area x L for surfaces (both
-// faces of a triangle), 4 pi I for points, the cone's solid angle x I for
+// proportion to their power in luminance: pi x area x L for surfaces (a
+// triangle's front face; a sphere's outside), 4 pi I for points, the cone's solid angle x I for
 // spots, and pi R^2 x E (directional) or pi R^2 x the integral of L over the
 // sphere (environment), R the radius of a sphere around the geometry.
 SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions = {});

@@ -1,6 +1,7 @@
 // Lights as the kernels see them, and sampling them from a surface point.
 // Emissive triangles and spheres are area lights (their emission comes from
-// their material); point, spot and directional lights are delta lights; the
+// their material; a triangle emits from its front face, as pbrt's and
+// Scotty3D's area lights do, a sphere to both sides); point, spot and directional lights are delta lights; the
 // environment is one light whose directions come from its own alias table.
 // One alias table over all lights picks a light in proportion to its power.
 #ifndef VKPATH_SHARED_LIGHTS_H
@@ -26,7 +27,8 @@ struct Light {
     float radius;     // sphere: radius
     vec3 p2;          // triangle: vertex 2
     float cosInner;   // spot: cosine of the inner cone angle (full intensity inside)
-    vec3 emission;    // triangle, sphere: radiance W/(m^2 sr), both faces of a triangle;
+    vec3 emission;    // triangle, sphere: radiance W/(m^2 sr), from a triangle's front face only
+                      // (counter-clockwise seen from the front), from both sides of a sphere;
                       // point, spot: intensity W/sr; directional: irradiance W/m^2
     float cosOuter;   // spot: cosine of the outer cone angle (dark outside)
 };
@@ -94,7 +96,8 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
         vec3 n = normalize(cross(light.p1 - light.p0, light.p2 - light.p0));
         float area = length(triangleArea3(light.p0, light.p1, light.p2));
         s.pdf = areaToSolidAnglePdf(area, dist2, dot(n, s.direction));
-        s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
+        // Only the front face emits: the point must see it (n points back at p).
+        s.radiance = s.pdf > 0.0f && dot(n, s.direction) < 0.0f ? light.emission : vec3(0.0f);
         return s;
     }
     if (light.type == VKP_LIGHT_SPHERE) {

@@ -79,11 +79,14 @@ VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SC
     return le * bsdfMisWeight(bsdfPdf, lightPdf);
 }
 
-// Emission at a hit: `surface` on leaf primitive `primitive`, seen from
-// `previous` (the last vertex) along a ray of BSDF density `bsdfPdf`.
-VKP_FN vec3 emittedRadiance(Material material, uint primitive, SurfacePoint surface, vec3 previous, bool specular,
-                            float bsdfPdf) VKP_SCENE_CONST {
+// Emission at a hit: `surface` on leaf primitive `primitive`, reached along
+// `direction` from `previous` (the last vertex) by a ray of BSDF density
+// `bsdfPdf`. Triangles emit from their front face only.
+VKP_FN vec3 emittedRadiance(Material material, uint primitive, SurfacePoint surface, vec3 direction, vec3 previous,
+                            bool specular, float bsdfPdf) VKP_SCENE_CONST {
     vec3 le = material.emission;
+    if (bvhPrimitive(primitive).kind == VKP_PRIMITIVE_TRIANGLE && dot(direction, surface.normal) >= 0.0f)
+        return vec3(0.0f);
     SceneInfo info = sceneInfo();
     if (le == vec3(0.0f) || specular || info.lightSamples == 0u || info.lightCount == 0u) return le;
     uint lightIndex = scenePrimitiveLight(primitive);

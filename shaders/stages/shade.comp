@@ -42,8 +42,8 @@ void main() {
     BvhPrimitive primitive = bvhPrimitive(hit.primitive);
     Material material = sceneMaterial(primitive.material);
     SurfacePoint surface = surfacePoint(primitive, ray, hit);
-    radiance[slot] += beta * emittedRadiance(material, hit.primitive, surface, previous.position, specular,
-                                             previous.bsdfPdf);
+    radiance[slot] += beta * emittedRadiance(material, hit.primitive, surface, ray.direction, previous.position,
+                                             specular, previous.bsdfPdf);
     if (push.bounce >= info.maxDepth) return;
 
     // ---- next-event estimation ------------------------------------------------------
