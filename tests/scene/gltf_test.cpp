@@ -1,0 +1,1176 @@
+// The glTF importer: the bundled assets, transforms, index types, containers,
+// cameras, the material mapping table, warnings, and one test per kind of bad
+// input. Each test writes the small glTF files it needs into its own folder.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#include <nlohmann/json.hpp>
+#pragma GCC diagnostic pop
+
+#include "input_error.h"
+#include "scene/camera.h"
+#include "scene/gltf_loader.h"
+#include "scene/load.h"
+#include "support/test_context.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using namespace vkpath;
+
+constexpr int U8 = 5121, U16 = 5123, U32 = 5125, F32 = 5126;
+
+// A folder of its own for each test, removed afterwards.
+class TempDir {
+  public:
+    TempDir() {
+        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+        m_path = fs::temp_directory_path() / ("vkpath-gltf-" + std::to_string(getpid()) + "-" +
+                                              info->test_suite_name() + "-" + info->name());
+        fs::remove_all(m_path);
+        fs::create_directories(m_path);
+    }
+    ~TempDir() { fs::remove_all(m_path); }
+    const fs::path& path() const { return m_path; }
+    fs::path operator/(const std::string& name) const { return m_path / name; }
+
+  private:
+    fs::path m_path;
+};
+
+void writeBytes(const fs::path& path, const void* data, size_t size) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(static_cast<const char*>(data), std::streamsize(size));
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+    writeBytes(path, text.data(), text.size());
+}
+
+std::vector<uint8_t> readBytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string base64(const std::vector<uint8_t>& data) {
+    static const char* TABLE = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < data.size(); i += 3) {
+        const uint32_t n = uint32_t(data[i]) << 16 |
+                           (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
+                           (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
+        out += TABLE[(n >> 18) & 63];
+        out += TABLE[(n >> 12) & 63];
+        out += i + 1 < data.size() ? TABLE[(n >> 6) & 63] : '=';
+        out += i + 2 < data.size() ? TABLE[n & 63] : '=';
+    }
+    return out;
+}
+
+// Builds a glTF document and its one binary buffer.
+class GltfBuilder {
+  public:
+    Json doc;
+    std::vector<uint8_t> bin;
+
+    GltfBuilder() {
+        doc["asset"] = {{"version", "2.0"}};
+        doc["scene"] = 0;
+        doc["scenes"] = Json::array({Json{{"nodes", Json::array()}}});
+        doc["nodes"] = Json::array();
+        doc["meshes"] = Json::array();
+        doc["accessors"] = Json::array();
+        doc["bufferViews"] = Json::array();
+    }
+
+    // glTF arrays must not be empty: drop those the test left empty.
+    Json trimmed() const {
+        Json d = doc;
+        for (const char* key : {"nodes", "meshes", "accessors", "bufferViews"})
+            if (d[key].empty()) d.erase(key);
+        return d;
+    }
+
+    int view(const void* data, size_t bytes, size_t stride = 0) {
+        while (bin.size() % 4) bin.push_back(0);
+        Json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+        if (stride) v["byteStride"] = stride;
+        const auto* p = static_cast<const uint8_t*>(data);
+        bin.insert(bin.end(), p, p + bytes);
+        doc["bufferViews"].push_back(v);
+        return int(doc["bufferViews"].size() - 1);
+    }
+
+    int accessor(int bufferView, int componentType, const char* type, size_t count,
+                 size_t offset = 0) {
+        Json a = {{"bufferView", bufferView},
+                  {"componentType", componentType},
+                  {"type", type},
+                  {"count", count}};
+        if (offset) a["byteOffset"] = offset;
+        doc["accessors"].push_back(a);
+        return int(doc["accessors"].size() - 1);
+    }
+
+    int vec3s(const std::vector<glm::vec3>& values) {
+        return accessor(view(values.data(), values.size() * sizeof(glm::vec3)), F32, "VEC3",
+                        values.size());
+    }
+
+    int indices(const std::vector<uint32_t>& values, int componentType) {
+        std::vector<uint8_t> bytes;
+        const size_t size = componentType == U8 ? 1 : componentType == U16 ? 2 : 4;
+        for (uint32_t v : values)
+            for (size_t b = 0; b < size; ++b) bytes.push_back(uint8_t(v >> (8 * b)));
+        return accessor(view(bytes.data(), bytes.size()), componentType, "SCALAR", values.size());
+    }
+
+    int mesh(int positions, int indexAccessor = -1, int normals = -1, int material = -1,
+             int mode = -1) {
+        Json primitive = {{"attributes", {{"POSITION", positions}}}};
+        if (normals >= 0) primitive["attributes"]["NORMAL"] = normals;
+        if (indexAccessor >= 0) primitive["indices"] = indexAccessor;
+        if (material >= 0) primitive["material"] = material;
+        if (mode >= 0) primitive["mode"] = mode;
+        doc["meshes"].push_back({{"primitives", Json::array({primitive})}});
+        return int(doc["meshes"].size() - 1);
+    }
+
+    int node(Json n, bool root = true) {
+        doc["nodes"].push_back(std::move(n));
+        const int index = int(doc["nodes"].size() - 1);
+        if (root) doc["scenes"][0]["nodes"].push_back(index);
+        return index;
+    }
+
+    int material(Json m) {
+        doc["materials"].push_back(std::move(m));
+        return int(doc["materials"].size() - 1);
+    }
+
+    // A triangle in the z = 0 plane facing +Z (counter-clockwise from +Z),
+    // with a +Z vertex normal; returns the mesh index.
+    int triangle(int material = -1) {
+        const int p = vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+        const int n = vec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+        return mesh(p, -1, n, material);
+    }
+
+    enum class Buffer { Embedded, External, None };
+
+    // A perspective camera at +Z looking at the origin, so a scene needs no default camera.
+    void camera() {
+        doc["cameras"].push_back(
+            {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}});
+        node({{"camera", doc["cameras"].size() - 1}, {"translation", {0, 0, 10}}});
+    }
+
+    fs::path writeGltf(const fs::path& path, Buffer mode = Buffer::Embedded) const {
+        Json d = trimmed();
+        if (mode == Buffer::Embedded && !bin.empty())
+            d["buffers"] =
+                Json::array({{{"byteLength", bin.size()},
+                              {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+        if (mode == Buffer::External) {
+            const fs::path binPath = fs::path(path).replace_extension(".bin");
+            writeBytes(binPath, bin.data(), bin.size());
+            d["buffers"] =
+                Json::array({{{"byteLength", bin.size()}, {"uri", binPath.filename().string()}}});
+        }
+        if (mode == Buffer::None && !bin.empty())
+            d["buffers"] = Json::array({{{"byteLength", bin.size()}}});
+        writeText(path, d.dump(1));
+        return path;
+    }
+
+    // GLB: 12-byte header, JSON chunk (space-padded), BIN chunk (zero-padded).
+    std::vector<uint8_t> glb() const {
+        Json d = trimmed();
+        d["buffers"] = Json::array({{{"byteLength", bin.size()}}});
+        std::string json = d.dump();
+        while (json.size() % 4) json += ' ';
+        std::vector<uint8_t> data = bin;
+        while (data.size() % 4) data.push_back(0);
+        std::vector<uint8_t> out;
+        auto u32 = [&](uint32_t v) {
+            for (int b = 0; b < 4; ++b) out.push_back(uint8_t(v >> (8 * b)));
+        };
+        u32(0x46546C67);
+        u32(2);
+        u32(uint32_t(12 + 8 + json.size() + 8 + data.size()));
+        u32(uint32_t(json.size()));
+        u32(0x4E4F534A);
+        out.insert(out.end(), json.begin(), json.end());
+        u32(uint32_t(data.size()));
+        u32(0x004E4942);
+        out.insert(out.end(), data.begin(), data.end());
+        return out;
+    }
+
+    fs::path writeGlb(const fs::path& path) const {
+        const auto bytes = glb();
+        writeBytes(path, bytes.data(), bytes.size());
+        return path;
+    }
+};
+
+struct Loaded {
+    scene::Scene scene;
+    std::string warnings;  // stderr during the load
+};
+
+Loaded load(const fs::path& path, const scene::LoadOptions& options = {}) {
+    testing::internal::CaptureStderr();
+    try {
+        scene::Scene s = scene::loadGltf(path, options);
+        return {std::move(s), testing::internal::GetCapturedStderr()};
+    } catch (...) {
+        testing::internal::GetCapturedStderr();
+        throw;
+    }
+}
+
+// The InputError message of loading `path`; fails the test if it loads.
+std::string loadError(const fs::path& path, const scene::LoadOptions& options = {}) {
+    testing::internal::CaptureStderr();
+    try {
+        scene::loadGltf(path, options);
+    } catch (const InputError& e) {
+        testing::internal::GetCapturedStderr();
+        const std::string message = e.what();
+        EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+        EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u)
+            << "does not name the file: " << message;
+        return message;
+    }
+    testing::internal::GetCapturedStderr();
+    ADD_FAILURE() << path << " loaded without an error";
+    return {};
+}
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+}
+
+size_t countLinesContaining(const std::string& text, const std::string& needle) {
+    size_t n = 0;
+    for (const std::string& line : lines(text)) n += line.find(needle) != std::string::npos;
+    return n;
+}
+
+glm::vec3 faceNormal(const scene::Mesh& mesh, size_t t) {
+    const glm::uvec3 tri = mesh.triangles[t];
+    return glm::normalize(glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                     mesh.positions[tri.z] - mesh.positions[tri.x]));
+}
+
+void expectVec3Near(const glm::vec3& a, const glm::vec3& b, float tolerance) {
+    EXPECT_NEAR(a.x, b.x, tolerance);
+    EXPECT_NEAR(a.y, b.y, tolerance);
+    EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+#define EXPECT_CONTAINS(haystack, needle)                                    \
+    do {                                                                     \
+        const std::string text_ = (haystack);                                \
+        EXPECT_NE(text_.find(needle), std::string::npos) << "in: " << text_; \
+    } while (0)
+
+// ---------------------------------------------------------------------------
+// Bundled assets
+// ---------------------------------------------------------------------------
+
+TEST(GltfAssets, CornellBoxLoads) {
+    const Loaded loaded = load(test::sourcePath("assets/cornell_box.gltf"));
+    const scene::Scene& s = loaded.scene;
+    EXPECT_EQ(loaded.warnings, "");
+    EXPECT_EQ(s.meshes.size(), 4u);  // white walls, red wall, green wall, lamp
+    EXPECT_EQ(s.triangleCount(), 12u);
+    EXPECT_EQ(s.spheres.size(), 2u);
+    ASSERT_EQ(s.materials.size(), 6u);
+    const scene::FeatureSummary f = s.features();
+    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.mirror && f.glass && f.emissiveSurfaces);
+    EXPECT_FALSE(f.pointLights || f.spotLights || f.directionalLights || f.environment);
+
+    // Red on the camera's left (-X), green on its right.
+    for (const scene::Mesh& m : s.meshes) {
+        const glm::vec3 albedo = s.materials[m.material].reflectance;
+        if (m.name == "red_wall") {
+            EXPECT_GT(albedo.x, 3 * albedo.y);
+            EXPECT_LT(m.positions[0].x, 0.0f);
+        }
+        if (m.name == "green_wall") {
+            EXPECT_GT(albedo.y, 2 * albedo.x);
+            EXPECT_GT(m.positions[0].x, 0.0f);
+        }
+        if (m.name == "lamp") {
+            expectVec3Near(s.materials[m.material].emission, {17, 12, 4}, 1e-4f);
+            EXPECT_LT(faceNormal(m, 0).y, -0.99f);  // faces down into the box
+        }
+    }
+    for (const scene::Sphere& sphere : s.spheres) {
+        EXPECT_FLOAT_EQ(sphere.radius, 0.1f);
+        EXPECT_FLOAT_EQ(sphere.center.y, 0.1f);  // resting on the floor
+    }
+    const scene::Material& mirror = s.materials[s.spheres[0].material];
+    EXPECT_EQ(mirror.kind, scene::MaterialKind::Mirror);
+    const scene::Material& glass = s.materials[s.spheres[1].material];
+    EXPECT_EQ(glass.kind, scene::MaterialKind::Dielectric);
+    EXPECT_FLOAT_EQ(glass.ior, 1.5f);
+
+    EXPECT_EQ(s.camera.name, "camera");
+    expectVec3Near(s.camera.position, {0, 0.273f, 0.8f}, 1e-6f);
+    expectVec3Near(glm::normalize(s.camera.target - s.camera.position), {0, 0, -1}, 1e-6f);
+    EXPECT_NEAR(s.camera.xfovDegrees, 39.3077f, 1e-3f);  // square: horizontal = vertical
+    EXPECT_FLOAT_EQ(s.camera.aspect, 1.0f);
+}
+
+TEST(GltfAssets, DiffuseCornellBoxHasOnlyDiffuseMaterials) {
+    const Loaded loaded = load(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    EXPECT_EQ(loaded.warnings, "");
+    const scene::FeatureSummary f = loaded.scene.features();
+    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.emissiveSurfaces);
+    EXPECT_FALSE(f.mirror || f.glass);
+    EXPECT_EQ(loaded.scene.triangleCount(), 12u);
+    EXPECT_EQ(loaded.scene.spheres.size(), 2u);
+}
+
+TEST(GltfAssets, LoadSceneDispatchesGltf) {
+    testing::internal::CaptureStderr();
+    const scene::Scene s = scene::loadScene(test::sourcePath("assets/cornell_box.gltf"));
+    testing::internal::GetCapturedStderr();
+    EXPECT_EQ(s.triangleCount(), 12u);
+}
+
+// tools/make-assets is deterministic: running it again gives the committed bytes.
+TEST(GltfAssets, GeneratorReproducesCommittedAssets) {
+    if (std::system("command -v python3 >/dev/null 2>&1") != 0)
+        GTEST_SKIP() << "python3 is not installed";
+    TempDir dir;
+    const std::string command = "python3 '" + test::sourcePath("tools/make-assets").string() +
+                                "' --out '" + dir.path().string() + "'";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    for (const char* name : {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr"}) {
+        SCOPED_TRACE(name);
+        const auto generated = readBytes(dir / name);
+        const auto committed = readBytes(test::sourcePath(std::string("assets/") + name));
+        ASSERT_FALSE(committed.empty());
+        EXPECT_TRUE(generated == committed)
+            << "assets/" << name << " differs from what tools/make-assets writes";
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Transforms
+// ---------------------------------------------------------------------------
+
+TEST(GltfTransforms, TrsEqualsMatrix) {
+    const glm::dvec3 t(1.0, -2.0, 0.5), s(2.0, 0.5, 1.5);
+    const glm::dquat q = glm::angleAxis(0.7, glm::normalize(glm::dvec3(1.0, 2.0, 3.0)));
+    const glm::dmat4 m =
+        glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(q) * glm::scale(glm::dmat4(1.0), s);
+    std::vector<double> matrix(16);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) matrix[size_t(4 * c + r)] = m[c][r];
+
+    TempDir dir;
+    GltfBuilder trs, mat;
+    trs.node({{"mesh", trs.triangle()},
+              {"translation", {t.x, t.y, t.z}},
+              {"rotation", {q.x, q.y, q.z, q.w}},
+              {"scale", {s.x, s.y, s.z}}});
+    mat.node({{"mesh", mat.triangle()}, {"matrix", matrix}});
+    const scene::Scene a = load(trs.writeGltf(dir / "trs.gltf")).scene;
+    const scene::Scene b = load(mat.writeGltf(dir / "matrix.gltf")).scene;
+    ASSERT_EQ(a.meshes.size(), 1u);
+    ASSERT_EQ(b.meshes.size(), 1u);
+    const std::vector<glm::dvec3> local = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    for (size_t i = 0; i < 3; ++i) {
+        expectVec3Near(a.meshes[0].positions[i], b.meshes[0].positions[i], 1e-5f);
+        expectVec3Near(a.meshes[0].normals[i], b.meshes[0].normals[i], 1e-5f);
+        expectVec3Near(a.meshes[0].positions[i], glm::vec3(m * glm::dvec4(local[i], 1.0)), 1e-5f);
+    }
+    EXPECT_EQ(a.meshes[0].triangles, b.meshes[0].triangles);
+}
+
+TEST(GltfTransforms, HierarchyComposesParentThenChild) {
+    TempDir dir;
+    GltfBuilder g;
+    const int child = g.node({{"mesh", g.triangle()}, {"translation", {1, 0, 0}}}, false);
+    // Parent: rotate 90 degrees about +Y (x -> -z), then move up 5.
+    const double h = std::sqrt(0.5);
+    g.node({{"children", {child}}, {"translation", {0, 5, 0}}, {"rotation", {0, h, 0, h}}});
+    const scene::Scene s = load(g.writeGltf(dir / "h.gltf")).scene;
+    ASSERT_EQ(s.meshes.size(), 1u);
+    expectVec3Near(s.meshes[0].positions[0], {0, 5, -1},
+                   1e-6f);  // child origin (1, 0, 0) -> (0, 0, -1) + up
+    expectVec3Near(s.meshes[0].positions[1], {0, 5, -2}, 1e-6f);
+    expectVec3Near(s.meshes[0].normals[0], {1, 0, 0}, 1e-6f);  // +Z rotated to +X
+}
+
+TEST(GltfTransforms, NegativeScaleFlipsWinding) {
+    TempDir dir;
+    GltfBuilder plain, mirrored;
+    plain.node({{"mesh", plain.triangle()}});
+    mirrored.node({{"mesh", mirrored.triangle()}, {"scale", {1, 1, -1}}});  // mirror through z = 0
+    const scene::Scene a = load(plain.writeGltf(dir / "plain.gltf")).scene;
+    const scene::Scene b = load(mirrored.writeGltf(dir / "mirrored.gltf")).scene;
+    expectVec3Near(faceNormal(a.meshes[0], 0), {0, 0, 1}, 1e-6f);
+    // Mirrored: the shading normal becomes -Z, and so must the winding's normal.
+    expectVec3Near(b.meshes[0].normals[0], {0, 0, -1}, 1e-6f);
+    expectVec3Near(faceNormal(b.meshes[0], 0), {0, 0, -1}, 1e-6f);
+    EXPECT_NE(a.meshes[0].triangles[0], b.meshes[0].triangles[0]);
+}
+
+TEST(GltfTransforms, NormalsStayPerpendicularUnderNonUniformScale) {
+    // A slanted triangle whose vertex normals equal its face normal.
+    const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 1}, {0, 1, 1}};
+    const glm::vec3 n = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+    TempDir dir;
+    GltfBuilder g;
+    const int mesh = g.mesh(g.vec3s(p), -1, g.vec3s({n, n, n}));
+    const double h = std::sqrt(0.5);
+    g.node({{"mesh", mesh}, {"scale", {3, 0.5, 1}}, {"rotation", {h, 0, 0, h}}});
+    const scene::Scene s = load(g.writeGltf(dir / "n.gltf")).scene;
+    const glm::vec3 face = faceNormal(s.meshes[0], 0);
+    for (const glm::vec3& normal : s.meshes[0].normals) {
+        EXPECT_NEAR(glm::length(normal), 1.0f, 1e-6f);
+        EXPECT_NEAR(glm::dot(normal, face), 1.0f,
+                    1e-6f);  // still the face normal: perpendicular to the surface
+    }
+    // Transforming the normal like a direction would have tilted it: the test can fail.
+    const glm::mat3 linear = glm::mat3_cast(glm::quat(float(h), float(h), 0.0f, 0.0f)) *
+                             glm::mat3(glm::scale(glm::mat4(1.0f), glm::vec3(3.0f, 0.5f, 1.0f)));
+    EXPECT_LT(glm::dot(glm::normalize(linear * n), face), 0.99f);
+}
+
+// ---------------------------------------------------------------------------
+// Indices, layouts, containers
+// ---------------------------------------------------------------------------
+
+class GltfIndexTypes : public testing::TestWithParam<int> {};
+
+TEST_P(GltfIndexTypes, IndexedQuad) {
+    TempDir dir;
+    GltfBuilder g;
+    const int positions = g.vec3s({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
+    g.node({{"mesh", g.mesh(positions, g.indices({0, 1, 2, 0, 2, 3}, GetParam()))}});
+    const scene::Scene s = load(g.writeGltf(dir / "quad.gltf")).scene;
+    ASSERT_EQ(s.meshes.size(), 1u);
+    EXPECT_EQ(s.meshes[0].triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}}));
+    EXPECT_TRUE(s.meshes[0].normals.empty());  // no NORMAL: face normals
+}
+
+INSTANTIATE_TEST_SUITE_P(Components, GltfIndexTypes, testing::Values(U8, U16, U32),
+                         [](const testing::TestParamInfo<int>& p) {
+                             return p.param == U8    ? std::string("U8")
+                                    : p.param == U16 ? std::string("U16")
+                                                     : std::string("U32");
+                         });
+
+TEST(GltfLayouts, NonIndexedTriangles) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh",
+             g.mesh(g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}}))}});
+    const scene::Scene s = load(g.writeGltf(dir / "soup.gltf")).scene;
+    EXPECT_EQ(s.meshes[0].triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {3, 4, 5}}));
+}
+
+TEST(GltfLayouts, InterleavedAttributesWithStride) {
+    TempDir dir;
+    GltfBuilder g;
+    // position, normal, position, normal, ... with a 24-byte stride.
+    const std::vector<glm::vec3> interleaved = {{0, 0, 0}, {0, 0, 1}, {2, 0, 0},
+                                                {0, 0, 1}, {0, 2, 0}, {0, 0, 1}};
+    const int view = g.view(interleaved.data(), interleaved.size() * sizeof(glm::vec3), 24);
+    const int positions = g.accessor(view, F32, "VEC3", 3);
+    const int normals = g.accessor(view, F32, "VEC3", 3, 12);
+    g.node({{"mesh", g.mesh(positions, -1, normals)}});
+    const scene::Scene s = load(g.writeGltf(dir / "interleaved.gltf")).scene;
+    expectVec3Near(s.meshes[0].positions[1], {2, 0, 0}, 0);
+    expectVec3Near(s.meshes[0].positions[2], {0, 2, 0}, 0);
+    expectVec3Near(s.meshes[0].normals[2], {0, 0, 1}, 0);
+}
+
+TEST(GltfLayouts, SparseAccessorSubstitutesValues) {
+    TempDir dir;
+    GltfBuilder g;
+    const int positions = g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    const std::vector<uint16_t> sparseIndices = {2};
+    const std::vector<glm::vec3> sparseValues = {{0, 7, 0}};
+    const int indexView = g.view(sparseIndices.data(), 2);
+    const int valueView = g.view(sparseValues.data(), 12);
+    g.doc["accessors"][positions]["sparse"] = {
+        {"count", 1},
+        {"indices", {{"bufferView", indexView}, {"componentType", U16}}},
+        {"values", {{"bufferView", valueView}}}};
+    g.node({{"mesh", g.mesh(positions)}});
+    const scene::Scene s = load(g.writeGltf(dir / "sparse.gltf")).scene;
+    expectVec3Near(s.meshes[0].positions[2], {0, 7, 0}, 0);
+    expectVec3Near(s.meshes[0].positions[1], {1, 0, 0}, 0);
+}
+
+TEST(GltfLayouts, ExternalBufferFile) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    const Loaded loaded = load(g.writeGltf(dir / "external.gltf", GltfBuilder::Buffer::External));
+    EXPECT_EQ(loaded.scene.triangleCount(), 1u);
+}
+
+TEST(GltfLayouts, GlbRoundTripEqualsGltf) {
+    TempDir dir;
+    GltfBuilder g;
+    const int red =
+        g.material({{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.1, 0.1, 1}}}}});
+    g.node({{"mesh", g.triangle(red)}, {"translation", {0, 1, 0}}});
+    g.node({{"extensions", {{"VKPATH_sphere", {{"radius", 0.5}, {"material", red}}}}}});
+    const scene::Scene a = load(g.writeGltf(dir / "scene.gltf")).scene;
+    const scene::Scene b = load(g.writeGlb(dir / "scene.glb")).scene;
+    ASSERT_EQ(a.meshes.size(), 1u);
+    ASSERT_EQ(b.meshes.size(), 1u);
+    EXPECT_EQ(a.meshes[0].positions, b.meshes[0].positions);
+    EXPECT_EQ(a.meshes[0].normals, b.meshes[0].normals);
+    EXPECT_EQ(a.meshes[0].triangles, b.meshes[0].triangles);
+    ASSERT_EQ(b.spheres.size(), 1u);
+    EXPECT_EQ(b.spheres[0].radius, 0.5f);
+    ASSERT_EQ(b.materials.size(), 1u);
+    EXPECT_EQ(a.materials[0].reflectance, b.materials[0].reflectance);
+    // The magic decides, not the extension.
+    fs::copy_file(dir / "scene.glb", dir / "binary.gltf");
+    EXPECT_EQ(load(dir / "binary.gltf").scene.triangleCount(), 1u);
+}
+
+// ---------------------------------------------------------------------------
+// Cameras
+// ---------------------------------------------------------------------------
+
+Json perspective(const std::string& name, double yfov, double aspect = 0.0) {
+    Json p = {{"yfov", yfov}, {"znear", 0.01}};
+    if (aspect > 0) p["aspectRatio"] = aspect;
+    return {{"name", name}, {"type", "perspective"}, {"perspective", p}};
+}
+
+TEST(GltfCameras, FirstCameraInNodeOrder) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["cameras"] = {perspective("late", 0.5), perspective("early", 0.6)};
+    // Node 0 (the "late" camera) comes first in the file, but the scene
+    // lists it after a root whose subtree holds the "early" camera.
+    const int lateNode = g.node({{"camera", 0}, {"name", "late-node"}}, false);
+    const int earlyNode = g.node({{"camera", 1}, {"translation", {0, 0, 3}}}, false);
+    g.node({{"mesh", g.triangle()}, {"children", {earlyNode}}});
+    g.doc["scenes"][0]["nodes"].push_back(lateNode);
+    const scene::Scene s = load(g.writeGltf(dir / "cameras.gltf")).scene;
+    EXPECT_EQ(s.camera.name, "early");
+    expectVec3Near(s.camera.position, {0, 0, 3}, 0);
+}
+
+TEST(GltfCameras, SelectByCameraOrNodeName) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["cameras"] = {perspective("front", 0.5), perspective("side", 0.5)};
+    g.node({{"mesh", g.triangle()}});
+    g.node({{"camera", 0}, {"name", "front-node"}, {"translation", {0, 0, 5}}});
+    const double h = std::sqrt(0.5);  // 90 degrees about +Y: -Z turns into -X
+    g.node({{"camera", 1},
+            {"name", "side-node"},
+            {"translation", {5, 0, 0}},
+            {"rotation", {0, h, 0, h}}});
+    const fs::path path = g.writeGltf(dir / "cameras.gltf");
+
+    const scene::Scene side = load(path, {.cameraName = "side"}).scene;
+    EXPECT_EQ(side.camera.name, "side");
+    expectVec3Near(side.camera.position, {5, 0, 0}, 1e-6f);
+    expectVec3Near(side.camera.target - side.camera.position, {-1, 0, 0}, 1e-6f);
+    expectVec3Near(side.camera.up, {0, 1, 0}, 1e-6f);
+
+    EXPECT_EQ(load(path, {.cameraName = "front-node"}).scene.camera.name, "front");
+    const std::string error = loadError(path, {.cameraName = "top"});
+    EXPECT_CONTAINS(error, "no camera named 'top'");
+    EXPECT_CONTAINS(error, "'front', 'side'");
+}
+
+TEST(GltfCameras, VerticalFovBecomesHorizontal) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["cameras"] = {perspective("wide", 0.5, 2.0), perspective("unknown-aspect", 0.5)};
+    g.node({{"mesh", g.triangle()}});
+    g.node({{"camera", 0}, {"translation", {0, 0, 5}}});
+    g.node({{"camera", 1}, {"translation", {0, 0, 5}}});
+    const fs::path path = g.writeGltf(dir / "fov.gltf");
+
+    const scene::Camera wide = load(path, {.cameraName = "wide"}).scene.camera;
+    EXPECT_FLOAT_EQ(wide.aspect, 2.0f);
+    EXPECT_NEAR(wide.xfovDegrees, glm::degrees(2.0 * std::atan(2.0 * std::tan(0.25))), 1e-4);
+    // On a film of the camera's aspect, the vertical fov is exactly yfov.
+    const auto gpu = scene::makeGpuCamera(wide, 400, 200);
+    EXPECT_NEAR(glm::length(gpu.up), std::tan(0.25), 1e-6);
+
+    // No aspectRatio: taken as square, so yfov stays vertical on wide films.
+    const scene::Camera square = load(path, {.cameraName = "unknown-aspect"}).scene.camera;
+    EXPECT_FLOAT_EQ(square.aspect, 1.0f);
+    EXPECT_NEAR(square.xfovDegrees, glm::degrees(0.5), 1e-4);
+    EXPECT_NEAR(glm::length(scene::makeGpuCamera(square, 1600, 900).up), std::tan(0.25), 1e-6);
+}
+
+TEST(GltfCameras, DefaultCameraFramesTheScene) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}, {"translation", {10, 0, 0}}, {"scale", {4, 4, 4}}});
+    g.node({{"extensions", {{"VKPATH_sphere", {{"radius", 1.0}}}}}, {"translation", {20, 0, 0}}});
+    const Loaded loaded = load(g.writeGltf(dir / "nocamera.gltf"));
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "default camera"), 1u);
+    const scene::Camera& c = loaded.scene.camera;
+    EXPECT_EQ(c.name, "default");
+    expectVec3Near(c.target, {15.5f, 1.5f, 0.0f}, 1e-5f);  // box [10, 21] x [-1, 4] x [-1, 1]
+    // Every corner of the bounding box lies within half the fov of the view axis.
+    const glm::vec3 forward = glm::normalize(c.target - c.position);
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 corner(i & 1 ? 21.0f : 10.0f, i & 2 ? 4.0f : -1.0f, i & 4 ? 1.0f : -1.0f);
+        const float angle =
+            glm::degrees(std::acos(glm::dot(glm::normalize(corner - c.position), forward)));
+        EXPECT_LT(angle, c.xfovDegrees / 2);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Materials: one small file per row of docs/SCENES.md's table
+// ---------------------------------------------------------------------------
+
+struct MaterialRow {
+    const char* name;
+    const char* material;  // glTF material JSON; "" for a primitive with no material
+    scene::MaterialKind kind;
+    glm::vec3 reflectance;
+    glm::vec3 transmittance;
+    float ior;
+    glm::vec3 emission;
+    const char* warning;  // a phrase of the one expected warning line; "" for none
+};
+
+void PrintTo(const MaterialRow& row, std::ostream* os) {
+    *os << row.name;
+}
+
+class GltfMaterialTable : public testing::TestWithParam<MaterialRow> {};
+
+TEST_P(GltfMaterialTable, MapsAsDocumented) {
+    const MaterialRow& row = GetParam();
+    TempDir dir;
+    GltfBuilder g;
+    int material = -1;
+    if (*row.material) {
+        g.doc["textures"] = {{{"source", 0}}};
+        g.doc["images"] = {{{"uri", "texture.png"}}};
+        writeText(dir / "texture.png", "not decoded");
+        material = g.material(Json::parse(row.material));
+    }
+    g.node({{"mesh", g.triangle(material)}});
+    g.camera();
+    const Loaded loaded = load(g.writeGltf(dir / "material.gltf"));
+    const scene::Material& m = loaded.scene.materials.at(loaded.scene.meshes.at(0).material);
+    EXPECT_EQ(m.kind, row.kind);
+    expectVec3Near(m.reflectance, row.reflectance, 1e-6f);
+    expectVec3Near(m.transmittance, row.transmittance, 1e-6f);
+    EXPECT_FLOAT_EQ(m.ior, row.ior);
+    expectVec3Near(m.emission, row.emission, 1e-5f);
+    if (*row.warning) {
+        EXPECT_EQ(lines(loaded.warnings).size(), 1u) << loaded.warnings;
+        EXPECT_CONTAINS(loaded.warnings, row.warning);
+    } else {
+        EXPECT_EQ(loaded.warnings, "");
+    }
+}
+
+constexpr scene::MaterialKind DIFFUSE = scene::MaterialKind::Diffuse;
+constexpr scene::MaterialKind MIRROR = scene::MaterialKind::Mirror;
+constexpr scene::MaterialKind GLASS = scene::MaterialKind::Dielectric;
+
+INSTANTIATE_TEST_SUITE_P(
+    Rows, GltfMaterialTable,
+    testing::Values(
+        MaterialRow{"Default", "", DIFFUSE, glm::vec3(0.8f), glm::vec3(1), 1.5f, glm::vec3(0), ""},
+        MaterialRow{
+            "Diffuse",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0}})",
+            DIFFUSE,
+            {0.2f, 0.4f, 0.6f},
+            glm::vec3(1),
+            1.5f,
+            glm::vec3(0),
+            ""},
+        MaterialRow{
+            "Mirror",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1], "roughnessFactor": 0.01}})",
+            MIRROR,
+            {0.9f, 0.8f, 0.7f},
+            glm::vec3(1),
+            1.5f,
+            glm::vec3(0),
+            ""},
+        MaterialRow{
+            "RoughMetalAsMirror",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1], "roughnessFactor": 0.3}})",
+            MIRROR,
+            {0.9f, 0.8f, 0.7f},
+            glm::vec3(1),
+            1.5f,
+            glm::vec3(0),
+            "rough metals"},
+        MaterialRow{"VeryRoughMetalAsDiffuse",
+                    R"({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}})", DIFFUSE,
+                    glm::vec3(0.5f), glm::vec3(1), 1.5f, glm::vec3(0), "rough metals"},
+        MaterialRow{"PartlyMetallic",
+                    R"({"pbrMetallicRoughness": {"metallicFactor": 0.7, "roughnessFactor": 0}})",
+                    MIRROR, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partly metallic"},
+        MaterialRow{
+            "Glass",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 1, 0.9, 1], "metallicFactor": 0,
+                        "roughnessFactor": 0}, "extensions": {"KHR_materials_transmission":
+                        {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.33}}})",
+            GLASS,
+            glm::vec3(1),
+            {0.9f, 1.0f, 0.9f},
+            1.33f,
+            glm::vec3(0),
+            ""},
+        MaterialRow{
+            "GlassDefaultIor",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})",
+            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), ""},
+        MaterialRow{
+            "RoughGlass",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.4}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})",
+            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "rough transmission"},
+        MaterialRow{
+            "MostlyTransmissive",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 0.7}}})",
+            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partial transmission"},
+        MaterialRow{
+            "SlightlyTransmissive",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.6}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 0.3}}})",
+            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partial transmission"},
+        MaterialRow{
+            "GlossyPlastic",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 1], "metallicFactor": 0,
+                        "roughnessFactor": 0.2}})",
+            DIFFUSE,
+            {0.1f, 0.2f, 0.3f},
+            glm::vec3(1),
+            1.5f,
+            glm::vec3(0),
+            "glossy non-metals"},
+        MaterialRow{
+            "EmissiveWithStrength",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [1, 0.5, 0.25],
+                        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}})",
+            DIFFUSE,
+            glm::vec3(1),
+            glm::vec3(1),
+            1.5f,
+            {4.0f, 2.0f, 1.0f},
+            ""},
+        MaterialRow{
+            "EmissiveFactorOnly",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [0.5, 0.5, 0.5]})",
+            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0.5f), ""},
+        MaterialRow{
+            "TexturedUsesFactors",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 1], "metallicFactor": 0,
+                        "baseColorTexture": {"index": 0}}})",
+            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "textures are ignored"},
+        MaterialRow{
+            "AlphaBlendOpaque",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.5], "metallicFactor": 0},
+                        "alphaMode": "BLEND"})",
+            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "alpha"},
+        MaterialRow{
+            "FactorsClamped",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [1.5, 0.5, 0.5, 1], "metallicFactor": 0}})",
+            DIFFUSE,
+            {1.0f, 0.5f, 0.5f},
+            glm::vec3(1),
+            1.5f,
+            glm::vec3(0),
+            "clamped"}),
+    [](const testing::TestParamInfo<MaterialRow>& p) { return std::string(p.param.name); });
+
+// ---------------------------------------------------------------------------
+// Lights and spheres
+// ---------------------------------------------------------------------------
+
+TEST(GltfLights, PunctualLightsTakeNodePositionAndMinusZ) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    g.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 10}},
+        {{"type", "spot"},
+         {"intensity", 3},
+         {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
+        {{"type", "directional"}, {"color", {1, 1, 0.5}}, {"intensity", 2}}};
+    const double h = std::sqrt(0.5);  // -90 degrees about +X: -Z turns into -Y
+    g.node({{"mesh", g.triangle()}});
+    g.node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    g.node({{"translation", {0, 4, 0}},
+            {"rotation", {-h, 0, 0, h}},
+            {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+    g.node(
+        {{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+    g.camera();
+    const Loaded loaded = load(g.writeGltf(dir / "lights.gltf"));
+    EXPECT_EQ(loaded.warnings, "");
+    const scene::Scene& s = loaded.scene;
+    ASSERT_EQ(s.pointLights.size(), 1u);
+    expectVec3Near(s.pointLights[0].position, {1, 2, 3}, 1e-6f);
+    expectVec3Near(s.pointLights[0].intensity, {10, 5, 2.5f}, 1e-6f);  // candela taken as W/sr
+    ASSERT_EQ(s.spotLights.size(), 1u);
+    expectVec3Near(s.spotLights[0].position, {0, 4, 0}, 1e-6f);
+    expectVec3Near(s.spotLights[0].direction, {0, -1, 0}, 1e-6f);
+    expectVec3Near(s.spotLights[0].intensity, glm::vec3(3), 1e-6f);
+    EXPECT_FLOAT_EQ(s.spotLights[0].innerConeAngle, 0.2f);
+    EXPECT_FLOAT_EQ(s.spotLights[0].outerConeAngle, 0.5f);
+    ASSERT_EQ(s.directionalLights.size(), 1u);
+    expectVec3Near(s.directionalLights[0].direction, {0, -1, 0}, 1e-6f);
+    expectVec3Near(s.directionalLights[0].irradiance, {2, 2, 1}, 1e-6f);  // lux taken as W/m^2
+    const scene::FeatureSummary f = s.features();
+    EXPECT_TRUE(f.pointLights && f.spotLights && f.directionalLights);
+}
+
+TEST(GltfLights, InvalidConeIsAnError) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}};
+    g.node({{"mesh", g.triangle()}});
+    g.node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "cone.gltf")), "cone angles");
+}
+
+TEST(GltfSpheres, CentreAndRadiusFollowTheNode) {
+    TempDir dir;
+    GltfBuilder g;
+    const int glass = g.material(Json::parse(
+        R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})"));
+    const int child =
+        g.node({{"name", "ball"},
+                {"translation", {1, 0, 0}},
+                {"extensions", {{"VKPATH_sphere", {{"radius", 0.25}, {"material", glass}}}}}},
+               false);
+    g.node({{"children", {child}}, {"translation", {0, 1, 0}}, {"scale", {2, 2, 2}}});
+    const Loaded loaded = load(g.writeGltf(dir / "sphere.gltf"));
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "default camera"), 1u);
+    ASSERT_EQ(loaded.scene.spheres.size(), 1u);
+    const scene::Sphere& s = loaded.scene.spheres[0];
+    EXPECT_EQ(s.name, "ball");
+    expectVec3Near(s.center, {2, 1, 0}, 1e-6f);
+    EXPECT_FLOAT_EQ(s.radius, 0.5f);
+    EXPECT_EQ(loaded.scene.materials[s.material].kind, scene::MaterialKind::Dielectric);
+    EXPECT_TRUE(loaded.scene.features().spheres);
+    EXPECT_FALSE(loaded.scene.features().triangles);
+}
+
+TEST(GltfSpheres, NonUniformScaleWarnsAndBadRadiusFails) {
+    TempDir dir;
+    GltfBuilder stretched;
+    stretched.node({{"scale", {1, 8, 1}}, {"extensions", {{"VKPATH_sphere", {{"radius", 1}}}}}});
+    const Loaded loaded = load(stretched.writeGltf(dir / "stretched.gltf"));
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "non-uniform scale"), 1u);
+    EXPECT_FLOAT_EQ(loaded.scene.spheres[0].radius, 2.0f);  // cube root of 8
+
+    GltfBuilder negative;
+    negative.node({{"extensions", {{"VKPATH_sphere", {{"radius", -1}}}}}});
+    EXPECT_CONTAINS(loadError(negative.writeGltf(dir / "negative.gltf")), "radius");
+    GltfBuilder badMaterial;
+    badMaterial.node({{"extensions", {{"VKPATH_sphere", {{"radius", 1}, {"material", 3}}}}}});
+    EXPECT_CONTAINS(loadError(badMaterial.writeGltf(dir / "material.gltf")), "material");
+}
+
+// ---------------------------------------------------------------------------
+// Warnings: never silent, one line per kind
+// ---------------------------------------------------------------------------
+
+TEST(GltfWarnings, OneLinePerKind) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_texture_transform"};
+    g.doc["textures"] = {{{"source", 0}}};
+    g.doc["images"] = {{{"uri", "wood.png"}}};
+    writeText(dir / "wood.png", "not decoded");
+    for (int i = 0; i < 3; ++i)
+        g.material({{"name", "textured" + std::to_string(i)},
+                    {"pbrMetallicRoughness",
+                     {{"metallicFactor", 0}, {"baseColorTexture", {{"index", 0}}}}},
+                    {"extensions", {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1}}}}}});
+    // Two meshes with degenerate triangles (repeated vertices): 2 + 3 dropped.
+    const int positions = g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    g.node({{"mesh", g.mesh(positions, g.indices({0, 1, 2, 0, 0, 1, 1, 2, 2}, U16), -1, 0)}});
+    g.node(
+        {{"mesh", g.mesh(positions, g.indices({0, 1, 2, 0, 0, 0, 1, 1, 1, 2, 2, 2}, U16), -1, 1)}});
+    g.node({{"mesh", g.triangle(2)}});
+    const Loaded loaded = load(g.writeGltf(dir / "warnings.gltf"));
+    EXPECT_EQ(loaded.scene.triangleCount(), 3u);
+
+    const std::string prefix = "vkpath: warning: " + (dir / "warnings.gltf").string() + ": ";
+    for (const std::string& line : lines(loaded.warnings))
+        EXPECT_EQ(line.rfind(prefix, 0), 0u) << line;
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "textures are ignored"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "(3 materials, first: textured0)"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_clearcoat'"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_texture_transform'"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "degenerate triangles"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "(5 triangles"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "default camera"), 1u);
+    EXPECT_EQ(lines(loaded.warnings).size(), 5u) << loaded.warnings;
+}
+
+TEST(GltfWarnings, RequiredUnsupportedExtensionIsAnError) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    g.node({{"mesh", g.triangle()}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "draco.gltf")), "KHR_draco_mesh_compression");
+}
+
+// ---------------------------------------------------------------------------
+// Bad input: one test per case, each an InputError naming the file
+// ---------------------------------------------------------------------------
+
+TEST(GltfBadInput, MissingFile) {
+    TempDir dir;
+    EXPECT_CONTAINS(loadError(dir / "absent.gltf"), "no such file");
+}
+
+TEST(GltfBadInput, EmptyFile) {
+    TempDir dir;
+    writeText(dir / "empty.gltf", "");
+    EXPECT_CONTAINS(loadError(dir / "empty.gltf"), "empty");
+}
+
+TEST(GltfBadInput, TruncatedGltf) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    const fs::path path = g.writeGltf(dir / "whole.gltf");
+    const auto bytes = readBytes(path);
+    writeBytes(dir / "cut.gltf", bytes.data(), bytes.size() / 2);
+    EXPECT_CONTAINS(loadError(dir / "cut.gltf"), "invalid JSON");
+}
+
+TEST(GltfBadInput, TruncatedGlb) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    const auto bytes = g.glb();
+    for (size_t size : {size_t(6), size_t(16), bytes.size() / 2, bytes.size() - 4}) {
+        SCOPED_TRACE(size);
+        writeBytes(dir / "cut.glb", bytes.data(), size);
+        EXPECT_CONTAINS(loadError(dir / "cut.glb"), "truncated GLB");
+    }
+}
+
+TEST(GltfBadInput, GlbChunkOverrunsTheFile) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    auto bytes = g.glb();
+    // tinygltf checks the BIN chunk against the total length without its
+    // 8-byte header: a chunk 4 bytes too long would read past the end.
+    const uint32_t jsonLength = bytes[12] | bytes[13] << 8 | bytes[14] << 16 | bytes[15] << 24;
+    bytes[20 + jsonLength] += 4;
+    writeBytes(dir / "overrun.glb", bytes.data(), bytes.size());
+    EXPECT_CONTAINS(loadError(dir / "overrun.glb"), "BIN chunk");
+}
+
+TEST(GltfBadInput, InvalidJson) {
+    TempDir dir;
+    writeText(dir / "bad.gltf", R"({"asset": {"version": "2.0"}, "nodes": [,]})");
+    EXPECT_CONTAINS(loadError(dir / "bad.gltf"), "invalid JSON");
+}
+
+TEST(GltfBadInput, NotGltfVersion2) {
+    TempDir dir;
+    writeText(dir / "old.gltf", R"({"asset": {"version": "1.0"}})");
+    EXPECT_CONTAINS(loadError(dir / "old.gltf"), "version 1.0");
+}
+
+TEST(GltfBadInput, MissingBufferUri) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "nouri.gltf", GltfBuilder::Buffer::None)),
+                    "buffer 0 has no uri");
+    // A data URI tinygltf cannot decode (it would look for a file of that name).
+    Json doc = g.trimmed();
+    doc["buffers"] = Json::array(
+        {{{"byteLength", g.bin.size()}, {"uri", "data:text/csv;base64," + base64(g.bin)}}});
+    writeText(dir / "csv.gltf", doc.dump());
+    EXPECT_CONTAINS(loadError(dir / "csv.gltf"), "buffer 0: data URI");
+}
+
+TEST(GltfBadInput, BufferFileMissing) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    const fs::path path = g.writeGltf(dir / "scene.gltf", GltfBuilder::Buffer::External);
+    fs::remove(dir / "scene.bin");
+    EXPECT_CONTAINS(loadError(path), "does not exist");
+}
+
+TEST(GltfBadInput, UriEscapingTheFolder) {
+    TempDir dir;
+    fs::create_directories(dir / "scene");
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    writeBytes(dir / "outside.bin", g.bin.data(),
+               g.bin.size());  // the file exists: only the path is wrong
+    fs::create_symlink("../outside.bin", dir / "scene" / "link.bin");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"../outside.bin", "leaves the scene's folder"},
+        {"sub/../../outside.bin", "leaves the scene's folder"},
+        {"%2E%2E/outside.bin", "leaves the scene's folder"},
+        {(dir / "outside.bin").string(), "absolute"},
+        {"file:///etc/passwd", "scheme"},
+        {"link.bin", "through a link"},
+    };
+    for (const auto& [uri, problem] : cases) {
+        SCOPED_TRACE(uri);
+        Json doc = g.doc;
+        doc["buffers"] = Json::array({{{"byteLength", g.bin.size()}, {"uri", uri}}});
+        writeText(dir / "scene" / "escape.gltf", doc.dump());
+        EXPECT_CONTAINS(loadError(dir / "scene" / "escape.gltf"), problem);
+    }
+    // An image URI is held to the same rule.
+    Json doc = g.doc;
+    doc["buffers"] =
+        Json::array({{{"byteLength", g.bin.size()},
+                      {"uri", "data:application/octet-stream;base64," + base64(g.bin)}}});
+    doc["images"] = Json::array({{{"uri", "../outside.bin"}}});
+    writeText(dir / "scene" / "image.gltf", doc.dump());
+    EXPECT_CONTAINS(loadError(dir / "scene" / "image.gltf"), "image 0");
+}
+
+TEST(GltfBadInput, AccessorCountOutOfRange) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.doc["accessors"][0]["count"] = 4;  // the bufferView holds 3 positions
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "count.gltf")), "overruns its bufferView");
+    // Without a bufferView an accessor is zeros: a huge count must not allocate.
+    g.doc["accessors"][0].erase("bufferView");
+    g.doc["accessors"][0]["count"] = 1u << 24;
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "zeros.gltf")),
+                    "has no bufferView and count 16777216");
+}
+
+TEST(GltfBadInput, AccessorOffsetOutOfRange) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.doc["accessors"][0]["byteOffset"] = 4;
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "offset.gltf")), "overruns its bufferView");
+    g.doc["accessors"][0]["byteOffset"] = 1u << 31;
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "offset.gltf")), "overruns its bufferView");
+}
+
+TEST(GltfBadInput, BufferViewOutOfRange) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.doc["bufferViews"][1]["byteLength"] = 4096;
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "view.gltf")), "overruns buffer 0");
+}
+
+TEST(GltfBadInput, IndexOutOfRange) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node(
+        {{"mesh", g.mesh(g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), g.indices({0, 1, 3}, U16))}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "index.gltf")), "index 3 is out of range");
+}
+
+TEST(GltfBadInput, WrongAccessorType) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.doc["accessors"][0]["componentType"] = U16;
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "type.gltf")), "must be FLOAT VEC3");
+}
+
+TEST(GltfBadInput, NanPositions) {
+    TempDir dir;
+    GltfBuilder g;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    g.node({{"mesh", g.mesh(g.vec3s({{0, 0, 0}, {nan, 0, 0}, {0, 1, 0}}))}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "nan.gltf")), "not finite");
+}
+
+TEST(GltfBadInput, ModeNotTriangles) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.mesh(g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), -1, -1, -1, 1)}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "lines.gltf")), "mode 1 (LINES) is not supported");
+}
+
+TEST(GltfBadInput, NoGeometry) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["cameras"] = {perspective("only", 0.5)};
+    g.node({{"camera", 0}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "empty-scene.gltf")), "no geometry");
+    // Only degenerate triangles is no geometry either.
+    GltfBuilder flat;
+    flat.node({{"mesh", flat.mesh(flat.vec3s({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}))}});
+    EXPECT_CONTAINS(loadError(flat.writeGltf(dir / "flat.gltf")), "no geometry");
+}
+
+TEST(GltfBadInput, ZeroFovCamera) {
+    TempDir dir;
+    GltfBuilder g;
+    g.doc["cameras"] = {perspective("zero", 0.0)};
+    g.node({{"mesh", g.triangle()}});
+    g.node({{"camera", 0}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "fov.gltf")), "yfov 0 is not in (0, pi)");
+}
+
+TEST(GltfBadInput, NodeWithTwoParents) {
+    TempDir dir;
+    GltfBuilder g;
+    const int shared = g.node({{"mesh", g.triangle()}}, false);
+    g.node({{"children", {shared}}});
+    g.node({{"children", {shared}}});
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "dag.gltf")), "more than one parent");
+}
+
+TEST(GltfBadInput, NodeCycleIsNotARoot) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}, {"children", {1}}});
+    g.node({{"children", {0}}}, false);
+    EXPECT_CONTAINS(loadError(g.writeGltf(dir / "cycle.gltf")), "not a root");
+}
+
+}  // namespace
