@@ -3,20 +3,24 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps build demo test bench clean
+.PHONY: all deps configure build demo test bench clean
 
 all: build
 
 deps:
 	@tools/install-deps
 
-build: deps
+configure: deps
 	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+
+# Everything: vkpath, the tests and the benchmarks.
+build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # The bundled Cornell box (mirror and glass spheres, ceiling lamp), small
 # enough to finish in about half a minute on two CPU cores through lavapipe.
-demo: build
+demo: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target vkpath
 	@$(VKPATH) render assets/cornell_box.gltf -d 320x240 -s 32 -m 8 -o out/cornell_box.exr --png out/cornell_box.png
 
 test: build
