@@ -34,7 +34,11 @@ uint32_t pathsPerWave(const RenderSettings& s, const vk::DeviceInfo& device, uin
     limit = std::min<uint64_t>(limit, device.maxStorageBufferRange /
                                           (std::max<uint64_t>(1, s.lightSamples) * sizeof(shared::Ray)));
     limit = std::max<uint64_t>(limit, 1);
-    if (pixels <= limit) return uint32_t(pixels * std::min<uint64_t>(limit / pixels, s.samplesPerPixel));
+    // The accumulate stage loops over a pixel's samples in the wave, and
+    // lavapipe cuts every shader loop at 65535 iterations.
+    constexpr uint64_t MAX_SAMPLES_PER_WAVE = 65535;
+    if (pixels <= limit)
+        return uint32_t(pixels * std::min<uint64_t>({limit / pixels, s.samplesPerPixel, MAX_SAMPLES_PER_WAVE}));
     const uint64_t wavesPerSample = (pixels + limit - 1) / limit;
     return uint32_t((pixels + wavesPerSample - 1) / wavesPerSample);
 }
@@ -55,12 +59,7 @@ WavefrontRenderer::WavefrontRenderer(vk::Context& context, const scene::Scene& s
     m_scene = uploadScene(context, m_tables);
 
     shared::SceneInfo& info = m_tables.info;
-    info.lightSamples = m_tables.lights.empty() ? 0 : settings.lightSamples;
-    info.maxDepth = settings.maxDepth;
-    info.rouletteDepth = settings.rouletteDepth;
-    info.seed = settings.seed;
-    info.width = settings.width;
-    info.height = settings.height;
+    info = renderSceneInfo(m_tables, settings);
 
     auto r = std::make_unique<Resources>();
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
@@ -186,10 +185,9 @@ RenderResult WavefrontRenderer::render(const std::function<void(const RenderProg
             // Kahan: the true sum is sum - compensation.
             const double sum = double(film[i].sum[c]) - double(film[i].sumCompensation[c]);
             const double sumSquares = double(film[i].sumSquares[c]) - double(film[i].sumSquaresCompensation[c]);
-            const double mean = n > 0 ? sum / n : 0.0;
-            const double variance = n > 1 ? std::max(0.0, (sumSquares - n * mean * mean) / (n - 1)) : 0.0;
-            result.image.pixels[i][c] = float(mean);
-            result.varianceOfMean.pixels[i][c] = float(n > 0 ? variance / n : 0.0);
+            const PixelEstimate e = estimatePixel(sum, sumSquares, n);
+            result.image.pixels[i][c] = float(e.mean);
+            result.varianceOfMean.pixels[i][c] = float(e.varianceOfMean);
         }
     }
     return result;
