@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <map>
 #include <random>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -194,14 +195,15 @@ inline vec3 pointOn(const BvhPrimitive& p, std::mt19937& rng, float margin = 0.0
     return (1.0f - b1 - b2) * p.p0 + b1 * p.p1 + b2 * p.p2;
 }
 
-// Half random rays from the box [-2, 2]^3, half aimed from there at a random
+// Half random rays from the box [lo, hi], half aimed from there at a random
 // point of a random primitive (so most of them hit something).
-inline std::vector<Ray> randomRays(const vkpath::bvh::BvhBuild& build, uint32_t count, uint32_t seed) {
+inline std::vector<Ray> randomRays(const vkpath::bvh::BvhBuild& build, uint32_t count, uint32_t seed,
+                                   vec3 lo = vec3(-2.0f), vec3 hi = vec3(2.0f)) {
     std::mt19937 rng(seed);
     std::vector<Ray> rays(count);
     std::uniform_int_distribution<size_t> pick(0, build.primitives.size() - 1);
     for (uint32_t i = 0; i < count; ++i) {
-        const vec3 origin = randomInBox(rng, vec3(-2.0f), vec3(2.0f));
+        const vec3 origin = randomInBox(rng, lo, hi);
         vec3 direction = randomDirection(rng);
         if (i % 2 == 1) {
             const vec3 to = pointOn(build.primitives[pick(rng)], rng) - origin;
@@ -255,6 +257,53 @@ inline std::vector<Hit> bruteForceClosest(const std::vector<BvhPrimitive>& primi
     std::vector<Hit> hits(rays.size());
     parallelFor(rays.size(), [&](size_t i) { hits[i] = bruteForceClosest(primitives, rays[i]); });
     return hits;
+}
+
+// ---- comparing hits ----------------------------------------------------------------
+
+// Equality: the same primitive with t within 1e-5 relative (a GPU may round a
+// division differently). Ties: when two primitives are hit at the same
+// distance (to 1e-5) either may be reported; a ray counts as a tie when the
+// CPU confirms that the reported primitive is hit at the expected distance.
+constexpr float RELATIVE_T_TOLERANCE = 1e-5f;
+
+struct Comparison {
+    size_t hits = 0;
+    size_t ties = 0;
+    size_t mismatches = 0;
+    std::string first;
+};
+
+inline bool closeT(float a, float b) {
+    return std::abs(a - b) <= RELATIVE_T_TOLERANCE * std::max(std::abs(b), 1e-30f);
+}
+
+inline Comparison compareHits(const vkpath::bvh::BvhBuild& build, const std::vector<Ray>& rays,
+                              const std::vector<Hit>& got, const std::vector<Hit>& expected) {
+    Comparison c;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit& g = got[i];
+        const Hit& e = expected[i];
+        bool ok = true;
+        if (e.primitive == VKP_NO_HIT || g.primitive == VKP_NO_HIT) {
+            ok = e.primitive == g.primitive;
+        } else if (g.primitive == e.primitive) {
+            ok = closeT(g.t, e.t);
+        } else {
+            float t;
+            glm::vec2 bary;
+            ok = g.primitive < build.primitives.size() &&
+                 intersectPrimitive(build.primitives[g.primitive], rays[i], FLT_MAX_VALUE, t, bary) &&
+                 closeT(t, e.t) && closeT(g.t, e.t);
+            c.ties += ok;
+        }
+        c.hits += e.primitive != VKP_NO_HIT;
+        if (!ok && c.mismatches++ == 0)
+            c.first = "ray " + std::to_string(i) + ": got primitive " + std::to_string(g.primitive) + " t " +
+                      std::to_string(g.t) + ", expected " + std::to_string(e.primitive) + " t " +
+                      std::to_string(e.t);
+    }
+    return c;
 }
 
 // ---- the GPU trace kernels -------------------------------------------------------

@@ -20,44 +20,6 @@ using namespace vkpath;
 using namespace vkpath::test::bvh;
 
 constexpr uint32_t RAY_COUNT = 100000;
-constexpr float RELATIVE_T_TOLERANCE = 1e-5f;
-
-struct Comparison {
-    size_t hits = 0;
-    size_t ties = 0;
-    size_t mismatches = 0;
-    std::string first;
-};
-
-bool closeT(float a, float b) { return std::abs(a - b) <= RELATIVE_T_TOLERANCE * std::max(std::abs(b), 1e-30f); }
-
-Comparison compareHits(const bvh::BvhBuild& build, const std::vector<Ray>& rays, const std::vector<Hit>& got,
-                       const std::vector<Hit>& expected) {
-    Comparison c;
-    for (size_t i = 0; i < rays.size(); ++i) {
-        const Hit& g = got[i];
-        const Hit& e = expected[i];
-        bool ok = true;
-        if (e.primitive == VKP_NO_HIT || g.primitive == VKP_NO_HIT) {
-            ok = e.primitive == g.primitive;
-        } else if (g.primitive == e.primitive) {
-            ok = closeT(g.t, e.t);
-        } else {
-            float t;
-            glm::vec2 bary;
-            ok = g.primitive < build.primitives.size() &&
-                 intersectPrimitive(build.primitives[g.primitive], rays[i], FLT_MAX_VALUE, t, bary) &&
-                 closeT(t, e.t) && closeT(g.t, e.t);
-            c.ties += ok;
-        }
-        c.hits += e.primitive != VKP_NO_HIT;
-        if (!ok && c.mismatches++ == 0)
-            c.first = "ray " + std::to_string(i) + ": got primitive " + std::to_string(g.primitive) + " t " +
-                      std::to_string(g.t) + ", brute force " + std::to_string(e.primitive) + " t " +
-                      std::to_string(e.t);
-    }
-    return c;
-}
 
 struct TraceCase {
     const char* name;
