@@ -1,0 +1,28 @@
+#include "wavefront/render_types.h"
+
+#include <algorithm>
+
+namespace vkpath::wavefront {
+
+shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings) {
+    shared::SceneInfo info = tables.info;
+    info.lightSamples = tables.lights.empty() ? 0 : settings.lightSamples;
+    info.maxDepth = settings.maxDepth;
+    info.rouletteDepth = settings.rouletteDepth;
+    info.seed = settings.seed;
+    info.width = settings.width;
+    info.height = settings.height;
+    return info;
+}
+
+PixelEstimate estimatePixel(double sum, double sumSquares, double samples) {
+    PixelEstimate e;
+    if (!(samples > 0)) return e;
+    e.mean = sum / samples;
+    const double variance =
+        samples > 1 ? std::max(0.0, (sumSquares - samples * e.mean * e.mean) / (samples - 1)) : 0.0;
+    e.varianceOfMean = variance / samples;
+    return e;
+}
+
+}  // namespace vkpath::wavefront

@@ -1,0 +1,64 @@
+// What both integrators take and give: the GPU wavefront renderer
+// (wavefront/renderer.h) and the CPU reference (reference/reference_renderer.h)
+// read the same settings, fill the scene tables' SceneInfo the same way and
+// turn per-pixel sums into the same mean and variance-of-mean images.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "image/image.h"
+#include "shared/scene_data.h"
+#include "wavefront/gpu_scene.h"
+
+namespace vkpath::wavefront {
+
+struct RenderSettings {
+    uint32_t width = 640;
+    uint32_t height = 480;
+    uint32_t samplesPerPixel = 16;
+    uint32_t maxDepth = 8;          // pbrt-v4's meaning: 0 = emitters seen directly only
+    uint32_t lightSamples = 1;      // light samples per diffuse vertex (-l)
+    uint32_t rouletteDepth = 4;     // Russian roulette from this bounce on
+    uint32_t seed = 0;
+    std::optional<double> timeBudgetSeconds;  // stop after the wave that crosses it
+    uint32_t workgroupSize = 64;              // GPU: threads per workgroup of the stage kernels
+    uint32_t maxPathsInFlight = 1u << 20;     // GPU: upper bound; also limited by device memory
+    uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread
+};
+
+struct RenderProgress {
+    uint32_t samplesDone;   // per pixel
+    uint32_t samplesTotal;
+    double seconds;
+};
+
+struct RenderResult {
+    image::Image image;          // mean radiance per pixel
+    image::Image varianceOfMean; // per channel: sample variance / samples (the variance AOV)
+    uint32_t samplesPerPixel = 0;  // reached (less than asked when the time budget ran out)
+    uint64_t nonFiniteSamples = 0;
+    uint64_t paths = 0;
+    uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image
+    uint32_t pathsInFlight = 0;  // paths per wave (pass)
+    double seconds = 0;                         // wall clock of the waves
+    std::map<std::string, double> stageMilliseconds;  // GPU: device time per stage (empty on the CPU)
+};
+
+// The scene tables' SceneInfo with the render's settings filled in (samples,
+// depth, seed, film size); lightSamples is 0 when the scene has no light to
+// sample, so emission then counts fully.
+shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings);
+
+// One pixel channel from `samples` path samples (NaN/Inf ones dropped count
+// as zero): their mean and the variance of that mean (unbiased sample
+// variance / samples; 0 with fewer than two samples).
+struct PixelEstimate {
+    double mean = 0;
+    double varianceOfMean = 0;
+};
+PixelEstimate estimatePixel(double sum, double sumSquares, double samples);
+
+}  // namespace vkpath::wavefront
