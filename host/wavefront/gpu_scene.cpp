@@ -47,8 +47,30 @@ vk::Buffer uploadOrPlaceholder(vk::Context& context, const std::vector<T>& data,
 
 }  // namespace
 
-SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions) {
+namespace {
+
+// The scene moved by -origin, each coordinate computed in double and rounded
+// once: floats near 1e5 minus an origin near 1e5 come out exact.
+scene::Scene moved(const scene::Scene& world, glm::dvec3 origin) {
+    scene::Scene s = world;
+    auto move = [&](glm::vec3& p) { p = glm::vec3(glm::dvec3(p) - origin); };
+    for (auto& mesh : s.meshes)
+        for (auto& p : mesh.positions) move(p);
+    for (auto& sphere : s.spheres) move(sphere.center);
+    for (auto& light : s.pointLights) move(light.position);
+    for (auto& light : s.spotLights) move(light.position);
+    move(s.camera.position);
+    move(s.camera.target);
+    return s;
+}
+
+}  // namespace
+
+SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& bvhOptions) {
     SceneTables t;
+    t.worldOrigin = boundingSphere(world).first;
+    const scene::Scene scene = moved(world, t.worldOrigin);
+    t.camera = scene.camera;
     t.bvh = bvh::buildBvh(scene, bvhOptions);
     for (const auto& m : scene.materials) t.materials.push_back(toGpu(m));
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));

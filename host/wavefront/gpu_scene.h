@@ -32,9 +32,16 @@ struct SceneTables {
     std::vector<shared::AliasEntry> envAlias;
     std::vector<glm::vec3> envRadiance;
     shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
+    // Everything above is in render space: world space moved so that the
+    // centre of the geometry's bounding box is the origin (computed in
+    // double), so that float precision follows the scene's size, not its
+    // distance from the world origin. `camera` is the scene's camera in render
+    // space; worldOrigin is where render space's origin lies in world space.
+    scene::Camera camera;
+    glm::dvec3 worldOrigin{0.0};
 };
 
-// Builds the tables. Lights: one per emissive non-degenerate triangle and
+// Builds the tables in render space (see SceneTables). Lights: one per emissive non-degenerate triangle and
 // sphere, each punctual light, and the environment when present, chosen in
 // proportion to their power in luminance: pi x area x L for surfaces (a
 // triangle's front face; a sphere's outside), 4 pi I for points, the cone's solid angle x I for

@@ -55,7 +55,7 @@ struct WavefrontRenderer::Resources {
 
 WavefrontRenderer::WavefrontRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings)
     : m_context(context), m_settings(settings), m_tables(buildSceneTables(scene)) {
-    const shared::Camera camera = scene::makeGpuCamera(scene.camera, settings.width, settings.height);
+    const shared::Camera camera = scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
     m_scene = uploadScene(context, m_tables);
 
     shared::SceneInfo& info = m_tables.info;

@@ -35,10 +35,17 @@
 // 2(2), 2013, widens by 1 + 2 gamma(3) for a correctly rounded reciprocal).
 #define VKP_BOX_SLACK 1.0000019073486328125f
 
-// Waechter and Binder's constants (see offsetRayOrigin), for a primitive whose
-// coordinates are about 1 in magnitude: 256 ulps in integer space away from
-// the origin, and a fixed offset of 2^-16 within 2^-5 of zero.
-#define VKP_SPAWN_ULPS 256.0f
+// Offsets of spawned ray origins (see offsetRayOrigin). Waechter and Binder
+// use 256 ulps, sized for hit points computed as origin + t * direction,
+// whose error grows with the ray's length. vkpath recomputes hit points from
+// the primitive (surfacePoint: vertex 0 plus barycentric multiples of exact
+// edge vectors, or a sphere's centre plus its radius), which are within about
+// one ulp of their coordinates of the true surface, and the intersection
+// tests work in coordinates relative to the ray origin, so a few ulps
+// suffice: 8. At 1e5 from the origin an ulp is 8 mm, and 256 of them (2 m)
+// would throw a bounced ray clean out of a half-metre room. The fixed offset
+// of 2^-16 within 2^-5 of zero keeps the chapter's values.
+#define VKP_SPAWN_ULPS 8.0f
 #define VKP_SPAWN_NEAR_ZERO 0.03125f
 #define VKP_SPAWN_ABSOLUTE 1.52587890625e-05f
 
@@ -267,7 +274,9 @@ VKP_FN SurfacePoint surfacePoint(BvhPrimitive primitive, Ray ray, Hit hit) {
         s.magnitude = maxComponent(abs(primitive.p0)) + radius;
     } else {
         float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
-        s.position = (1.0f - b1 - b2) * primitive.p0 + b1 * primitive.p1 + b2 * primitive.p2;
+        // p0 plus multiples of the edges: edges of nearby float vertices are
+        // exact, so the only rounding of note is the final addition.
+        s.position = primitive.p0 + (b1 * (primitive.p1 - primitive.p0) + b2 * (primitive.p2 - primitive.p0));
         s.normal = normalize(cross(primitive.p1 - primitive.p0, primitive.p2 - primitive.p0));
         s.magnitude = maxComponent(max(max(abs(primitive.p0), abs(primitive.p1)), abs(primitive.p2)));
     }

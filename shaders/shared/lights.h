@@ -40,6 +40,7 @@ struct LightSample {
     vec3 radiance;   // incident radiance (area), or intensity / distance^2 (point, spot), or irradiance
     float pdf;       // solid-angle density of `direction` for area lights; 1 for delta lights
                      // (neither includes the probability of choosing the light)
+    vec3 normal;     // area lights: unit surface normal at the sampled point (else 0)
     bool delta;      // point, spot, directional: no MIS
 };
 
@@ -49,6 +50,7 @@ VKP_FN LightSample noLightSample() {
     s.distance = 0.0f;
     s.radiance = vec3(0.0f);
     s.pdf = 0.0f;
+    s.normal = vec3(0.0f);
     s.delta = false;
     return s;
 }
@@ -96,6 +98,7 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
         vec3 n = normalize(cross(light.p1 - light.p0, light.p2 - light.p0));
         float area = length(triangleArea3(light.p0, light.p1, light.p2));
         s.pdf = areaToSolidAnglePdf(area, dist2, dot(n, s.direction));
+        s.normal = n;
         // Only the front face emits: the point must see it (n points back at p).
         s.radiance = s.pdf > 0.0f && dot(n, s.direction) < 0.0f ? light.emission : vec3(0.0f);
         return s;
@@ -112,6 +115,7 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
             s.direction = d / dist;
             s.distance = dist;
             s.pdf = areaToSolidAnglePdf(4.0f * VKP_PI * light.radius * light.radius, dist2, dot(n, s.direction));
+            s.normal = n;
         } else {
             vec3 toCenter = light.p0 - p;
             float centerDistance = length(toCenter);
@@ -123,6 +127,7 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
             float halfChord = sqrt(max(0.0f, light.radius * light.radius - miss2));
             s.distance = max(0.0f, along - halfChord);
             s.pdf = sphereConePdf(cone);
+            s.normal = normalize(p + s.distance * s.direction - light.p0);
         }
         s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
         return s;

@@ -105,12 +105,12 @@ struct ShadowRequest {
 };
 
 // f * |cos| of the non-delta BSDF (only Lambertian is non-delta).
-VKP_FN vec3 evalBsdf(Material material, vec3 n, vec3 wo, vec3 wi) {
+VKP_FN vec3 evalBsdf(Material material, vec3 n, vec3 wo, vec3 wi) VKP_SCENE_CONST {
     if (material.kind != VKP_MATERIAL_DIFFUSE) return vec3(0.0f);
     return evalLambertian(material.reflectance, n, wo, wi);
 }
 
-VKP_FN float bsdfPdf(Material material, vec3 n, vec3 wo, vec3 wi) {
+VKP_FN float bsdfPdf(Material material, vec3 n, vec3 wo, vec3 wi) VKP_SCENE_CONST {
     if (material.kind != VKP_MATERIAL_DIFFUSE) return 0.0f;
     return lambertianPdf(n, wo, wi);
 }
@@ -165,10 +165,18 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
     if (ls.distance < VKP_FLOAT_MAX) {
-        // Stop short of the light's own surface: the shadow ray asks whether
-        // anything lies strictly between (relative margin, so at any scale).
+        // The shadow ray asks whether anything lies strictly between the two
+        // surfaces. Its far end is pulled off the light's surface twice over:
+        // by the ulp-scaled offset that lifts origins off surfaces
+        // (shared/intersect.h), which covers coordinate rounding far from the
+        // origin, and by 2^-12 of the distance, which covers the larger error
+        // of intersecting the light itself at a grazing angle.
         vec3 target = surface.position + ls.distance * ls.direction;
-        request.ray.tMax = length(target - request.ray.origin) * (1.0f - 1e-4f);
+        if (ls.normal != vec3(0.0f)) {
+            vec3 toward = dot(ls.normal, ls.direction) < 0.0f ? ls.normal : -ls.normal;
+            target = offsetRayOrigin(target, toward, maxComponent(abs(target)));
+        }
+        request.ray.tMax = dot(target - request.ray.origin, ls.direction) * (1.0f - 2.44140625e-4f);
     }
     request.valid = true;
     return request;

@@ -23,12 +23,14 @@ struct SceneInfo {
     uint seed;                    // the render's seed (RNG counter)
     uint width;                   // film size in pixels
     uint height;
+    float clampRadiance;          // > 0: each path sample's largest component is clamped to this (biased)
+    float fireflyThreshold;       // samples above this (largest component) are counted as fireflies
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 68);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 76);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -44,6 +44,7 @@ struct QueueCounters {
     uint rayCount1;       // entries in ray queue 1 (odd bounces)
     uint shadowCount;     // entries in the shadow queue
     uint nonFinite;       // path samples dropped because their radiance was NaN or infinite
+    uint fireflies;       // path samples above SceneInfo::fireflyThreshold (before any clamping)
     uvec3 rayDispatch;    // VkDispatchIndirectCommand for intersect and shade
     uvec3 shadowDispatch; // VkDispatchIndirectCommand for shadow
 };
@@ -72,7 +73,7 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
-static_assert(sizeof(vkpath::shared::QueueCounters) == 40);
+static_assert(sizeof(vkpath::shared::QueueCounters) == 44);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
 static_assert(sizeof(vkpath::shared::WavePush) == 16);
 #endif

@@ -1,7 +1,10 @@
 // Stage "accumulate": adds each path's radiance to its pixel with
 // compensated (Kahan) sums, one thread per pixel looping over the wave's
 // samples of that pixel in order (deterministic). A sample whose radiance is
-// NaN or infinite is dropped and counted, never added.
+// NaN or infinite, or that would overflow the sums, is dropped and counted,
+// never added. Samples above the
+// firefly threshold are counted; with --clamp they are scaled down to it
+// (keeping their colour), which is biased and therefore off by default.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -41,15 +44,30 @@ void main() {
     if (first >= end) return;
     FilmPixel f = film[pixel];
     uint dropped = 0u;
+    uint fireflies = 0u;
     for (uint path = first; path < end; path += pixels) {
         vec3 l = radiance[path - push.firstPath];
         if (!finiteBits(l)) {
             dropped++;
             continue;
         }
-        kahanAdd(f.sum, f.sumCompensation, l);
-        kahanAdd(f.sumSquares, f.sumSquaresCompensation, l * l);
+        float largest = max(max(l.x, l.y), l.z);
+        if (largest > info.fireflyThreshold) fireflies++;
+        if (info.clampRadiance > 0.0 && largest > info.clampRadiance) l *= info.clampRadiance / largest;
+        // A finite sample can still overflow the sums (a 1e38 emitter seen
+        // directly): such a sample is rejected like a NaN, so no pixel
+        // becomes infinite.
+        FilmPixel next = f;
+        kahanAdd(next.sum, next.sumCompensation, l);
+        kahanAdd(next.sumSquares, next.sumSquaresCompensation, l * l);
+        if (!finiteBits(next.sum) || !finiteBits(next.sumSquares) || !finiteBits(next.sumCompensation) ||
+            !finiteBits(next.sumSquaresCompensation)) {
+            dropped++;
+            continue;
+        }
+        f = next;
     }
     film[pixel] = f;
     if (dropped > 0u) atomicAdd(counters.nonFinite, dropped);
+    if (fireflies > 0u) atomicAdd(counters.fireflies, fireflies);
 }
