@@ -12,6 +12,9 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.seed = settings.seed;
     info.width = settings.width;
     info.height = settings.height;
+    info.clampRadiance = settings.clampRadiance;
+    // A firefly: one sample that alone adds more than 1 (display white) to its pixel's mean.
+    info.fireflyThreshold = float(settings.samplesPerPixel);
     return info;
 }
 

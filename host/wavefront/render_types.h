@@ -23,6 +23,9 @@ struct RenderSettings {
     uint32_t lightSamples = 1;      // light samples per diffuse vertex (-l)
     uint32_t rouletteDepth = 4;     // Russian roulette from this bounce on
     uint32_t seed = 0;
+    // > 0: clamp each path sample's largest component to this. Biased (it
+    // removes energy), off by default; fireflies are counted either way.
+    float clampRadiance = 0;
     std::optional<double> timeBudgetSeconds;  // stop after the wave that crosses it
     uint32_t workgroupSize = 64;              // GPU: threads per workgroup of the stage kernels
     uint32_t maxPathsInFlight = 1u << 20;     // GPU: upper bound; also limited by device memory
@@ -40,6 +43,7 @@ struct RenderResult {
     image::Image varianceOfMean; // per channel: sample variance / samples (the variance AOV)
     uint32_t samplesPerPixel = 0;  // reached (less than asked when the time budget ran out)
     uint64_t nonFiniteSamples = 0;
+    uint64_t fireflySamples = 0;  // samples that alone add more than 1 to their pixel's mean (> spp)
     uint64_t paths = 0;
     uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image
     uint32_t pathsInFlight = 0;  // paths per wave (pass)

@@ -176,6 +176,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(const RenderProg
 
     const auto counters = r.counters.download<shared::QueueCounters>();
     result.nonFiniteSamples = counters.at(0).nonFinite;
+    result.fireflySamples = counters.at(0).fireflies;
     const auto film = r.film.download<shared::FilmPixel>();
     result.image = image::Image(s.width, s.height);
     result.varianceOfMean = image::Image(s.width, s.height);
