@@ -241,12 +241,14 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
             const std::string name = "build/" + s.name + (threads == 1 ? "/serial" : "/parallel");
             benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene, bvh::BvhOptions{.threads = threads})
                 ->Unit(benchmark::kMillisecond)
+                ->UseRealTime()
                 ->Iterations(triangles > 500000 ? 2 : 5);
         }
         for (uint32_t leaf : {1u, 2u, 4u, 8u, 16u}) {
             const std::string name = "build/" + s.name + "/leaf:" + std::to_string(leaf);
             benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene, bvh::BvhOptions{.maxLeafSize = leaf})
                 ->Unit(benchmark::kMillisecond)
+                ->UseRealTime()
                 ->Iterations(triangles > 500000 ? 1 : 3);
         }
     }

@@ -95,26 +95,27 @@ Aabb sphereBounds(vec3 c, float r) {
     return b;
 }
 
+// Builds over the primitives themselves, partitioning them in place: each
+// level of the tree then reads them sequentially (a permuted index array
+// would make every read a cache miss on large meshes).
 class Builder {
   public:
-    Builder(const BvhOptions& options, const std::vector<BuildPrimitive>& primitives,
-            std::vector<uint32_t>& refs)
-        : m_options(options), m_primitives(primitives), m_refs(refs) {
+    Builder(const BvhOptions& options, std::vector<BuildPrimitive>& primitives)
+        : m_options(options), m_primitives(primitives) {
         uint32_t threads = options.threads ? options.threads : std::thread::hardware_concurrency();
         threads = std::max(threads, 1u);
         // Two subtrees per thread near the root balance uneven splits a little.
         m_spawnDepth = threads > 1 ? ceilLog2(threads) + 1 : 0;
     }
 
-    // Builds the subtree over m_refs[begin, end) into `out`, depth-first.
+    // Builds the subtree over m_primitives[begin, end) into `out`, depth-first.
     void build(uint32_t begin, uint32_t end, uint32_t depth, std::vector<BuildNode>& out) const {
         const size_t nodeIndex = out.size();
         out.emplace_back();
         Aabb bounds, centroids;
         for (uint32_t i = begin; i < end; ++i) {
-            const BuildPrimitive& p = m_primitives[m_refs[i]];
-            bounds.grow(p.bounds);
-            centroids.grow(p.centroid);
+            bounds.grow(m_primitives[i].bounds);
+            centroids.grow(m_primitives[i].centroid);
         }
         out[nodeIndex].bounds = bounds;
 
@@ -146,6 +147,8 @@ class Builder {
     }
 
   private:
+    static constexpr uint32_t MAX_BINS = 256;
+
     struct Bin {
         Aabb bounds;
         uint32_t count = 0;
@@ -156,103 +159,118 @@ class Builder {
         return std::min(m_options.binCount - 1, static_cast<uint32_t>(x));
     }
 
-    // Partitions m_refs[begin, end) and returns where the second child
+    // Partitions m_primitives[begin, end) and returns where the second child
     // starts, or 0 to make a leaf.
     uint32_t split(uint32_t begin, uint32_t end, uint32_t depth, const Aabb& bounds,
                    const Aabb& centroids) const {
         const uint32_t n = end - begin;
         if (n == 1) return 0;
         const bool mustSplit = n > m_options.maxLeafSize;
-
-        // ---- the SAH sweep over the bins of each axis -------------------------
         const uint32_t binCount = m_options.binCount;
+
+        // ---- bin the centroids along all three axes in one pass ---------------
+        std::array<float, 3> lo{}, scale{};
+        std::array<bool, 3> usable{};
+        for (int axis = 0; axis < 3; ++axis) {
+            lo[axis] = centroids.lo[axis];
+            const float extent = centroids.hi[axis] - lo[axis];
+            scale[axis] = static_cast<float>(binCount) / extent;
+            usable[axis] = extent > 0.0f && std::isfinite(scale[axis]);
+        }
+        if (!usable[0] && !usable[1] && !usable[2]) {
+            // Every centroid in one point: no plane separates them.
+            return mustSplit ? medianSplit(begin, end, centroids) : 0;
+        }
+        // Per-thread scratch: constructing 3 x 256 bins on every call would
+        // cost more than binning the small nodes near the leaves.
+        thread_local std::array<std::array<Bin, MAX_BINS>, 3> bins;
+        thread_local std::array<float, MAX_BINS> secondArea;
+        thread_local std::array<uint32_t, MAX_BINS> secondCount;
+        thread_local std::array<uint32_t, MAX_BINS> usedBins;
+        for (int axis = 0; axis < 3; ++axis) std::fill(bins[axis].begin(), bins[axis].begin() + binCount, Bin{});
+        for (uint32_t i = begin; i < end; ++i) {
+            const BuildPrimitive& p = m_primitives[i];
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!usable[axis]) continue;
+                Bin& bin = bins[axis][binOf(p.centroid[axis], lo[axis], scale[axis])];
+                bin.bounds.grow(p.bounds);
+                ++bin.count;
+            }
+        }
+
+        // ---- the SAH sweep over each axis's bin boundaries --------------------
         const float nodeArea = bounds.halfArea();
         float bestCost = INF;
         int bestAxis = -1;
         uint32_t bestBin = 0;  // bins 0..bestBin go to the first child
         uint32_t bestFirstCount = 0;
-        std::array<Bin, 256> bins;
-        std::array<float, 256> secondArea;
-        std::array<uint32_t, 256> secondCount;
         for (int axis = 0; axis < 3; ++axis) {
-            const float lo = centroids.lo[axis];
-            const float extent = centroids.hi[axis] - lo;
-            const float scale = static_cast<float>(binCount) / extent;
-            if (!(extent > 0.0f) || !std::isfinite(scale)) continue;
-            std::fill(bins.begin(), bins.begin() + binCount, Bin{});
-            for (uint32_t i = begin; i < end; ++i) {
-                const BuildPrimitive& p = m_primitives[m_refs[i]];
-                Bin& bin = bins[binOf(p.centroid[axis], lo, scale)];
-                bin.bounds.grow(p.bounds);
-                ++bin.count;
-            }
+            if (!usable[axis]) continue;
+            const auto& axisBins = bins[axis];
+            // Only boundaries after a non-empty bin give distinct partitions, so
+            // sweep over those: small nodes near the leaves fill few bins.
+            uint32_t used = 0;
+            for (uint32_t b = 0; b < binCount; ++b)
+                if (axisBins[b].count) usedBins[used++] = b;
             Aabb acc;
             uint32_t count = 0;
-            for (uint32_t b = binCount - 1; b > 0; --b) {
-                acc.grow(bins[b].bounds);
-                count += bins[b].count;
-                secondArea[b - 1] = acc.halfArea();
-                secondCount[b - 1] = count;
+            for (uint32_t k = used - 1; k > 0; --k) {
+                acc.grow(axisBins[usedBins[k]].bounds);
+                count += axisBins[usedBins[k]].count;
+                secondArea[k - 1] = acc.halfArea();
+                secondCount[k - 1] = count;
             }
             acc = Aabb{};
             count = 0;
-            for (uint32_t b = 0; b + 1 < binCount; ++b) {
-                acc.grow(bins[b].bounds);
-                count += bins[b].count;
-                if (count == 0 || secondCount[b] == 0) continue;
+            for (uint32_t k = 0; k + 1 < used; ++k) {
+                acc.grow(axisBins[usedBins[k]].bounds);
+                count += axisBins[usedBins[k]].count;
                 const float areas = acc.halfArea() * static_cast<float>(count) +
-                                    secondArea[b] * static_cast<float>(secondCount[b]);
+                                    secondArea[k] * static_cast<float>(secondCount[k]);
                 const float cost = m_options.traversalCost +
                                    (nodeArea > 0.0f ? areas / nodeArea : static_cast<float>(n));
                 if (cost < bestCost) {
                     bestCost = cost;
                     bestAxis = axis;
-                    bestBin = b;
+                    bestBin = usedBins[k];
                     bestFirstCount = count;
                 }
             }
         }
+        if (bestAxis < 0) return mustSplit ? medianSplit(begin, end, centroids) : 0;
+        if (!mustSplit && static_cast<float>(n) <= bestCost) return 0;
 
-        if (bestAxis >= 0) {
-            if (!mustSplit && static_cast<float>(n) <= bestCost) return 0;
-            // The depth guard: both children must still fit below maxDepth with
-            // halving splits (which preserve depth + ceilLog2(n) <= maxDepth).
-            const uint32_t larger = std::max(bestFirstCount, n - bestFirstCount);
-            if (depth + 1 + ceilLog2(larger) <= m_options.maxDepth) {
-                const float lo = centroids.lo[bestAxis];
-                const float scale =
-                    static_cast<float>(binCount) / (centroids.hi[bestAxis] - lo);
-                auto* first = m_refs.data() + begin;
-                auto* middle = std::partition(first, m_refs.data() + end, [&](uint32_t r) {
-                    return binOf(m_primitives[r].centroid[bestAxis], lo, scale) <= bestBin;
-                });
-                return begin + static_cast<uint32_t>(middle - first);
-            }
-        } else if (!mustSplit) {
-            return 0;  // every centroid in one point and few enough for a leaf
-        }
-        return medianSplit(begin, end, centroids);
+        // The depth guard: both children must still fit below maxDepth with
+        // halving splits (which preserve depth + ceilLog2(n) <= maxDepth).
+        const uint32_t larger = std::max(bestFirstCount, n - bestFirstCount);
+        if (depth + 1 + ceilLog2(larger) > m_options.maxDepth) return medianSplit(begin, end, centroids);
+
+        const float axisLo = lo[bestAxis], axisScale = scale[bestAxis];
+        auto* first = m_primitives.data() + begin;
+        auto* middle = std::partition(first, m_primitives.data() + end, [&](const BuildPrimitive& p) {
+            return binOf(p.centroid[bestAxis], axisLo, axisScale) <= bestBin;
+        });
+        return begin + static_cast<uint32_t>(middle - first);
     }
 
     // Halves the range at the median centroid of the widest axis, ties broken
-    // by primitive index, so the order is fully determined.
+    // by (kind, id), which is unique, so the order is fully determined.
     uint32_t medianSplit(uint32_t begin, uint32_t end, const Aabb& centroids) const {
         const vec3 extent = centroids.hi - centroids.lo;
         const int axis = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2)
                                               : (extent.y >= extent.z ? 1 : 2);
         const uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(m_refs.data() + begin, m_refs.data() + mid, m_refs.data() + end,
-                         [&](uint32_t a, uint32_t b) {
-                             const float ca = m_primitives[a].centroid[axis];
-                             const float cb = m_primitives[b].centroid[axis];
-                             return ca < cb || (ca == cb && a < b);
+        std::nth_element(m_primitives.data() + begin, m_primitives.data() + mid, m_primitives.data() + end,
+                         [&](const BuildPrimitive& a, const BuildPrimitive& b) {
+                             const float ca = a.centroid[axis], cb = b.centroid[axis];
+                             if (ca != cb) return ca < cb;
+                             return a.kind != b.kind ? a.kind < b.kind : a.id < b.id;
                          });
         return mid;
     }
 
     const BvhOptions& m_options;
-    const std::vector<BuildPrimitive>& m_primitives;
-    std::vector<uint32_t>& m_refs;
+    std::vector<BuildPrimitive>& m_primitives;
     uint32_t m_spawnDepth = 0;
 };
 
@@ -385,11 +403,9 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
         result.nodes.push_back(BvhNode{vec3(0.0f), 0u, vec3(0.0f), 0u});  // the empty tree
         result.stats.nodes = 1;
     } else {
-        std::vector<uint32_t> refs(primitives.size());
-        for (uint32_t i = 0; i < refs.size(); ++i) refs[i] = i;
         std::vector<BuildNode> nodes;
         nodes.reserve(2 * primitives.size());
-        Builder(options, primitives, refs).build(0, static_cast<uint32_t>(refs.size()), 0, nodes);
+        Builder(options, primitives).build(0, static_cast<uint32_t>(primitives.size()), 0, nodes);
 
         result.nodes.resize(nodes.size());
         for (size_t i = 0; i < nodes.size(); ++i) {
@@ -400,9 +416,9 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
             out.offset = n.offset;
             out.count = n.count;
         }
-        result.primitives.resize(refs.size());
-        for (size_t i = 0; i < refs.size(); ++i)
-            result.primitives[i] = flattenPrimitive(scene, primitives[refs[i]]);
+        result.primitives.resize(primitives.size());
+        for (size_t i = 0; i < primitives.size(); ++i)
+            result.primitives[i] = flattenPrimitive(scene, primitives[i]);
 
         // Depth and leaf statistics: nodes are in preorder, so a node's depth
         // is known when it is reached.
