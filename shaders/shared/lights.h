@@ -79,6 +79,21 @@ VKP_FN float areaLightPdf(Light light, vec3 p, vec3 x, vec3 n) {
     return areaToSolidAnglePdf(area, dist2, dot(n, d) / sqrt(dist2));
 }
 
+// A sample of a point `x` on an area light of area `area` with unit normal
+// `n`, seen from `p` (direction, distance, solid-angle pdf); pdf 0 if x = p.
+VKP_FN LightSample areaLightSample(vec3 p, vec3 x, vec3 n, float area) {
+    LightSample s = noLightSample();
+    vec3 d = x - p;
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0.0f)) return s;
+    float dist = sqrt(dist2);
+    s.direction = d / dist;
+    s.distance = dist;
+    s.pdf = areaToSolidAnglePdf(area, dist2, dot(n, s.direction));
+    s.normal = n;
+    return s;
+}
+
 // Samples a direction toward a triangle, sphere, point, spot or directional
 // light (the environment is sampled by the caller, which holds its table).
 // `u` uniform in [0, 1)^2. The sphere from outside is sampled by its cone
@@ -89,16 +104,8 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
     if (light.type == VKP_LIGHT_TRIANGLE) {
         vec2 b = sampleTriangleBarycentrics(u);
         vec3 x = b.x * light.p0 + b.y * light.p1 + (1.0f - b.x - b.y) * light.p2;
-        vec3 d = x - p;
-        float dist2 = dot(d, d);
-        if (!(dist2 > 0.0f)) return s;
-        float dist = sqrt(dist2);
-        s.direction = d / dist;
-        s.distance = dist;
         vec3 n = normalize(cross(light.p1 - light.p0, light.p2 - light.p0));
-        float area = length(triangleArea3(light.p0, light.p1, light.p2));
-        s.pdf = areaToSolidAnglePdf(area, dist2, dot(n, s.direction));
-        s.normal = n;
+        s = areaLightSample(p, x, n, length(triangleArea3(light.p0, light.p1, light.p2)));
         // Only the front face emits: the point must see it (n points back at p).
         s.radiance = s.pdf > 0.0f && dot(n, s.direction) < 0.0f ? light.emission : vec3(0.0f);
         return s;
@@ -107,15 +114,7 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
         SphereCone cone = sphereCone(light.p0, light.radius, p);
         if (cone.inside) {
             vec3 n = sampleUniformSphere(u);
-            vec3 x = light.p0 + light.radius * n;
-            vec3 d = x - p;
-            float dist2 = dot(d, d);
-            if (!(dist2 > 0.0f)) return s;
-            float dist = sqrt(dist2);
-            s.direction = d / dist;
-            s.distance = dist;
-            s.pdf = areaToSolidAnglePdf(4.0f * VKP_PI * light.radius * light.radius, dist2, dot(n, s.direction));
-            s.normal = n;
+            s = areaLightSample(p, light.p0 + light.radius * n, n, 4.0f * VKP_PI * light.radius * light.radius);
         } else {
             vec3 toCenter = light.p0 - p;
             float centerDistance = length(toCenter);
