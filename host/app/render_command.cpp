@@ -1,4 +1,5 @@
-// `vkpath render SCENE`: the wavefront path tracer, start to EXR.
+// `vkpath render SCENE`: the wavefront path tracer (or, with --device cpu, the
+// CPU reference running the same math), start to EXR.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -11,7 +12,9 @@
 #include "app/commands.h"
 #include "app/film_size.h"
 #include "image/image.h"
+#include "image/statistics.h"
 #include "input_error.h"
+#include "reference/reference_renderer.h"
 #include "scene/environment.h"
 #include "scene/load.h"
 #include "vk/context.h"
@@ -40,17 +43,12 @@ struct RenderOptions {
     uint32_t workgroupSize = 64;
     uint32_t pathsInFlight = 1u << 20;
     bool timings = false;
+    std::string device = "gpu";      // gpu: the wavefront renderer; cpu: the reference
+    std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
 };
 
 void ensureParent(const std::filesystem::path& path) {
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-}
-
-// "out/x.exr" + "variance" -> "out/x.variance.exr"
-std::filesystem::path aovPath(const std::filesystem::path& output, const std::string& aov) {
-    auto path = output;
-    path.replace_filename(fmt::format("{}.{}{}", output.stem().string(), aov, output.extension().string()));
-    return path;
 }
 
 void printProgress(const wavefront::RenderProgress& p, uint64_t pixels) {
@@ -63,9 +61,64 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels) {
                  "##############################", width - filled, "", p.samplesDone, p.samplesTotal, mpaths, eta);
 }
 
+// Either renderer, with a progress bar when stderr is a terminal.
+template <typename Renderer>
+wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& film) {
+    const bool terminal = isatty(STDERR_FILENO);
+    const uint64_t pixels = uint64_t(film.width) * film.height;
+    auto result = renderer.render([&](const wavefront::RenderProgress& p) {
+        if (terminal) printProgress(p, pixels);
+    });
+    if (terminal) std::fprintf(stderr, "\n");
+    return result;
+}
+
+// The EXR (with metadata), the AOVs beside it and the PNG preview.
+void writeOutputs(const RenderOptions& o, const wavefront::RenderResult& result, const std::string& device) {
+    const std::filesystem::path output(o.output);
+    ensureParent(output);
+    const image::Metadata metadata = {
+        {"vkpath:version", VKPATH_VERSION},
+        {"vkpath:spp", std::to_string(result.samplesPerPixel)},
+        {"vkpath:seed", std::to_string(o.seed)},
+        {"vkpath:maxDepth", std::to_string(o.maxDepth)},
+        {"vkpath:lightSamples", std::to_string(o.lightSamples)},
+        {"vkpath:device", device},
+        {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
+        {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
+        {"vkpath:scene", o.scene}};
+    image::writeExr(output, result.image, metadata);
+    std::printf("%s\n", output.string().c_str());
+    for (const std::string& aov : o.aovs) {
+        const auto path = image::aovPath(output, aov);
+        image::writeExr(path, result.varianceOfMean, metadata);
+        std::printf("%s\n", path.string().c_str());
+    }
+    if (!o.png.empty()) {
+        ensureParent(o.png);
+        image::writePng(o.png, result.image, o.exposure);
+        std::printf("%s\n", o.png.c_str());
+    }
+}
+
+// `deviceMs`: the GPU's summed stage times (none on the CPU, whose waves are passes over the image).
+void printSummary(const FilmSize& film, const wavefront::RenderResult& result, std::optional<double> deviceMs,
+                  const std::string& device) {
+    const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
+    const std::string deviceTime = deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
+    std::fprintf(stderr,
+                 "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s, %u %s of %u paths, "
+                 "%llu NaN/Inf samples dropped, on %s\n",
+                 film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
+                 result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
+                 (unsigned long long)result.nonFiniteSamples, device.c_str());
+}
+
 int runRender(const GlobalOptions& global, const RenderOptions& o) {
     const FilmSize film = parseFilmSize(o.size);
     if (o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
+    if (o.threads && o.device != "cpu")
+        throw InputError("-t/--threads: only the CPU reference (--device cpu) runs on threads");
     if (uint64_t(film.width) * film.height * o.spp >= (uint64_t(1) << 32))
         throw InputError(fmt::format("{}x{} pixels x {} spp is more than 2^32 paths in one render", film.width,
                                      film.height, o.spp));
@@ -96,48 +149,22 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
     settings.workgroupSize = o.workgroupSize;
     settings.maxPathsInFlight = o.pathsInFlight;
 
+    if (o.device == "cpu") {
+        settings.threads = o.threads.value_or(0);
+        const reference::ReferenceRenderer renderer(scene, settings);
+        const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
+        const auto result = renderWithProgress(renderer, film);
+        writeOutputs(o, result, device);
+        printSummary(film, result, std::nullopt, device);
+        return 0;
+    }
     return withContext(global, [&](vk::Context& context) {
         wavefront::WavefrontRenderer renderer(context, scene, settings);
-        const bool terminal = isatty(STDERR_FILENO);
-        const uint64_t pixels = uint64_t(film.width) * film.height;
-        const auto result = renderer.render([&](const wavefront::RenderProgress& p) {
-            if (terminal) printProgress(p, pixels);
-        });
-        if (terminal) std::fprintf(stderr, "\n");
-
-        const std::filesystem::path output(o.output);
-        ensureParent(output);
-        const image::Metadata metadata = {
-            {"vkpath:version", VKPATH_VERSION},
-            {"vkpath:spp", std::to_string(result.samplesPerPixel)},
-            {"vkpath:seed", std::to_string(o.seed)},
-            {"vkpath:maxDepth", std::to_string(o.maxDepth)},
-            {"vkpath:lightSamples", std::to_string(o.lightSamples)},
-            {"vkpath:device", context.info().name},
-            {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
-            {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
-            {"vkpath:scene", o.scene}};
-        image::writeExr(output, result.image, metadata);
-        std::printf("%s\n", output.string().c_str());
-        for (const std::string& aov : o.aovs) {
-            const auto path = aovPath(output, aov);
-            image::writeExr(path, result.varianceOfMean, metadata);
-            std::printf("%s\n", path.string().c_str());
-        }
-        if (!o.png.empty()) {
-            ensureParent(o.png);
-            image::writePng(o.png, result.image, o.exposure);
-            std::printf("%s\n", o.png.c_str());
-        }
+        const auto result = renderWithProgress(renderer, film);
+        writeOutputs(o, result, context.info().name);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
-        const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
-        std::fprintf(stderr,
-                     "rendered %ux%u at %u spp in %.3f s (device %.3f s): %.3f Mpaths/s, %u waves of %u paths, "
-                     "%llu NaN/Inf samples dropped, on %s\n",
-                     film.width, film.height, result.samplesPerPixel, result.seconds, deviceMs * 1e-3, mpaths,
-                     result.waves, result.pathsInFlight, (unsigned long long)result.nonFiniteSamples,
-                     context.info().name.c_str());
+        printSummary(film, result, deviceMs, context.info().name);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
                 std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms, deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
@@ -150,7 +177,7 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
 
 void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
     auto o = std::make_shared<RenderOptions>();
-    auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer");
+    auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
     cmd->add_option("scene", o->scene, "Scene file (.gltf, .glb, .dae)")->required();
     cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
     cmd->add_option("-s,--spp", o->spp, "Samples per pixel")->capture_default_str();
@@ -176,6 +203,10 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     cmd->add_option("--paths-in-flight", o->pathsInFlight, "Upper bound on the paths of one wave")
         ->capture_default_str();
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
+    cmd->add_option("--device", o->device, "gpu: the Vulkan wavefront renderer; cpu: the CPU reference (same math)")
+        ->check(CLI::IsMember({"gpu", "cpu"}))
+        ->capture_default_str();
+    cmd->add_option("-t,--threads", o->threads, "--device cpu: worker threads (default: every hardware thread)");
     cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
 }
 

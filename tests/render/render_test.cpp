@@ -7,8 +7,8 @@
 
 #include <cmath>
 
+#include "image/statistics.h"
 #include "scene/scene.h"
-#include "support/image_stats.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
 
@@ -61,7 +61,7 @@ bool offSphere(uint32_t x, uint32_t y, uint32_t size) {
 }
 
 void expectRegion(const wavefront::RenderResult& r, bool sphere, double expected) {
-    const auto region = test::regionMean(r.image, r.varianceOfMean, [&](uint32_t x, uint32_t y) {
+    const auto region = image::regionMean(r.image, r.varianceOfMean, [&](uint32_t x, uint32_t y) {
         return sphere ? onSphere(x, y, r.image.width) : offSphere(x, y, r.image.width);
     });
     ASSERT_GT(region.pixels, 100u);
@@ -111,7 +111,7 @@ TEST(Furnace, InsideAnEmitterGivesTheGeometricSeries) {
             const auto r = render(s, 8, depth, 32);
             double expected = 0;
             for (uint32_t k = 0; k <= depth; ++k) expected += std::pow(double(rho), double(k));
-            const auto region = test::regionMean(r.image, r.varianceOfMean, [](uint32_t, uint32_t) { return true; });
+            const auto region = image::regionMean(r.image, r.varianceOfMean, [](uint32_t, uint32_t) { return true; });
             EXPECT_NEAR(region.mean, expected, Z_BOUND * region.standardError + 1e-5 * expected);
             EXPECT_EQ(r.nonFiniteSamples, 0u);
         }
@@ -170,7 +170,7 @@ TEST(Specular, GlassOfIndexOneIsInvisible) {
     with.spheres.push_back({"glass", glm::vec3(0, 0, 0), 0.8f, 1});
     const auto a = render(without, 32, 6, 48, 1);
     const auto b = render(with, 32, 6, 48, 2);
-    const auto c = test::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
+    const auto c = image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
     EXPECT_EQ(c.rejected, 0) << "worst z " << c.worstZ << " over " << c.blocks << " blocks";
 }
 
@@ -190,7 +190,7 @@ TEST(Specular, GlassOfIndexOnePointFiveIsVisible) {
     invisible.materials[0].ior = 1.0f;
     const auto a = render(s, 32, 6, 48, 1);
     const auto b = render(invisible, 32, 6, 48, 2);
-    EXPECT_GT(test::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01).rejected, 0);
+    EXPECT_GT(image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01).rejected, 0);
 }
 
 TEST(Determinism, SameSeedSameBits) {

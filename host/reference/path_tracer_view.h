@@ -1,0 +1,63 @@
+// The kernels' path-tracing math on the CPU: the body of
+// shaders/shared/path_tracer.h becomes the const member functions of
+// PathTracerView, which reads the scene tables (wavefront::SceneTables, what
+// the GPU buffers hold) through std::span where the shade kernel reads its
+// storage buffers (shaders/stages/lib/scene_access.glsl). Traversal comes
+// from BvhView, so one object answers everything a path vertex asks:
+//
+//   shared::PathTracerView view(tables, info);
+//   shared::Hit hit = view.bvhClosestHit(ray);
+//   shared::ShadowRequest r = view.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
+//
+// It lives in vkpath::shared because the included code names shared types and
+// GLM functions unqualified, as GLSL does.
+#pragma once
+
+#include <span>
+
+#include "bvh/bvh_view.h"
+#include "shared/alias.h"
+#include "shared/bsdf.h"
+#include "shared/constants.h"
+#include "shared/environment_sampling.h"
+#include "shared/lights.h"
+#include "shared/material.h"
+#include "shared/rng.h"
+#include "shared/sampling.h"
+#include "shared/scene_data.h"
+#include "wavefront/gpu_scene.h"
+
+namespace vkpath::shared {
+
+struct PathTracerView : BvhView {
+    // `tables` must outlive the view; `info` is the render's SceneInfo
+    // (wavefront::renderSceneInfo). Throws std::invalid_argument when the
+    // tables' sizes disagree with each other or with `info`, the one thing
+    // the GPU would read out of bounds without a word.
+    PathTracerView(const wavefront::SceneTables& tables, const SceneInfo& info);
+
+    // The accessors shared/path_tracer.h reads through (bvhPrimitive comes
+    // from BvhView).
+    SceneInfo sceneInfo() const { return m_info; }
+    Material sceneMaterial(uint index) const { return m_materials[index]; }
+    Light sceneLight(uint index) const { return m_lights[index]; }
+    AliasEntry sceneLightAlias(uint index) const { return m_lightAlias[index]; }
+    uint scenePrimitiveLight(uint leafPrimitive) const {
+        return m_primitiveLight.empty() ? VKP_NO_LIGHT : m_primitiveLight[leafPrimitive];
+    }
+    AliasEntry sceneEnvAlias(uint texel) const { return m_envAlias[texel]; }
+    vec3 sceneEnvRadiance(uint texel) const { return m_envRadiance[texel]; }
+
+#include "shared/path_tracer.h"
+
+  private:
+    SceneInfo m_info;
+    std::span<const Material> m_materials;
+    std::span<const Light> m_lights;
+    std::span<const AliasEntry> m_lightAlias;
+    std::span<const uint> m_primitiveLight;
+    std::span<const AliasEntry> m_envAlias;
+    std::span<const vec3> m_envRadiance;
+};
+
+}  // namespace vkpath::shared

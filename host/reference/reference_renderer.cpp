@@ -1,0 +1,196 @@
+#include "reference/reference_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cfloat>
+#include <chrono>
+#include <cstdint>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include "scene/camera.h"
+#include "shared/dimensions.h"
+#include "shared/intersect.h"
+#include "shared/rng.h"
+
+namespace vkpath::reference {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Paths per pass over the image (whole samples, at least one): the grain of
+// progress reports and of the time budget, a fraction of a second of work
+// per core.
+constexpr uint64_t PATHS_PER_PASS = uint64_t(1) << 18;
+
+wavefront::SceneTables withSettings(wavefront::SceneTables tables, const wavefront::RenderSettings& settings) {
+    tables.info = wavefront::renderSceneInfo(tables, settings);
+    return tables;
+}
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool fitsFloat(glm::dvec3 v) { return glm::all(glm::lessThanEqual(glm::abs(v), glm::dvec3(FLT_MAX))); }
+
+// Per pixel and channel: the sum of the samples and of their squares.
+struct PixelSums {
+    glm::dvec3 sum{0.0};
+    glm::dvec3 sumSquares{0.0};
+};
+
+struct SampleCounts {
+    uint64_t dropped = 0;
+    uint64_t fireflies = 0;
+};
+
+// accumulate.comp's rules for one path sample, with double sums: a NaN or
+// infinite sample is dropped; one whose largest component exceeds the
+// firefly threshold is counted (and, with a clamp, scaled down to it); one
+// that would overflow the GPU's float sums is dropped too, so both
+// renderers keep and drop the same samples.
+void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info, SampleCounts& counts) {
+    if (!finite(l)) {
+        ++counts.dropped;
+        return;
+    }
+    const float largest = std::max(std::max(l.x, l.y), l.z);
+    if (largest > info.fireflyThreshold) ++counts.fireflies;
+    if (info.clampRadiance > 0.0f && largest > info.clampRadiance) l *= info.clampRadiance / largest;
+    const glm::dvec3 d(l);
+    const PixelSums next{pixel.sum + d, pixel.sumSquares + d * d};
+    if (!finite(l * l) || !fitsFloat(next.sum) || !fitsFloat(next.sumSquares)) {
+        ++counts.dropped;
+        return;
+    }
+    pixel = next;
+}
+
+}  // namespace
+
+ReferenceRenderer::ReferenceRenderer(const scene::Scene& scene, const wavefront::RenderSettings& settings)
+    : ReferenceRenderer(wavefront::buildSceneTables(scene), settings) {}
+
+ReferenceRenderer::ReferenceRenderer(wavefront::SceneTables tables, const wavefront::RenderSettings& settings)
+    : m_settings(settings),
+      m_tables(withSettings(std::move(tables), settings)),
+      m_camera(scene::makeGpuCamera(m_tables.camera, settings.width, settings.height)),
+      m_view(m_tables, m_tables.info) {}
+
+uint32_t ReferenceRenderer::threads() const {
+    if (m_settings.threads > 0) return m_settings.threads;
+    return std::max(1u, std::thread::hardware_concurrency());
+}
+
+glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex) const {
+    using namespace shared;
+    const shared::PathTracerView& scene = m_view;
+    const SceneInfo info = scene.sceneInfo();
+    const RngKey key = makeRngKey(pixel, sampleIndex, info.seed);
+
+    // ---- generate ----------------------------------------------------------------
+    const uvec2 xy(pixel % m_camera.width, pixel / m_camera.width);
+    Ray ray = generateCameraRay(m_camera, xy, rngUniform2(key, VKP_DIM_PIXEL_JITTER));
+    vec3 beta(1.0f);
+    vec3 radiance(0.0f);
+    vec3 previousPosition = m_camera.origin;
+    float previousBsdfPdf = 0.0f;
+    bool specular = true;
+
+    for (uint bounce = 0;; ++bounce) {
+        // ---- intersect ---------------------------------------------------------------
+        const Hit hit = scene.bvhClosestHit(ray);
+
+        // ---- shade: what the ray sees ------------------------------------------------
+        if (hit.primitive == VKP_NO_HIT) {
+            radiance += beta * scene.escapedRadiance(ray.direction, specular, previousBsdfPdf);
+            break;
+        }
+        const BvhPrimitive primitive = scene.bvhPrimitive(hit.primitive);
+        const Material material = scene.sceneMaterial(primitive.material);
+        const SurfacePoint surface = surfacePoint(primitive, ray, hit);
+        radiance += beta * scene.emittedRadiance(material, hit.primitive, surface, ray.direction, previousPosition,
+                                                 specular, previousBsdfPdf);
+        if (bounce >= info.maxDepth) break;
+
+        // ---- shade: next-event estimation, then shadow: the unoccluded ones -------------
+        const vec3 wo = -ray.direction;
+        vec3 shadowSum(0.0f);
+        for (uint j = 0; j < info.lightSamples; ++j) {
+            const PathTracerView::ShadowRequest request = scene.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
+            if (!request.valid || request.contribution == vec3(0.0f)) continue;
+            if (!scene.bvhOccluded(request.ray)) shadowSum += request.contribution;
+        }
+        radiance += shadowSum;
+
+        // ---- shade: the next bounce ------------------------------------------------------
+        const PathTracerView::PathStep step = scene.continuePath(material, surface, wo, beta, key, bounce);
+        if (!step.alive) break;
+        ray = step.ray;
+        beta = step.throughput;
+        previousPosition = surface.position;
+        previousBsdfPdf = step.bsdfPdf;
+        specular = step.specular;
+    }
+    return radiance;
+}
+
+wavefront::RenderResult ReferenceRenderer::render(
+    const std::function<void(const wavefront::RenderProgress&)>& progress) const {
+    const wavefront::RenderSettings& s = m_settings;
+    const uint32_t width = m_camera.width, height = m_camera.height;
+    const uint64_t pixels = uint64_t(width) * height;
+    const uint32_t samplesPerPass =
+        uint32_t(std::clamp<uint64_t>(PATHS_PER_PASS / std::max<uint64_t>(pixels, 1), 1, std::max(1u, s.samplesPerPixel)));
+    const uint32_t workers = uint32_t(std::min<uint64_t>(threads(), std::max<uint64_t>(height, 1)));
+
+    const shared::SceneInfo& info = m_tables.info;
+    std::vector<PixelSums> film(pixels);
+    std::atomic<uint64_t> nonFinite{0}, fireflies{0};
+
+    wavefront::RenderResult result;
+    result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
+    const auto start = Clock::now();
+    uint32_t done = 0;  // samples per pixel
+    while (done < s.samplesPerPixel) {
+        const uint32_t first = done, end = std::min(s.samplesPerPixel, done + samplesPerPass);
+        std::atomic<uint32_t> nextRow{0};
+        auto work = [&] {
+            SampleCounts counts;
+            for (uint32_t y = nextRow++; y < height; y = nextRow++)
+                for (uint32_t x = 0; x < width; ++x) {
+                    const uint32_t pixel = y * width + x;
+                    for (uint32_t sample = first; sample < end; ++sample)
+                        accumulate(film[pixel], tracePath(pixel, sample), info, counts);
+                }
+            nonFinite += counts.dropped;
+            fireflies += counts.fireflies;
+        };
+        std::vector<std::thread> pool;
+        for (uint32_t t = 1; t < workers; ++t) pool.emplace_back(work);
+        work();
+        for (std::thread& thread : pool) thread.join();
+
+        done = end;
+        ++result.waves;
+        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+        if (progress) progress({done, s.samplesPerPixel, seconds});
+        if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds) break;
+    }
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    result.samplesPerPixel = done;
+    result.paths = pixels * done;
+    result.nonFiniteSamples = nonFinite;
+    result.fireflySamples = fireflies;
+
+    result.image = image::Image(width, height);
+    result.varianceOfMean = image::Image(width, height);
+    for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) {
+            const wavefront::PixelEstimate e = wavefront::estimatePixel(film[i].sum[c], film[i].sumSquares[c], done);
+            result.image.pixels[i][c] = float(e.mean);
+            result.varianceOfMean.pixels[i][c] = float(e.varianceOfMean);
+        }
+    return result;
+}
+
+}  // namespace vkpath::reference
