@@ -80,7 +80,9 @@ Image readImage(const std::filesystem::path& path, uint64_t maxPixels) {
     if (uint64_t(spec.width) * uint64_t(spec.height) > maxPixels)
         throw InputError(fmt::format("{}: {}x{} pixels exceed the limit of {}", path.string(), spec.width,
                                      spec.height, maxPixels));
-    const int channels = spec.nchannels;
+    // Only the channels used: the file may declare thousands, and maxPixels
+    // bounds what is allocated only if a pixel's size is bounded too.
+    const int channels = std::min(spec.nchannels, 3);
     std::vector<float> data(size_t(spec.width) * spec.height * channels);
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))
         throw InputError(fmt::format("{}: cannot read image: {}", path.string(), in->geterror()));

@@ -1,0 +1,186 @@
+// Inputs the loaders' fuzz harnesses (fuzz/, tools/fuzz-smoke) found, reduced
+// to the bytes that matter and written here, each with what it broke. They
+// run in the ordinary test build, without sanitizers: each checks that the
+// input is refused with InputError (or read correctly) and no more.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "input_error.h"
+#include "scene/environment.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace vkpath;
+
+class TempDir {
+  public:
+    TempDir() {
+        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+        m_path = fs::temp_directory_path() /
+                 ("vkpath-fuzzreg-" + std::to_string(getpid()) + "-" + info->name());
+        fs::remove_all(m_path);
+        fs::create_directories(m_path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(m_path, ec);
+    }
+    fs::path write(const std::string& name, const std::string& bytes) const {
+        const fs::path path = m_path / name;
+        std::ofstream(path, std::ios::binary) << bytes;
+        return path;
+    }
+
+  private:
+    fs::path m_path;
+};
+
+// ---------------------------------------------------------------------------
+// A single-part scanline OpenEXR file, uncompressed, written byte by byte
+// (OpenEXR file layout: magic, version, attributes, offset table, chunks).
+// ---------------------------------------------------------------------------
+
+constexpr int32_t EXR_HALF = 1, EXR_FLOAT = 2;
+
+template <typename T>
+void put(std::string& out, T value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));  // little-endian host, as the format
+    out.append(bytes, sizeof(T));
+}
+
+void attribute(std::string& out, const std::string& name, const std::string& type,
+               const std::string& value) {
+    out += name + '\0' + type + '\0';
+    put(out, int32_t(value.size()));
+    out += value;
+}
+
+std::string box(int32_t width, int32_t height) {
+    std::string b;
+    for (int32_t v : {0, 0, width - 1, height - 1}) put(b, v);
+    return b;
+}
+
+// `channels` must be sorted, as OpenEXR stores them; `pixels` holds, per
+// scanline, each channel's `width` floats in that order. Without pixels the
+// offset table is all zeros: a header whose scanlines are missing.
+// `extraAttributes` (name\0 type\0 size value) end the header.
+std::string exr(int32_t width, int32_t height, const std::vector<std::string>& channels,
+                int32_t pixelType, const std::vector<float>& pixels = {},
+                const std::string& extraAttributes = {}) {
+    std::string out;
+    put(out, uint32_t(20000630));  // magic
+    put(out, uint32_t(2));         // version 2, single-part scanline
+    std::string list;
+    for (const std::string& name : channels) {
+        list += name + '\0';
+        put(list, pixelType);
+        put(list, uint32_t(0));  // pLinear, reserved
+        put(list, int32_t(1));   // xSampling
+        put(list, int32_t(1));   // ySampling
+    }
+    list += '\0';
+    attribute(out, "channels", "chlist", list);
+    attribute(out, "compression", "compression", std::string(1, '\0'));
+    attribute(out, "dataWindow", "box2i", box(width, height));
+    attribute(out, "displayWindow", "box2i", box(width, height));
+    attribute(out, "lineOrder", "lineOrder", std::string(1, '\0'));
+    std::string one, centre;
+    put(one, 1.0f);
+    put(centre, 0.0f);
+    put(centre, 0.0f);
+    attribute(out, "pixelAspectRatio", "float", one);
+    attribute(out, "screenWindowCenter", "v2f", centre);
+    attribute(out, "screenWindowWidth", "float", one);
+    out += extraAttributes + '\0';
+
+    if (pixels.empty()) {
+        for (int32_t y = 0; y < height; ++y) put(out, uint64_t(0));
+        return out;
+    }
+    const size_t lineFloats = size_t(width) * channels.size();
+    const uint64_t chunkBytes = 8 + lineFloats * sizeof(float);
+    const uint64_t firstChunk = out.size() + size_t(height) * sizeof(uint64_t);
+    for (int32_t y = 0; y < height; ++y) put(out, firstChunk + uint64_t(y) * chunkBytes);
+    for (int32_t y = 0; y < height; ++y) {
+        put(out, y);
+        put(out, int32_t(lineFloats * sizeof(float)));
+        for (size_t i = 0; i < lineFloats; ++i) put(out, pixels[size_t(y) * lineFloats + i]);
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------
+// Environment maps
+// ---------------------------------------------------------------------------
+
+// environment_fuzz: a 29 KB EXR header declaring 1024 x 1024 texels of 1000
+// half channels made readImage allocate width x height x channels floats
+// (4 GB; the cap on pixels did not bound a pixel's size). At the default cap
+// (8192 x 4096) 4096 channels asked for 512 GB: std::bad_alloc, not
+// InputError. Only the three channels used are read now, so this header
+// costs what an RGB map of its size does and is refused for its missing
+// scanlines.
+TEST(EnvironmentFuzzRegression, ThousandsOfChannelsDoNotMultiplyTheAllocation) {
+    TempDir dir;
+    std::vector<std::string> channels;
+    for (int i = 0; i < 4096; ++i) channels.push_back(fmt::format("c{:04}", i));
+    const fs::path path =
+        dir.write("channels.exr", exr(8192, 4096, channels, EXR_HALF));
+    try {
+        scene::loadEnvironmentMap(path);
+        ADD_FAILURE() << "a header without scanlines loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("cannot read image"), std::string::npos) << e.what();
+    }
+}
+
+// environment_fuzz: OpenEXR trusts an attribute's declared size. This 2 KB
+// header (reduced: one string attribute claiming 1.7 GB, 5 bytes of it
+// present) made OpenEXR allocate and zero 1.7 GB before failing with
+// "Unexpected end of file". Attribute sizes are now checked against the file
+// before OpenImageIO opens it.
+TEST(EnvironmentFuzzRegression, AttributeLargerThanTheFileIsRefusedBeforeOpening) {
+    TempDir dir;
+    std::string capDate = std::string("capDate") + '\0' + "string" + '\0';
+    put(capDate, int32_t(1702390128));
+    capDate += "2:23:";
+    const fs::path path =
+        dir.write("attribute.exr", exr(8, 4, {"B", "G", "R"}, EXR_HALF, {}, capDate));
+    try {
+        scene::loadEnvironmentMap(path);
+        ADD_FAILURE() << "a header without scanlines loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("attribute 'capDate' claims 1702390128 bytes"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+// The same fix must keep reading the right three: with channels A, B, G, R
+// and Z, OpenImageIO presents R, G, B first, and those are the radiance.
+TEST(EnvironmentFuzzRegression, ExtraChannelsAreIgnored) {
+    TempDir dir;
+    // Per scanline, per channel in file order A B G R Z, two texels each.
+    const std::vector<float> pixels = {0.5f, 0.5f,  3.0f, 6.0f,  2.0f, 5.0f,
+                                       1.0f, 4.0f,  9.0f, 9.0f};
+    const fs::path path =
+        dir.write("rgbaz.exr", exr(2, 1, {"A", "B", "G", "R", "Z"}, EXR_FLOAT, pixels));
+    const image::Image map = scene::loadEnvironmentMap(path);
+    ASSERT_EQ(map.width, 2u);
+    ASSERT_EQ(map.height, 1u);
+    EXPECT_EQ(map.at(0, 0), glm::vec3(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(map.at(1, 0), glm::vec3(4.0f, 5.0f, 6.0f));
+}
+
+}  // namespace
