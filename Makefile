@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps configure build demo test bench clean
+.PHONY: all deps configure build demo test bench fuzz fuzz-smoke clean
 
 all: build
 
@@ -25,6 +25,16 @@ demo: configure
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	@tools/fuzz-smoke
+
+# The scene loaders' libFuzzer harnesses (fuzz/; clang, in build-fuzz): each
+# for 20 s in `make test` (fuzz-smoke), for FUZZ_SECONDS each in `make fuzz`.
+FUZZ_SECONDS ?= 600
+fuzz-smoke: deps
+	@tools/fuzz-smoke
+
+fuzz: deps
+	@tools/fuzz-smoke $(FUZZ_SECONDS)
 
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) build-fuzz out

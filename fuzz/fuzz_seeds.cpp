@@ -1,0 +1,142 @@
+// Writes the seeds that the fuzz scripts cannot copy from the project:
+//
+//   fuzz_seeds ENV_DIR GLTF_DIR
+//
+// ENV_DIR: small environment maps in every OpenEXR compression OpenImageIO
+// writes (half and float, scanline and tiled, 1, 3 and 4 channels, a negative
+// and a non-finite texel), plus Radiance .hdr files, so the mutations start
+// from each decoder's format.
+// GLTF_DIR: glTF files that use the fuzz folder's buffer.bin (fuzz_support.h)
+// through a URI that stays inside the folder, and through each kind of URI
+// that leaves it (a link, a linked folder, "..", "%2e%2e", an absolute path,
+// a scheme), so every run exercises the folder rule.
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "fuzz_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct MapSpec {
+    std::string name;
+    int width = 8, height = 4, channels = 3;
+    OIIO::TypeDesc type = OIIO::TypeDesc::HALF;
+    std::string compression = "none";
+    int tile = 0;  // 0: scanlines
+    float special = 0.0f;  // written into texel 0 when not 0
+};
+
+bool writeMap(const fs::path& path, const MapSpec& m) {
+    std::vector<float> pixels(size_t(m.width) * m.height * m.channels);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = 0.05f * float(i % 37) + 0.01f;
+    if (m.special != 0.0f) pixels[0] = m.special;
+    OIIO::ImageSpec spec(m.width, m.height, m.channels, m.type);
+    if (path.extension() == ".exr") spec.attribute("compression", m.compression);
+    if (m.tile > 0) {
+        spec.tile_width = m.tile;
+        spec.tile_height = m.tile;
+    }
+    auto out = OIIO::ImageOutput::create(path.string());
+    const bool ok = out && out->open(path.string(), spec) &&
+                    out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close();
+    if (!ok)
+        std::fprintf(stderr, "fuzz_seeds: %s: %s\n", path.c_str(),
+                     out ? out->geterror().c_str() : OIIO::geterror().c_str());
+    return ok;
+}
+
+// Two parts (the environment loader reads the first): headers in sequence.
+bool writeMultipart(const fs::path& path) {
+    std::vector<OIIO::ImageSpec> specs(2, OIIO::ImageSpec(8, 4, 3, OIIO::TypeDesc::HALF));
+    specs[1].width = 4;  // parts share the display window, not the data window
+    for (size_t i = 0; i < specs.size(); ++i)
+        specs[i].attribute("oiio:subimagename", fmt::format("part{}", i));
+    std::vector<float> pixels(8 * 4 * 3, 0.25f);
+    auto out = OIIO::ImageOutput::create(path.string());
+    bool ok = out && out->open(path.string(), int(specs.size()), specs.data()) &&
+              out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) &&
+              out->open(path.string(), specs[1], OIIO::ImageOutput::AppendSubimage) &&
+              out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close();
+    if (!ok)
+        std::fprintf(stderr, "fuzz_seeds: %s: %s\n", path.c_str(),
+                     out ? out->geterror().c_str() : OIIO::geterror().c_str());
+    return ok;
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+// One triangle from buffer.bin under `uri`, optionally with an image URI too.
+std::string gltfWithBuffer(const std::string& uri, const std::string& imageUri = {}) {
+    using vkpath::fuzz::BUFFER_BYTES;
+    using vkpath::fuzz::BUFFER_INDICES_OFFSET;
+    using vkpath::fuzz::BUFFER_POSITIONS_OFFSET;
+    const std::string images =
+        imageUri.empty() ? "" : fmt::format(R"(,"images":[{{"uri":"{}"}}])", imageUri);
+    return fmt::format(
+        R"({{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],)"
+        R"("nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},)"
+        R"("indices":1,"mode":4}}]}}],"accessors":[)"
+        R"({{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",)"
+        R"("min":[0,0,0],"max":[1,1,0]}},)"
+        R"({{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}}],)"
+        R"("bufferViews":[{{"buffer":0,"byteOffset":{},"byteLength":36}},)"
+        R"({{"buffer":0,"byteOffset":{},"byteLength":6}}],)"
+        R"("buffers":[{{"uri":"{}","byteLength":{}}}]{}}})",
+        BUFFER_POSITIONS_OFFSET, BUFFER_INDICES_OFFSET, uri, BUFFER_BYTES, images);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 3) {
+        std::fprintf(stderr, "usage: fuzz_seeds ENV_DIR GLTF_DIR\n");
+        return 2;
+    }
+    const fs::path envDir = argv[1], gltfDir = argv[2];
+    fs::create_directories(envDir);
+    fs::create_directories(gltfDir);
+
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<MapSpec> maps;
+    for (const char* c : {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa",
+                          "dwab"})
+        maps.push_back({.name = fmt::format("half_{}.exr", c), .compression = c});
+    maps.push_back({.name = "float_zip.exr", .type = OIIO::TypeDesc::FLOAT, .compression = "zip"});
+    maps.push_back({.name = "float_piz_tiled.exr", .width = 16, .height = 8,
+                    .type = OIIO::TypeDesc::FLOAT, .compression = "piz", .tile = 4});
+    maps.push_back({.name = "half_grey.exr", .channels = 1, .compression = "zips"});
+    maps.push_back({.name = "half_rgba_rle_tiled.exr", .channels = 4, .compression = "rle",
+                    .tile = 4});
+    maps.push_back({.name = "half_negative.exr", .special = -1.0f});
+    maps.push_back({.name = "float_infinite.exr", .type = OIIO::TypeDesc::FLOAT, .special = inf});
+    maps.push_back({.name = "small.hdr", .type = OIIO::TypeDesc::FLOAT});
+    maps.push_back({.name = "wide.hdr", .width = 64, .height = 2, .type = OIIO::TypeDesc::FLOAT});
+    bool ok = true;
+    for (const MapSpec& m : maps) ok = writeMap(envDir / m.name, m) && ok;
+    ok = writeMultipart(envDir / "multipart.exr") && ok;
+
+    writeText(gltfDir / "buffer_inside.gltf", gltfWithBuffer("buffer.bin"));
+    writeText(gltfDir / "buffer_encoded.gltf", gltfWithBuffer("buffer%2ebin"));
+    writeText(gltfDir / "escape_link.gltf", gltfWithBuffer("escape.bin"));
+    writeText(gltfDir / "escape_linked_dir.gltf", gltfWithBuffer("escape_dir/buffer.bin"));
+    writeText(gltfDir / "escape_dotdot.gltf", gltfWithBuffer("../outside/buffer.bin"));
+    writeText(gltfDir / "escape_dotdot_encoded.gltf", gltfWithBuffer("%2e%2e/outside/buffer.bin"));
+    writeText(gltfDir / "escape_backslash.gltf", gltfWithBuffer("..\\\\outside\\\\buffer.bin"));
+    writeText(gltfDir / "escape_absolute.gltf", gltfWithBuffer("/etc/hostname"));
+    writeText(gltfDir / "escape_scheme.gltf", gltfWithBuffer("file:///etc/hostname"));
+    writeText(gltfDir / "escape_image.gltf",
+              gltfWithBuffer("buffer.bin", "escape_dir/secret.txt"));
+    return ok ? 0 : 1;
+}

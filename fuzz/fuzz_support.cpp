@@ -1,0 +1,216 @@
+#include "fuzz_support.h"
+
+#include <cxxabi.h>
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/inotify.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <typeinfo>
+
+#include "input_error.h"
+#include "scene/camera.h"
+
+namespace vkpath::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct State {
+    fs::path root, scene, outside;
+    fs::path lastInput;  // removed when the next input has another name
+    int watch = -1;      // inotify descriptor watching outside/
+    FILE* report = stderr;
+    bool verbose = false;  // VKPATH_FUZZ_VERBOSE=1: print every InputError's message
+};
+
+State& state() {
+    static State s;
+    return s;
+}
+
+void removeFolder() {
+    std::error_code ec;
+    if (!state().root.empty()) fs::remove_all(state().root, ec);
+}
+
+void writeFile(const fs::path& path, const void* data, size_t size) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd < 0)
+        finding(fmt::format("harness: cannot create {}: {}", path.string(), strerror(errno)));
+    const auto* bytes = static_cast<const uint8_t*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd, bytes, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) finding(fmt::format("harness: cannot write {}", path.string()));
+        bytes += n;
+        size -= size_t(n);
+    }
+    ::close(fd);
+}
+
+// Any open of outside/ or a file in it since the last call.
+void checkNothingOutsideWasOpened() {
+    alignas(inotify_event) std::array<char, 4096> buffer;
+    const ssize_t n = ::read(state().watch, buffer.data(), buffer.size());
+    if (n <= 0) return;  // EAGAIN: no events
+    const auto* event = reinterpret_cast<const inotify_event*>(buffer.data());
+    const std::string name = event->len > 0 ? event->name : "";
+    finding(fmt::format("the loader opened {}, outside the scene's folder",
+                        (state().outside / name).string()));
+}
+
+std::string demangledTypeName(const std::type_info& type) {
+    int status = 0;
+    std::unique_ptr<char, void (*)(void*)> name(
+        abi::__cxa_demangle(type.name(), nullptr, nullptr, &status), std::free);
+    return status == 0 && name ? name.get() : type.name();
+}
+
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+bool finiteNonNegative(const glm::vec3& v) {
+    return finite(v) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f;
+}
+
+}  // namespace
+
+void writeBufferBin(const fs::path& path) {
+    std::array<uint8_t, BUFFER_BYTES> bytes{};
+    const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const uint16_t indices[3] = {0, 1, 2};
+    std::memcpy(bytes.data() + BUFFER_POSITIONS_OFFSET, positions, sizeof(positions));
+    std::memcpy(bytes.data() + BUFFER_INDICES_OFFSET, indices, sizeof(indices));
+    writeFile(path, bytes.data(), bytes.size());
+}
+
+void initialize() {
+    State& s = state();
+    // Findings go to the stderr the process started with, which libFuzzer's
+    // -close_fd_mask=2 (set later, after LLVMFuzzerInitialize) leaves open.
+    if (const int fd = ::dup(STDERR_FILENO); fd >= 0)
+        if (FILE* file = ::fdopen(fd, "w")) {
+            std::setvbuf(file, nullptr, _IONBF, 0);
+            s.report = file;
+        }
+
+    const char* verbose = std::getenv("VKPATH_FUZZ_VERBOSE");
+    s.verbose = verbose && std::string_view(verbose) == "1";
+
+    std::error_code ec;
+    const char* tmp = std::getenv("TMPDIR");
+    const fs::path base = tmp && *tmp ? fs::path(tmp) : fs::temp_directory_path(ec);
+    std::string pattern = (base / "vkpath-fuzz-XXXXXX").string();
+    if (!::mkdtemp(pattern.data()))
+        finding(fmt::format("harness: cannot create {}: {}", pattern, strerror(errno)));
+    s.root = pattern;
+    s.scene = s.root / "scene";
+    s.outside = s.root / "outside";
+    std::atexit(removeFolder);
+    fs::create_directory(s.scene);
+    fs::create_directory(s.outside);
+    writeBufferBin(s.scene / "buffer.bin");
+    writeBufferBin(s.outside / "buffer.bin");
+    const std::string secret = "not the scene's\n";
+    writeFile(s.outside / "secret.txt", secret.data(), secret.size());
+    fs::create_symlink("../outside/buffer.bin", s.scene / "escape.bin");
+    fs::create_directory_symlink("../outside", s.scene / "escape_dir");
+
+    s.watch = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    if (s.watch < 0 || ::inotify_add_watch(s.watch, s.outside.c_str(), IN_OPEN | IN_ACCESS) < 0)
+        finding(fmt::format("harness: cannot watch {}: {}", s.outside.string(), strerror(errno)));
+}
+
+fs::path writeInput(std::string_view name, const uint8_t* data, size_t size) {
+    State& s = state();
+    const fs::path path = s.scene / name;
+    // Only this input in the folder, so a crash reproduces from its bytes alone.
+    if (!s.lastInput.empty() && s.lastInput != path) {
+        std::error_code ec;
+        fs::remove(s.lastInput, ec);
+    }
+    writeFile(path, data, size);
+    s.lastInput = path;
+    return path;
+}
+
+void run(const std::function<void()>& load) {
+    try {
+        load();
+    } catch (const InputError& e) {
+        // The expected refusal of a bad input.
+        if (state().verbose) std::fprintf(state().report, "InputError: %s\n", e.what());
+    } catch (const std::exception& e) {
+        finding(fmt::format("{} escaped the loader (only vkpath::InputError may): {}",
+                            demangledTypeName(typeid(e)), e.what()));
+    } catch (...) {
+        finding("an exception that is not a std::exception escaped the loader");
+    }
+    checkNothingOutsideWasOpened();
+}
+
+void finding(const std::string& what) {
+    std::fprintf(state().report, "vkpath fuzz finding: %s\n", what.c_str());
+    std::abort();
+}
+
+void checkScene(const scene::Scene& s) {
+    const size_t materials = s.materials.size();
+    for (const scene::Material& m : s.materials)
+        if (!finiteNonNegative(m.reflectance) || !finiteNonNegative(m.transmittance) ||
+            !finiteNonNegative(m.emission) || !std::isfinite(m.ior) || !(m.ior > 0.0f))
+            finding(fmt::format("material '{}' has a negative or non-finite value", m.name));
+    for (const scene::Mesh& mesh : s.meshes) {
+        if (mesh.material >= materials)
+            finding(
+                fmt::format("mesh '{}': material {} of {}", mesh.name, mesh.material, materials));
+        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+            finding(fmt::format("mesh '{}': {} normals for {} positions", mesh.name,
+                                mesh.normals.size(), mesh.positions.size()));
+        for (const glm::vec3& p : mesh.positions)
+            if (!finite(p)) finding(fmt::format("mesh '{}': a position is not finite", mesh.name));
+        for (const glm::vec3& n : mesh.normals)
+            if (!finite(n)) finding(fmt::format("mesh '{}': a normal is not finite", mesh.name));
+        for (const glm::uvec3& t : mesh.triangles)
+            for (int k = 0; k < 3; ++k)
+                if (t[k] >= mesh.positions.size())
+                    finding(fmt::format("mesh '{}': index {} of {} positions", mesh.name, t[k],
+                                        mesh.positions.size()));
+    }
+    for (const scene::Sphere& sphere : s.spheres) {
+        if (sphere.material >= materials)
+            finding(fmt::format("sphere '{}': material {} of {}", sphere.name, sphere.material,
+                                materials));
+        if (!finite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
+            finding(fmt::format("sphere '{}': centre or radius not finite and positive",
+                                sphere.name));
+    }
+    for (const scene::PointLight& l : s.pointLights)
+        if (!finite(l.position) || !finiteNonNegative(l.intensity))
+            finding("a point light is not finite");
+    for (const scene::SpotLight& l : s.spotLights)
+        if (!finite(l.position) || !finite(l.direction) || !finiteNonNegative(l.intensity) ||
+            !std::isfinite(l.innerConeAngle) || !std::isfinite(l.outerConeAngle))
+            finding("a spot light is not finite");
+    for (const scene::DirectionalLight& l : s.directionalLights)
+        if (!finite(l.direction) || !finiteNonNegative(l.irradiance))
+            finding("a directional light is not finite");
+    (void)s.features();  // Material::at on every used index
+    if (!finite(s.camera.position) || !finite(s.camera.target) || !finite(s.camera.up))
+        finding(fmt::format("camera '{}' is not finite", s.camera.name));
+    // May refuse a degenerate camera with InputError, as `vkpath render` would.
+    const shared::Camera gpu = scene::makeGpuCamera(s.camera, 64, 48);
+    if (!finite(gpu.origin) || !finite(gpu.forward) || !finite(gpu.right) || !finite(gpu.up))
+        finding(fmt::format("camera '{}' makes a non-finite GPU camera", s.camera.name));
+}
+
+}  // namespace vkpath::fuzz
