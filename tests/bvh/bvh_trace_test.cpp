@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 #include <string>
 
 #include "bvh_test_util.h"
@@ -26,6 +27,9 @@ struct TraceCase {
     uint32_t triangles;
     uint32_t spheres;
 };
+
+// Names the case in test listings (instead of its bytes).
+void PrintTo(const TraceCase& c, std::ostream* os) { *os << c.name; }
 
 class BvhTrace : public testing::TestWithParam<TraceCase> {};
 

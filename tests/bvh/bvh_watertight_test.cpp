@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 #include <string>
 
 #include "bvh_test_util.h"
@@ -70,6 +71,9 @@ struct MeshCase {
     const char* name;
     scene::Mesh (*make)();
 };
+
+// Names the case in test listings (instead of its bytes).
+void PrintTo(const MeshCase& c, std::ostream* os) { *os << c.name; }
 
 class BvhWatertight : public testing::TestWithParam<MeshCase> {};
 
