@@ -32,6 +32,7 @@ struct RenderOptions {
     uint32_t maxDepth = 8;
     uint32_t lightSamples = 1;
     uint32_t seed = 0;
+    float clamp = 0;
     std::optional<double> timeBudget;
     std::string environment;
     std::vector<float> environmentColor;
@@ -86,6 +87,8 @@ void writeOutputs(const RenderOptions& o, const wavefront::RenderResult& result,
         {"vkpath:device", device},
         {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
         {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
+        {"vkpath:fireflySamples", std::to_string(result.fireflySamples)},
+        {"vkpath:clamp", o.clamp > 0 ? fmt::format("{}", o.clamp) : std::string("off")},
         {"vkpath:scene", o.scene}};
     image::writeExr(output, result.image, metadata);
     std::printf("%s\n", output.string().c_str());
@@ -103,15 +106,16 @@ void writeOutputs(const RenderOptions& o, const wavefront::RenderResult& result,
 
 // `deviceMs`: the GPU's summed stage times (none on the CPU, whose waves are passes over the image).
 void printSummary(const FilmSize& film, const wavefront::RenderResult& result, std::optional<double> deviceMs,
-                  const std::string& device) {
+                  const std::string& device, bool clamped) {
     const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
     const std::string deviceTime = deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
     std::fprintf(stderr,
                  "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s, %u %s of %u paths, "
-                 "%llu NaN/Inf samples dropped, on %s\n",
+                 "%llu NaN/Inf samples dropped, %llu fireflies%s, on %s\n",
                  film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
                  result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
-                 (unsigned long long)result.nonFiniteSamples, device.c_str());
+                 (unsigned long long)result.nonFiniteSamples, (unsigned long long)result.fireflySamples,
+                 clamped ? " (clamped)" : "", device.c_str());
 }
 
 int runRender(const GlobalOptions& global, const RenderOptions& o) {
@@ -145,6 +149,8 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
     settings.maxDepth = o.maxDepth;
     settings.lightSamples = o.lightSamples;
     settings.seed = o.seed;
+    if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
+    settings.clampRadiance = o.clamp;
     settings.timeBudgetSeconds = o.timeBudget;
     settings.workgroupSize = o.workgroupSize;
     settings.maxPathsInFlight = o.pathsInFlight;
@@ -155,7 +161,7 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         const auto result = renderWithProgress(renderer, film);
         writeOutputs(o, result, device);
-        printSummary(film, result, std::nullopt, device);
+        printSummary(film, result, std::nullopt, device, o.clamp > 0);
         return 0;
     }
     return withContext(global, [&](vk::Context& context) {
@@ -164,7 +170,7 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
         writeOutputs(o, result, context.info().name);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
-        printSummary(film, result, deviceMs, context.info().name);
+        printSummary(film, result, deviceMs, context.info().name, o.clamp > 0);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
                 std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms, deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
@@ -189,6 +195,9 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
     cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->capture_default_str();
+    cmd->add_option("--clamp", o->clamp,
+                    "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
+        ->capture_default_str();
     cmd->add_option("--time-budget", o->timeBudget, "Stop after the wave that spends this many seconds");
     cmd->add_option("-e,--env", o->environment, "Environment map (.exr, .hdr), equirectangular");
     cmd->add_option("--env-color", o->environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');

@@ -1205,7 +1205,7 @@ Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options) {
     Json root;
     try {
         root = Json::parse(chunks.json.begin(), chunks.json.end());
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {  // parse errors, and numbers out of range (1e309)
         std::string message = e.what();
         if (const size_t bracket = message.find("] "); bracket != std::string::npos)
             message.erase(0, bracket + 2);

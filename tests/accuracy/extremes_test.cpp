@@ -123,3 +123,34 @@ TEST(NonFinite, DegenerateGeometryAndHugeEmissionStayFinite) {
 }
 
 }  // namespace
+
+namespace {
+
+// A blinding sky: fireflies are counted without --clamp, and with a clamp no
+// sample (so no pixel mean) exceeds it. The clamp is biased by design: the
+// clamped image is darker than the unclamped one.
+TEST(Brightness, FirefliesAreCountedAndClampedOnlyOnRequest) {
+    scene::Scene s = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    for (auto& m : s.materials) m.emission *= 1e5f;
+    wavefront::RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 4;
+    settings.maxDepth = 4;
+    wavefront::WavefrontRenderer free(test::context(), s, settings);
+    const auto unclamped = free.render();
+    EXPECT_GT(unclamped.fireflySamples, 0u);
+    EXPECT_EQ(unclamped.nonFiniteSamples, 0u);
+    settings.clampRadiance = 2.0f;
+    wavefront::WavefrontRenderer clamped(test::context(), s, settings);
+    const auto c = clamped.render();
+    double sumClamped = 0, sumFree = 0;
+    for (size_t i = 0; i < c.image.pixels.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            ASSERT_LE(c.image.pixels[i][k], 2.0f * (1 + 1e-6f));
+            sumClamped += c.image.pixels[i][k];
+            sumFree += unclamped.image.pixels[i][k];
+        }
+    EXPECT_LT(sumClamped, sumFree);
+}
+
+}  // namespace

@@ -1011,6 +1011,14 @@ TEST(GltfBadInput, InvalidJson) {
     EXPECT_CONTAINS(loadError(dir / "bad.gltf"), "invalid JSON");
 }
 
+// Found by gltf_fuzz: a number beyond double's range is a JSON error too,
+// not an internal failure.
+TEST(GltfBadInput, NumberOutOfRange) {
+    TempDir dir;
+    writeText(dir / "huge.gltf", R"({"asset": {"version": "2.0"}, "x": 1e309})");
+    EXPECT_CONTAINS(loadError(dir / "huge.gltf"), "invalid JSON");
+}
+
 TEST(GltfBadInput, NotGltfVersion2) {
     TempDir dir;
     writeText(dir / "old.gltf", R"({"asset": {"version": "1.0"}})");
