@@ -36,5 +36,11 @@ fuzz-smoke: deps
 fuzz: deps
 	@tools/fuzz-smoke $(FUZZ_SECONDS)
 
+# Benchmarks (not part of `make test`): the BVH (Google Benchmark) and the
+# path tracer on CBspheres.dae. Figures and commands: docs/BENCHMARKS.md.
+bench: build
+	@$(BUILD)/bvh_bench
+	@tools/bench/render-bench --vkpath $(VKPATH)
+
 clean:
 	rm -rf $(BUILD) build-fuzz out
