@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 
 #include "app/commands.h"
@@ -62,14 +63,19 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels) {
                  "##############################", width - filled, "", p.samplesDone, p.samplesTotal, mpaths, eta);
 }
 
-// Either renderer, with a progress bar when stderr is a terminal.
+// Either renderer, with a progress bar when stderr is a terminal. Also
+// measures the CPU time the whole process spent rendering (every thread,
+// lavapipe's included), which on a shared machine varies far less than the
+// wall clock.
 template <typename Renderer>
-wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& film) {
+wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& film, double& cpuSeconds) {
     const bool terminal = isatty(STDERR_FILENO);
     const uint64_t pixels = uint64_t(film.width) * film.height;
+    const std::clock_t start = std::clock();
     auto result = renderer.render([&](const wavefront::RenderProgress& p) {
         if (terminal) printProgress(p, pixels);
     });
+    cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
     if (terminal) std::fprintf(stderr, "\n");
     return result;
 }
@@ -106,14 +112,15 @@ void writeOutputs(const RenderOptions& o, const wavefront::RenderResult& result,
 
 // `deviceMs`: the GPU's summed stage times (none on the CPU, whose waves are passes over the image).
 void printSummary(const FilmSize& film, const wavefront::RenderResult& result, std::optional<double> deviceMs,
-                  const std::string& device, bool clamped) {
+                  double cpuSeconds, const std::string& device, bool clamped) {
     const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
+    const double mpathsPerCpuSecond = cpuSeconds > 0 ? result.paths / cpuSeconds * 1e-6 : 0;
     const std::string deviceTime = deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
     std::fprintf(stderr,
-                 "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s, %u %s of %u paths, "
+                 "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %u %s of %u paths, "
                  "%llu NaN/Inf samples dropped, %llu fireflies%s, on %s\n",
                  film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
-                 result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
+                 mpathsPerCpuSecond, result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
                  (unsigned long long)result.nonFiniteSamples, (unsigned long long)result.fireflySamples,
                  clamped ? " (clamped)" : "", device.c_str());
 }
@@ -159,18 +166,20 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
         settings.threads = o.threads.value_or(0);
         const reference::ReferenceRenderer renderer(scene, settings);
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
-        const auto result = renderWithProgress(renderer, film);
+        double cpuSeconds = 0;
+        const auto result = renderWithProgress(renderer, film, cpuSeconds);
         writeOutputs(o, result, device);
-        printSummary(film, result, std::nullopt, device, o.clamp > 0);
+        printSummary(film, result, std::nullopt, cpuSeconds, device, o.clamp > 0);
         return 0;
     }
     return withContext(global, [&](vk::Context& context) {
         wavefront::WavefrontRenderer renderer(context, scene, settings);
-        const auto result = renderWithProgress(renderer, film);
+        double cpuSeconds = 0;
+        const auto result = renderWithProgress(renderer, film, cpuSeconds);
         writeOutputs(o, result, context.info().name);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
-        printSummary(film, result, deviceMs, context.info().name, o.clamp > 0);
+        printSummary(film, result, deviceMs, cpuSeconds, context.info().name, o.clamp > 0);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
                 std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms, deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
