@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -160,8 +161,8 @@ TEST_P(SameSeed, FollowsTheSamePaths) {
     RecordProperty("trimmedRelMse", std::to_string(trimmed));
     RecordProperty("relMse", std::to_string(full));
 
-    // Another seed fails every bound: they could not be met by two renders
-    // that merely estimate the same image.
+    // Another seed fails the first two bounds: they cannot be met by two
+    // renders that merely estimate the same image.
     const auto other = renderCpu(s, smallSettings(4, 8));
     EXPECT_LT(matchingPixelFraction(other.image, gpu.image), SAME_SEED_MIN_MATCHING);
     EXPECT_GT(trimmedRelMse(other.image, gpu.image, SAME_SEED_TRIM), 10 * SAME_SEED_MAX_RELMSE);
