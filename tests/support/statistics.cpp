@@ -72,6 +72,5 @@ ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::ve
     return r;
 }
 
-double sidakAlpha(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / tests); }
 
 }  // namespace vkpath::test

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "image/statistics.h"
+
 namespace vkpath::test {
 
 // Upper tail Q(a, x) = Gamma(a, x) / Gamma(a) of the regularised incomplete
@@ -26,8 +28,7 @@ struct ChiSquareResult {
 ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected,
                               double minExpected = 5.0);
 
-// Per-test significance so that `tests` independent tests together reject a
-// correct hypothesis with probability `alpha` (Sidak).
-double sidakAlpha(double alpha, int tests);
+// Sidak's per-test significance: image::sidakAlpha (host/image/statistics.h).
+using image::sidakAlpha;
 
 }  // namespace vkpath::test
