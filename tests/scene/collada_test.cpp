@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "support/temp_dir.h"
 #include "input_error.h"
 #include "scene/camera.h"
 #include "scene/collada_loader.h"
@@ -124,30 +125,7 @@ std::string xml(const Doc& d) {
 }
 
 // A directory of its own per test, removed afterwards.
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = std::string(info->test_suite_name()) + "-" + info->name();
-        std::replace(name.begin(), name.end(), '/', '_');
-        m_path = fs::temp_directory_path() /
-                 ("vkpath-collada-" + std::to_string(getpid()) + "-" + name);
-        fs::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-    }
-    fs::path write(const std::string& name, const std::string& text) const {
-        const fs::path path = m_path / name;
-        std::ofstream(path, std::ios::binary) << text;
-        return path;
-    }
-    const fs::path& path() const { return m_path; }
-
-  private:
-    fs::path m_path;
-};
+using test::TempDir;
 
 scene::Scene loadQuiet(const fs::path& path, std::vector<std::string>* warnings = nullptr) {
     std::vector<std::string> sink;

@@ -1,6 +1,7 @@
 // Environment maps: the equirectangular mapping shared by CPU and GPU
 // (orientation, round trip, agreement between the two compilers), the
 // bundled sky, and loadEnvironmentMap's checks of bad files.
+#include "support/temp_dir.h"
 #include "scene/environment.h"
 
 #include <gtest/gtest.h>
@@ -24,21 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace vkpath;
 
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-        m_path = fs::temp_directory_path() /
-                 ("vkpath-env-" + std::to_string(getpid()) + "-" + info->name());
-        fs::remove_all(m_path);
-        fs::create_directories(m_path);
-    }
-    ~TempDir() { fs::remove_all(m_path); }
-    fs::path operator/(const std::string& name) const { return m_path / name; }
-
-  private:
-    fs::path m_path;
-};
+using test::TempDir;
 
 void expectVec3Near(const glm::vec3& a, const glm::vec3& b, float tolerance) {
     EXPECT_NEAR(a.x, b.x, tolerance);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_dir.h"
 #include "input_error.h"
 #include "scene/environment.h"
 
@@ -21,28 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace vkpath;
 
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-        m_path = fs::temp_directory_path() /
-                 ("vkpath-fuzzreg-" + std::to_string(getpid()) + "-" + info->name());
-        fs::remove_all(m_path);
-        fs::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-    }
-    fs::path write(const std::string& name, const std::string& bytes) const {
-        const fs::path path = m_path / name;
-        std::ofstream(path, std::ios::binary) << bytes;
-        return path;
-    }
-
-  private:
-    fs::path m_path;
-};
+using test::TempDir;
 
 // ---------------------------------------------------------------------------
 // A single-part scanline OpenEXR file, uncompressed, written byte by byte

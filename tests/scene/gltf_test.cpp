@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #pragma GCC diagnostic pop
 
+#include "support/temp_dir.h"
 #include "input_error.h"
 #include "scene/camera.h"
 #include "scene/gltf_loader.h"
@@ -33,22 +34,7 @@ using namespace vkpath;
 constexpr int U8 = 5121, U16 = 5123, U32 = 5125, F32 = 5126;
 
 // A folder of its own for each test, removed afterwards.
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-        m_path = fs::temp_directory_path() / ("vkpath-gltf-" + std::to_string(getpid()) + "-" +
-                                              info->test_suite_name() + "-" + info->name());
-        fs::remove_all(m_path);
-        fs::create_directories(m_path);
-    }
-    ~TempDir() { fs::remove_all(m_path); }
-    const fs::path& path() const { return m_path; }
-    fs::path operator/(const std::string& name) const { return m_path / name; }
-
-  private:
-    fs::path m_path;
-};
+using test::TempDir;
 
 void writeBytes(const fs::path& path, const void* data, size_t size) {
     std::ofstream out(path, std::ios::binary);
