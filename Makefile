@@ -24,7 +24,7 @@ demo: configure
 	@$(VKPATH) render assets/cornell_box.gltf -d 320x240 -s 32 -m 8 -o out/cornell_box.exr --png out/cornell_box.png
 
 test: build
-	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
 	@tools/fuzz-smoke
 
 # The same suite with the full counts each issue asks for (tests/support/
