@@ -51,6 +51,7 @@ int runCli(int argc, char** argv) {
     Commands commands;
     addInfoCommand(app, global, commands);
     addRenderCommand(app, global, commands);
+    addConvergeCommand(app, global, commands);
     addCompareCommand(app, global, commands);
     addSceneInfoCommand(app, global, commands);
 

@@ -31,6 +31,7 @@ int withContext(const GlobalOptions& global, const std::function<int(vk::Context
 
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addCompareCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addSceneInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 

@@ -5,48 +5,32 @@
 
 #include <unistd.h>
 
-#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 
 #include "app/commands.h"
 #include "app/film_size.h"
+#include "app/render_options.h"
 #include "image/image.h"
 #include "image/statistics.h"
 #include "input_error.h"
 #include "reference/reference_renderer.h"
-#include "scene/environment.h"
-#include "scene/load.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
 
 namespace vkpath::app {
 namespace {
 
-struct RenderOptions {
-    std::string scene;
+// The shared flags (render_options.h) and what render does with its one image.
+struct RenderCommandOptions : RenderOptions {
     std::string output = "out/render.exr";
     std::string png;
-    std::string size = "640x480";
     uint32_t spp = 16;
-    uint32_t maxDepth = 8;
-    uint32_t lightSamples = 1;
-    uint32_t seed = 0;
-    float clamp = 0;
     std::optional<double> timeBudget;
-    std::string environment;
-    std::vector<float> environmentColor;
-    float environmentStrength = 1.0f;
-    float environmentRotation = 0.0f;
-    std::string camera;
     float exposure = 0.0f;
     std::vector<std::string> aovs;
-    uint32_t workgroupSize = 64;
-    uint32_t pathsInFlight = 1u << 20;
     bool timings = false;
-    std::string device = "gpu";      // gpu: the wavefront renderer; cpu: the reference
-    std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
 };
 
 void ensureParent(const std::filesystem::path& path) {
@@ -81,7 +65,7 @@ wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& f
 }
 
 // The EXR (with metadata), the AOVs beside it and the PNG preview.
-void writeOutputs(const RenderOptions& o, const wavefront::RenderResult& result, const std::string& device) {
+void writeOutputs(const RenderCommandOptions& o, const wavefront::RenderResult& result, const std::string& device) {
     const std::filesystem::path output(o.output);
     ensureParent(output);
     const image::Metadata metadata = {
@@ -90,6 +74,7 @@ void writeOutputs(const RenderOptions& o, const wavefront::RenderResult& result,
         {"vkpath:seed", std::to_string(o.seed)},
         {"vkpath:maxDepth", std::to_string(o.maxDepth)},
         {"vkpath:lightSamples", std::to_string(o.lightSamples)},
+        {"vkpath:rrDepth", std::to_string(o.rouletteDepth)},
         {"vkpath:device", device},
         {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
         {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
@@ -125,45 +110,14 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
                  clamped ? " (clamped)" : "", device.c_str());
 }
 
-int runRender(const GlobalOptions& global, const RenderOptions& o) {
-    const FilmSize film = parseFilmSize(o.size);
+int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     if (o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
-    if (o.threads && o.device != "cpu")
-        throw InputError("-t/--threads: only the CPU reference (--device cpu) runs on threads");
-    if (uint64_t(film.width) * film.height * o.spp >= (uint64_t(1) << 32))
-        throw InputError(fmt::format("{}x{} pixels x {} spp is more than 2^32 paths in one render", film.width,
-                                     film.height, o.spp));
-    scene::LoadOptions loadOptions;
-    loadOptions.cameraName = o.camera;
-    scene::Scene scene = scene::loadScene(o.scene, loadOptions);
-    if (!o.environment.empty() || !o.environmentColor.empty()) {
-        scene::Environment env;
-        if (!o.environment.empty()) env.map = scene::loadEnvironmentMap(o.environment);
-        if (!o.environmentColor.empty()) env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
-        scene.environment = env;
-    }
-    if (scene.environment) {
-        if (!(o.environmentStrength >= 0) || !std::isfinite(o.environmentStrength))
-            throw InputError("--env-strength must be a finite number >= 0");
-        scene.environment->strength = o.environmentStrength;
-        scene.environment->rotationDegrees = o.environmentRotation;
-    }
-
-    wavefront::RenderSettings settings;
-    settings.width = film.width;
-    settings.height = film.height;
-    settings.samplesPerPixel = o.spp;
-    settings.maxDepth = o.maxDepth;
-    settings.lightSamples = o.lightSamples;
-    settings.seed = o.seed;
-    if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
-    settings.clampRadiance = o.clamp;
+    wavefront::RenderSettings settings = renderSettings(o, o.spp);
     settings.timeBudgetSeconds = o.timeBudget;
-    settings.workgroupSize = o.workgroupSize;
-    settings.maxPathsInFlight = o.pathsInFlight;
+    const FilmSize film{settings.width, settings.height};
+    const scene::Scene scene = loadRenderScene(o);
 
     if (o.device == "cpu") {
-        settings.threads = o.threads.value_or(0);
         const reference::ReferenceRenderer renderer(scene, settings);
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
@@ -191,40 +145,17 @@ int runRender(const GlobalOptions& global, const RenderOptions& o) {
 }  // namespace
 
 void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
-    auto o = std::make_shared<RenderOptions>();
+    auto o = std::make_shared<RenderCommandOptions>();
     auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
-    cmd->add_option("scene", o->scene, "Scene file (.gltf, .glb, .dae)")->required();
+    addRenderOptions(*cmd, *o);
     cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
     cmd->add_option("-s,--spp", o->spp, "Samples per pixel")->capture_default_str();
-    cmd->add_option("-m,--max-depth", o->maxDepth,
-                    "Maximum bounces (0: emitters seen directly only, 1: direct lighting)")
-        ->capture_default_str();
-    cmd->add_option("-d,--size", o->size, "Film size WxH")->capture_default_str();
-    cmd->add_option("-l,--light-samples", o->lightSamples, "Light samples per diffuse vertex")->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
     cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->capture_default_str();
-    cmd->add_option("--clamp", o->clamp,
-                    "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
-        ->capture_default_str();
     cmd->add_option("--time-budget", o->timeBudget, "Stop after the wave that spends this many seconds");
-    cmd->add_option("-e,--env", o->environment, "Environment map (.exr, .hdr), equirectangular");
-    cmd->add_option("--env-color", o->environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
-    cmd->add_option("--env-strength", o->environmentStrength, "Environment multiplier")->capture_default_str();
-    cmd->add_option("--env-rotate", o->environmentRotation, "Environment rotation about +Y, degrees")
-        ->capture_default_str();
-    cmd->add_option("--camera", o->camera, "glTF: render from the camera with this name");
     cmd->add_option("--aov", o->aovs, "Extra outputs beside the EXR: variance (of each pixel's mean)")
         ->check(CLI::IsMember({"variance"}));
-    cmd->add_option("--workgroup-size", o->workgroupSize, "Threads per workgroup of the stage kernels")
-        ->capture_default_str();
-    cmd->add_option("--paths-in-flight", o->pathsInFlight, "Upper bound on the paths of one wave")
-        ->capture_default_str();
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
-    cmd->add_option("--device", o->device, "gpu: the Vulkan wavefront renderer; cpu: the CPU reference (same math)")
-        ->check(CLI::IsMember({"gpu", "cpu"}))
-        ->capture_default_str();
-    cmd->add_option("-t,--threads", o->threads, "--device cpu: worker threads (default: every hardware thread)");
     cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
 }
 

@@ -82,6 +82,29 @@ ImageMetrics compareImages(const Image& a, const Image& b) {
     return metrics;
 }
 
+ChannelMetrics estimateErrorFromPair(const Image& a, const Image& b) {
+    if (a.width != b.width || a.height != b.height)
+        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height, b.width, b.height));
+    double sumSquared = 0, sumRelative = 0;
+    uint64_t count = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        const glm::vec3 pa = a.pixels[i], pb = b.pixels[i];
+        if (!finite(pa) || !finite(pb)) continue;
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(pa[c]) - double(pb[c]);
+            const double m = (double(pa[c]) + double(pb[c])) / 2;
+            sumSquared += d * d / 2;
+            sumRelative += d * d / 2 / (m * m + RELMSE_EPSILON);
+            ++count;
+        }
+    }
+    ChannelMetrics m;
+    if (count == 0) return m;
+    m.rmse = std::sqrt(sumSquared / double(count));
+    m.relMse = sumRelative / double(count);
+    return m;
+}
+
 Image errorHeatmap(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
         throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height, b.width, b.height));

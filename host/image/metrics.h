@@ -32,6 +32,16 @@ inline constexpr double RELMSE_EPSILON = 1e-2;
 // Throws InputError if the sizes differ.
 ImageMetrics compareImages(const Image& a, const Image& b);
 
+// The error of `a` without a reference, from `b`, an independent render of
+// the same image with the same settings (another seed). For unbiased,
+// independent a and b of equal variance, E[(a - b)^2] = 2 Var(a) per pixel,
+// so MSE(a) is estimated by mean (a - b)^2 / 2; relMSE divides each term by
+// m^2 + RELMSE_EPSILON with m = (a + b) / 2 standing in for the unknown true
+// value. Both see only variance: a bias common to a and b (clamping, a short
+// max depth) is invisible. docs/TRADEOFFS.md derives the estimator's own bias.
+// Only rmse and relMse are set. Throws InputError if the sizes differ.
+ChannelMetrics estimateErrorFromPair(const Image& a, const Image& b);
+
 // Per-pixel relative error mean_c |a - b| / (|b| + 0.01), as a false-colour
 // image: log10 of the error from 1e-4 (dark blue) to 1 (yellow), non-finite
 // pixels magenta.

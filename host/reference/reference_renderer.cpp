@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cmath>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -136,11 +137,18 @@ glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex) con
 
 wavefront::RenderResult ReferenceRenderer::render(
     const std::function<void(const wavefront::RenderProgress&)>& progress) const {
+    return render(wavefront::SampleRange{0, m_settings.samplesPerPixel}, progress);
+}
+
+wavefront::RenderResult ReferenceRenderer::render(
+    const wavefront::SampleRange& samples, const std::function<void(const wavefront::RenderProgress&)>& progress) const {
     const wavefront::RenderSettings& s = m_settings;
+    if (uint64_t(samples.first) + samples.count > UINT32_MAX)
+        throw std::out_of_range("sample indices beyond 32 bits");
     const uint32_t width = m_camera.width, height = m_camera.height;
     const uint64_t pixels = uint64_t(width) * height;
     const uint32_t samplesPerPass =
-        uint32_t(std::clamp<uint64_t>(PATHS_PER_PASS / std::max<uint64_t>(pixels, 1), 1, std::max(1u, s.samplesPerPixel)));
+        uint32_t(std::clamp<uint64_t>(PATHS_PER_PASS / std::max<uint64_t>(pixels, 1), 1, std::max(1u, samples.count)));
     const uint32_t workers = uint32_t(std::min<uint64_t>(threads(), std::max<uint64_t>(height, 1)));
 
     const shared::SceneInfo& info = m_tables.info;
@@ -151,8 +159,9 @@ wavefront::RenderResult ReferenceRenderer::render(
     result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
     const auto start = Clock::now();
     uint32_t done = 0;  // samples per pixel
-    while (done < s.samplesPerPixel) {
-        const uint32_t first = done, end = std::min(s.samplesPerPixel, done + samplesPerPass);
+    while (done < samples.count) {
+        const uint32_t passSamples = std::min(samples.count - done, samplesPerPass);
+        const uint32_t first = samples.first + done, end = first + passSamples;
         std::atomic<uint32_t> nextRow{0};
         auto work = [&] {
             SampleCounts counts;
@@ -170,10 +179,10 @@ wavefront::RenderResult ReferenceRenderer::render(
         work();
         for (std::thread& thread : pool) thread.join();
 
-        done = end;
+        done += passSamples;
         ++result.waves;
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        if (progress) progress({done, s.samplesPerPixel, seconds});
+        if (progress) progress({done, samples.count, seconds});
         if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds) break;
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -32,6 +32,15 @@ struct RenderSettings {
     uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread
 };
 
+// Samples [first, first + count) of every pixel. Random numbers are keyed by
+// sample index, so renders of disjoint ranges are independent, and ranges
+// rendered one after another, weighted by their counts, make one render of
+// their union (up to float rounding): a render can be continued.
+struct SampleRange {
+    uint32_t first = 0;
+    uint32_t count = 0;
+};
+
 struct RenderProgress {
     uint32_t samplesDone;   // per pixel
     uint32_t samplesTotal;

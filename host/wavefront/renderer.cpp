@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "scene/camera.h"
 #include "shared/bvh.h"
@@ -117,10 +118,20 @@ WavefrontRenderer::WavefrontRenderer(vk::Context& context, const scene::Scene& s
 WavefrontRenderer::~WavefrontRenderer() = default;
 
 RenderResult WavefrontRenderer::render(const std::function<void(const RenderProgress&)>& progress) {
+    return render(SampleRange{0, m_settings.samplesPerPixel}, progress);
+}
+
+RenderResult WavefrontRenderer::render(const SampleRange& samples,
+                                       const std::function<void(const RenderProgress&)>& progress) {
     Resources& r = *m_resources;
     const RenderSettings& s = m_settings;
     const uint64_t pixels = uint64_t(s.width) * s.height;
-    const uint64_t totalPaths = pixels * s.samplesPerPixel;
+    const uint64_t totalPaths = pixels * samples.count;
+    // Global path indices (sampleIndex x pixels + pixel) are 32-bit in the kernels.
+    const uint64_t firstPath = pixels * samples.first;
+    if (firstPath + totalPaths > (uint64_t(1) << 32))
+        throw std::out_of_range(fmt::format("samples [{}, {}) of {} pixels: path indices beyond 32 bits", samples.first,
+                                            uint64_t(samples.first) + samples.count, pixels));
     const uint32_t bounces = s.maxDepth + 1;  // shading passes: hits at depth 0..maxDepth
     vk::TimestampPool timestamps(m_context, 2 + 5 * bounces);
 
@@ -133,7 +144,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(const RenderProg
     while (done < totalPaths) {
         const uint32_t count = uint32_t(std::min<uint64_t>(r.pathCount, totalPaths - done));
         auto pushFor = [&](uint32_t bounce, uint32_t mode) {
-            shared::WavePush p{uint32_t(done), count, bounce, mode};
+            shared::WavePush p{uint32_t(firstPath + done), count, bounce, mode};
             return p;
         };
         auto bytes = [](const shared::WavePush& p) { return std::as_bytes(std::span(&p, 1)); };
@@ -166,7 +177,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(const RenderProg
         ++result.waves;
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
         const uint32_t samplesDone = uint32_t(done / pixels);
-        if (progress) progress({samplesDone, s.samplesPerPixel, seconds});
+        if (progress) progress({samplesDone, samples.count, seconds});
         // Stop on a whole sample once the budget is spent.
         if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds && done % pixels == 0) break;
     }

@@ -29,7 +29,11 @@ class WavefrontRenderer {
     WavefrontRenderer(const WavefrontRenderer&) = delete;
     WavefrontRenderer& operator=(const WavefrontRenderer&) = delete;
 
+    // Samples [0, settings.samplesPerPixel).
     RenderResult render(const std::function<void(const RenderProgress&)>& progress = {});
+    // The given samples of every pixel; (first + count) x pixels must fit in
+    // 32 bits (std::out_of_range otherwise). The result holds their mean.
+    RenderResult render(const SampleRange& samples, const std::function<void(const RenderProgress&)>& progress = {});
 
     const SceneTables& tables() const { return m_tables; }
     uint64_t sceneBytes() const { return m_scene.bytes(); }

@@ -1,0 +1,265 @@
+// `vkpath converge SCENE --spp 1,2,4,...`: how fast a render's error falls
+// with time. One progressive render per configuration (sample ranges
+// rendered one after another and merged, so every checkpoint continues the
+// last), its error at each checkpoint against a reference or, without one,
+// estimated from a second render with another seed; a CSV, a log-log plot
+// and the time each configuration needs to reach a given error.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+
+#include "app/commands.h"
+#include "app/convergence.h"
+#include "app/render_options.h"
+#include "image/image.h"
+#include "image/metrics.h"
+#include "input_error.h"
+#include "plot/plot.h"
+#include "reference/reference_renderer.h"
+#include "scene/load.h"
+#include "vk/context.h"
+#include "wavefront/renderer.h"
+
+namespace vkpath::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct ConvergeOptions : RenderOptions {
+    std::string spp = "1,2,4,8,16,32";
+    std::string reference;
+    std::string csv = "out/converge.csv";
+    std::string plot = "out/converge.png";
+    std::string sweep;
+};
+
+// The relMSE levels of the time-to-error table.
+constexpr double TARGETS[] = {1e-1, 1e-2, 1e-3};
+
+struct Configuration {
+    std::string knob, value;  // empty without --sweep
+    std::string label;
+    wavefront::RenderSettings settings;
+    std::vector<Checkpoint> curve;
+};
+
+// One renderer's samples so far: each range it renders is added to a
+// running sum weighted by its sample count; the cost is the wall clock of
+// the render calls (film read-back included, as a progressive viewer pays
+// it) and, on the GPU, their summed stage timestamps.
+template <typename Renderer>
+class Progressive {
+  public:
+    Progressive(std::unique_ptr<Renderer> renderer, uint32_t pixels)
+        : m_renderer(std::move(renderer)), m_sum(pixels, glm::dvec3(0.0)) {}
+
+    // An untimed first sample: the first dispatches of a process compile the
+    // kernels a pipeline cache lacks (seconds on lavapipe), which is no cost
+    // of the samples.
+    void warmUp() { m_renderer->render(wavefront::SampleRange{0, 1}); }
+
+    void advanceTo(uint32_t spp) {
+        const auto start = Clock::now();
+        const wavefront::RenderResult result = m_renderer->render(wavefront::SampleRange{m_samples, spp - m_samples});
+        m_wallSeconds += std::chrono::duration<double>(Clock::now() - start).count();
+        for (const auto& [stage, ms] : result.stageMilliseconds) m_deviceSeconds += ms * 1e-3;
+        for (size_t i = 0; i < m_sum.size(); ++i) m_sum[i] += glm::dvec3(result.image.pixels[i]) * double(result.samplesPerPixel);
+        m_samples += result.samplesPerPixel;
+        m_width = result.image.width;
+        m_height = result.image.height;
+    }
+
+    image::Image mean() const {
+        image::Image image(m_width, m_height);
+        for (size_t i = 0; i < m_sum.size(); ++i) image.pixels[i] = glm::vec3(m_sum[i] / double(m_samples));
+        return image;
+    }
+    double wallSeconds() const { return m_wallSeconds; }
+    double deviceSeconds() const { return m_deviceSeconds; }
+
+  private:
+    std::unique_ptr<Renderer> m_renderer;
+    std::vector<glm::dvec3> m_sum;
+    uint32_t m_samples = 0;
+    uint32_t m_width = 0, m_height = 0;
+    double m_wallSeconds = 0, m_deviceSeconds = 0;
+};
+
+// The curve of one configuration. Without a reference a second renderer
+// with seed + 1 follows the first, checkpoint by checkpoint; its cost is
+// not counted (it only measures the first). `gpu`: record device times, and
+// warm up before the first configuration.
+template <typename Renderer, typename Make>
+std::vector<Checkpoint> measure(const Make& make, const Configuration& config, const std::vector<uint32_t>& spp,
+                                const std::optional<image::Image>& reference, bool gpu, bool first) {
+    const uint32_t pixels = config.settings.width * config.settings.height;
+    Progressive<Renderer> a(make(config.settings), pixels);
+    if (gpu && first) a.warmUp();
+    std::optional<Progressive<Renderer>> b;
+    if (!reference) {
+        wavefront::RenderSettings other = config.settings;
+        other.seed += 1;
+        b.emplace(make(other), pixels);
+    }
+    std::vector<Checkpoint> curve;
+    for (uint32_t n : spp) {
+        a.advanceTo(n);
+        Checkpoint c;
+        c.spp = n;
+        c.wallSeconds = a.wallSeconds();
+        if (gpu) c.deviceSeconds = a.deviceSeconds();
+        image::ChannelMetrics error;
+        if (reference) {
+            error = image::compareImages(a.mean(), *reference).overall;
+        } else {
+            b->advanceTo(n);
+            error = image::estimateErrorFromPair(a.mean(), b->mean());
+        }
+        c.relMse = error.relMse;
+        c.rmse = error.rmse;
+        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g\n", config.label.c_str(), n, c.wallSeconds, c.relMse);
+        curve.push_back(c);
+    }
+    return curve;
+}
+
+void ensureParent(const std::filesystem::path& path) {
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+}
+
+void writeCsv(const std::filesystem::path& path, const std::vector<Configuration>& configs, const std::string& errorSource) {
+    ensureParent(path);
+    const std::filesystem::path temporary = path.string() + ".tmp";
+    {
+        std::ofstream out(temporary);
+        out << "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,error\n";
+        for (const Configuration& config : configs)
+            for (const Checkpoint& c : config.curve)
+                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{}\n", config.knob, config.value, c.spp, c.wallSeconds,
+                                   c.deviceSeconds ? fmt::format("{:.6f}", *c.deviceSeconds) : "", c.relMse, c.rmse,
+                                   errorSource);
+        if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
+    }
+    std::filesystem::rename(temporary, path);
+}
+
+void printTables(const std::vector<Configuration>& configs) {
+    size_t width = std::string("configuration").size();
+    for (const Configuration& c : configs) width = std::max(width, c.label.size());
+    std::printf("time to reach relMSE (wall seconds, interpolated on log-log axes between checkpoints)\n");
+    std::printf("%-*s", int(width), "configuration");
+    for (double target : TARGETS) std::printf("  %12s", fmt::format("{:g}", target).c_str());
+    std::printf("\n");
+    for (const Configuration& c : configs) {
+        std::printf("%-*s", int(width), c.label.c_str());
+        for (double target : TARGETS) {
+            const auto t = timeToRelMse(c.curve, target);
+            const std::string cell = !t ? "not reached"
+                                        : fmt::format("{}{:.3g} s", c.curve.front().relMse <= target ? "<= " : "", *t);
+            std::printf("  %12s", cell.c_str());
+        }
+        std::printf("\n");
+    }
+
+    std::printf("\nefficiency at the last checkpoint: 1 / (wall seconds x relMSE)\n");
+    double best = 0;
+    for (const Configuration& c : configs) best = std::max(best, efficiency(c.curve));
+    std::printf("%-*s  %6s  %10s  %10s  %12s\n", int(width), "configuration", "spp", "wall s", "relMSE", "efficiency");
+    for (const Configuration& c : configs) {
+        const Checkpoint& last = c.curve.back();
+        const double e = efficiency(c.curve);
+        std::printf("%-*s  %6u  %10.3f  %10.4g  %12.4g%s\n", int(width), c.label.c_str(), last.spp, last.wallSeconds,
+                    last.relMse, e, configs.size() > 1 && e == best ? "  <- best" : "");
+    }
+}
+
+int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
+    const std::vector<uint32_t> spp = parseSppList(o.spp);
+    const wavefront::RenderSettings base = renderSettings(o, spp.back());
+    std::vector<Configuration> configs;
+    if (o.sweep.empty()) {
+        configs.push_back({"", "", o.device, base, {}});
+    } else {
+        const Sweep sweep = parseSweep(o.sweep);
+        for (const std::string& value : sweep.values) {
+            Configuration c{sweep.knob->name, value, fmt::format("{}={}", sweep.knob->name, value), base, {}};
+            sweep.knob->apply(c.settings, value);
+            configs.push_back(c);
+        }
+    }
+    std::optional<image::Image> reference;
+    if (!o.reference.empty()) {
+        reference = image::readImage(o.reference);
+        if (reference->width != base.width || reference->height != base.height)
+            throw InputError(fmt::format("{}: the reference is {}x{}, the render {}x{} (-d)", o.reference,
+                                         reference->width, reference->height, base.width, base.height));
+    }
+    const scene::Scene scene = loadRenderScene(o);
+
+    auto run = [&](const auto& measureOne) {
+        for (Configuration& c : configs) c.curve = measureOne(c);
+        writeCsv(o.csv, configs, reference ? "reference" : "two-seed estimate");
+        plot::Chart chart;
+        chart.title = fmt::format("{} {}x{} on {}, error against {}", std::filesystem::path(o.scene).filename().string(),
+                                  base.width, base.height, o.device,
+                                  reference ? std::filesystem::path(o.reference).filename().string() : "a second seed");
+        chart.xLabel = "wall time (s)";
+        chart.yLabel = "relMSE";
+        chart.scoreLabel = "efficiency 1/(s*relMSE)";
+        for (const Configuration& c : configs) {
+            plot::Series s{c.label, {}, {}};
+            for (const Checkpoint& p : c.curve) {
+                s.x.push_back(p.wallSeconds);
+                s.y.push_back(p.relMse);
+            }
+            chart.series.push_back(s);
+            chart.scores.push_back(efficiency(c.curve));
+        }
+        ensureParent(o.plot);
+        image::writePng(o.plot, plot::renderChart(chart));
+        printTables(configs);
+        std::printf("%s\n%s\n", o.csv.c_str(), o.plot.c_str());
+        return 0;
+    };
+
+    if (o.device == "cpu") {
+        auto make = [&](const wavefront::RenderSettings& s) { return std::make_unique<reference::ReferenceRenderer>(scene, s); };
+        return run([&](const Configuration& c) {
+            return measure<reference::ReferenceRenderer>(make, c, spp, reference, false, &c == &configs.front());
+        });
+    }
+    return withContext(global, [&](vk::Context& context) {
+        auto make = [&](const wavefront::RenderSettings& s) {
+            return std::make_unique<wavefront::WavefrontRenderer>(context, scene, s);
+        };
+        return run([&](const Configuration& c) {
+            return measure<wavefront::WavefrontRenderer>(make, c, spp, reference, true, &c == &configs.front());
+        });
+    });
+}
+
+}  // namespace
+
+void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
+    auto o = std::make_shared<ConvergeOptions>();
+    auto* cmd = app.add_subcommand("converge", "Error against time: a progressive render measured at each sample count");
+    addRenderOptions(*cmd, *o);
+    cmd->add_option("--spp", o->spp, "Sample counts to measure at, increasing: 1,2,4,...")->capture_default_str();
+    cmd->add_option("--reference", o->reference,
+                    "Reference image (EXR) of the same size; without one the error is estimated from a second seed");
+    std::string knobNames;
+    for (const Knob& k : knobs()) knobNames += (knobNames.empty() ? "" : ", ") + std::string(k.name);
+    cmd->add_option("--sweep", o->sweep, "KNOB=v1,v2,...: one curve per value; knobs: " + knobNames);
+    cmd->add_option("--csv", o->csv, "Measurements, one row per configuration and sample count")->capture_default_str();
+    cmd->add_option("--plot", o->plot, "Log-log plot of relMSE against wall time (PNG)")->capture_default_str();
+    cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runConverge(global, *o); }; });
+}
+
+}  // namespace vkpath::app

@@ -1,0 +1,85 @@
+#include "app/render_options.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "input_error.h"
+#include "scene/environment.h"
+#include "scene/load.h"
+
+namespace vkpath::app {
+
+void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
+    cmd.add_option("scene", o.scene, "Scene file (.gltf, .glb, .dae)")->required();
+    cmd.add_option("-m,--max-depth", o.maxDepth, "Maximum bounces (0: emitters seen directly only, 1: direct lighting)")
+        ->capture_default_str();
+    cmd.add_option("-d,--size", o.size, "Film size WxH")->capture_default_str();
+    cmd.add_option("-l,--light-samples", o.lightSamples, "Light samples per diffuse vertex")->capture_default_str();
+    cmd.add_option("--rr-depth", o.rouletteDepth, "Russian roulette from this bounce on (unbiased at any depth)")
+        ->capture_default_str();
+    cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
+    cmd.add_option("--clamp", o.clamp,
+                   "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
+        ->capture_default_str();
+    cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular");
+    cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
+    cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier")->capture_default_str();
+    cmd.add_option("--env-rotate", o.environmentRotation, "Environment rotation about +Y, degrees")->capture_default_str();
+    cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
+    cmd.add_option("--workgroup-size", o.workgroupSize, "Threads per workgroup of the stage kernels")
+        ->capture_default_str();
+    cmd.add_option("--paths-in-flight", o.pathsInFlight, "Upper bound on the paths of one wave")->capture_default_str();
+    cmd.add_option("--device", o.device, "gpu: the Vulkan wavefront renderer; cpu: the CPU reference (same math)")
+        ->check(CLI::IsMember({"gpu", "cpu"}))
+        ->capture_default_str();
+    cmd.add_option("-t,--threads", o.threads, "--device cpu: worker threads (default: every hardware thread)");
+}
+
+scene::Scene loadRenderScene(const RenderOptions& o) {
+    scene::LoadOptions loadOptions;
+    loadOptions.cameraName = o.camera;
+    scene::Scene scene = scene::loadScene(o.scene, loadOptions);
+    if (!o.environment.empty() || !o.environmentColor.empty()) {
+        scene::Environment env;
+        if (!o.environment.empty()) env.map = scene::loadEnvironmentMap(o.environment);
+        if (!o.environmentColor.empty()) env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
+        scene.environment = env;
+    }
+    if (scene.environment) {
+        if (!(o.environmentStrength >= 0) || !std::isfinite(o.environmentStrength))
+            throw InputError("--env-strength must be a finite number >= 0");
+        scene.environment->strength = o.environmentStrength;
+        scene.environment->rotationDegrees = o.environmentRotation;
+    }
+    return scene;
+}
+
+wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t samplesPerPixel) {
+    const FilmSize film = parseFilmSize(o.size);
+    if (samplesPerPixel == 0) throw InputError("samples per pixel must be at least 1");
+    if (o.threads && o.device != "cpu")
+        throw InputError("-t/--threads: only the CPU reference (--device cpu) runs on threads");
+    // Global path indices (sample x pixels + pixel) are 32-bit in the kernels.
+    if (uint64_t(film.width) * film.height * samplesPerPixel >= (uint64_t(1) << 32))
+        throw InputError(fmt::format("{}x{} pixels x {} spp is more than 2^32 paths in one render", film.width,
+                                     film.height, samplesPerPixel));
+    if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
+
+    wavefront::RenderSettings settings;
+    settings.width = film.width;
+    settings.height = film.height;
+    settings.samplesPerPixel = samplesPerPixel;
+    settings.maxDepth = o.maxDepth;
+    settings.lightSamples = o.lightSamples;
+    settings.rouletteDepth = o.rouletteDepth;
+    settings.seed = o.seed;
+    settings.clampRadiance = o.clamp;
+    settings.workgroupSize = o.workgroupSize;
+    settings.maxPathsInFlight = o.pathsInFlight;
+    settings.threads = o.threads.value_or(0);
+    return settings;
+}
+
+}  // namespace vkpath::app

@@ -1,0 +1,52 @@
+// The flags every rendering command shares (`vkpath render`, `vkpath
+// converge`): the scene and what replaces its environment or camera, the
+// integrator's settings and the device. Each command adds its own flags for
+// what it does with the renders (outputs, sample counts).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/film_size.h"
+#include "scene/scene.h"
+#include "wavefront/render_types.h"
+
+namespace CLI {
+class App;
+}
+
+namespace vkpath::app {
+
+struct RenderOptions {
+    std::string scene;
+    std::string size = "640x480";
+    uint32_t maxDepth = 8;
+    uint32_t lightSamples = 1;
+    uint32_t rouletteDepth = wavefront::RenderSettings{}.rouletteDepth;
+    uint32_t seed = 0;
+    float clamp = 0;
+    std::string environment;
+    std::vector<float> environmentColor;
+    float environmentStrength = 1.0f;
+    float environmentRotation = 0.0f;
+    std::string camera;
+    uint32_t workgroupSize = 64;
+    uint32_t pathsInFlight = 1u << 20;
+    std::string device = "gpu";      // gpu: the wavefront renderer; cpu: the reference
+    std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
+};
+
+// Registers the shared flags on `cmd`, the scene as its first positional argument.
+void addRenderOptions(CLI::App& cmd, RenderOptions& o);
+
+// The scene file with the flags' environment and camera applied. Throws
+// InputError on bad input.
+scene::Scene loadRenderScene(const RenderOptions& o);
+
+// The settings for `samplesPerPixel` samples of the film `o.size`. Throws
+// InputError on out-of-range flags.
+wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t samplesPerPixel);
+
+}  // namespace vkpath::app
