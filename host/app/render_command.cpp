@@ -100,12 +100,15 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
                   double cpuSeconds, const std::string& device, bool clamped) {
     const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
     const double mpathsPerCpuSecond = cpuSeconds > 0 ? result.paths / cpuSeconds * 1e-6 : 0;
+    const double mrays = result.seconds > 0 ? result.rays.total() / result.seconds * 1e-6 : 0;
     const std::string deviceTime = deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
     std::fprintf(stderr,
-                 "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %u %s of %u paths, "
-                 "%llu NaN/Inf samples dropped, %llu fireflies%s, on %s\n",
+                 "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %.3f Mrays/s "
+                 "(%llu closest-hit, %llu shadow), %u %s of %u paths, %llu NaN/Inf samples dropped, %llu fireflies%s, "
+                 "on %s\n",
                  film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
-                 mpathsPerCpuSecond, result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
+                 mpathsPerCpuSecond, mrays, (unsigned long long)result.rays.closest,
+                 (unsigned long long)result.rays.shadow, result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
                  (unsigned long long)result.nonFiniteSamples, (unsigned long long)result.fireflySamples,
                  clamped ? " (clamped)" : "", device.c_str());
 }

@@ -82,7 +82,7 @@ uint32_t ReferenceRenderer::threads() const {
     return std::max(1u, std::thread::hardware_concurrency());
 }
 
-glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex) const {
+glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays) const {
     using namespace shared;
     const shared::PathTracerView& scene = m_view;
     const SceneInfo info = scene.sceneInfo();
@@ -100,6 +100,7 @@ glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex) con
     for (uint bounce = 0;; ++bounce) {
         // ---- intersect ---------------------------------------------------------------
         const Hit hit = scene.bvhClosestHit(ray);
+        ++rays.closest;
 
         // ---- shade: what the ray sees ------------------------------------------------
         if (hit.primitive == VKP_NO_HIT) {
@@ -119,6 +120,7 @@ glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex) con
         for (uint j = 0; j < info.lightSamples; ++j) {
             const PathTracerView::ShadowRequest request = scene.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
             if (!request.valid || request.contribution == vec3(0.0f)) continue;
+            ++rays.shadow;
             if (!scene.bvhOccluded(request.ray)) shadowSum += request.contribution;
         }
         radiance += shadowSum;
@@ -153,7 +155,7 @@ wavefront::RenderResult ReferenceRenderer::render(
 
     const shared::SceneInfo& info = m_tables.info;
     std::vector<PixelSums> film(pixels);
-    std::atomic<uint64_t> nonFinite{0}, fireflies{0};
+    std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0};
 
     wavefront::RenderResult result;
     result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
@@ -165,14 +167,17 @@ wavefront::RenderResult ReferenceRenderer::render(
         std::atomic<uint32_t> nextRow{0};
         auto work = [&] {
             SampleCounts counts;
+            wavefront::RayCounts rays;
             for (uint32_t y = nextRow++; y < height; y = nextRow++)
                 for (uint32_t x = 0; x < width; ++x) {
                     const uint32_t pixel = y * width + x;
                     for (uint32_t sample = first; sample < end; ++sample)
-                        accumulate(film[pixel], tracePath(pixel, sample), info, counts);
+                        accumulate(film[pixel], tracePath(pixel, sample, rays), info, counts);
                 }
             nonFinite += counts.dropped;
             fireflies += counts.fireflies;
+            closestRays += rays.closest;
+            shadowRays += rays.shadow;
         };
         std::vector<std::thread> pool;
         for (uint32_t t = 1; t < workers; ++t) pool.emplace_back(work);
@@ -190,6 +195,7 @@ wavefront::RenderResult ReferenceRenderer::render(
     result.paths = pixels * done;
     result.nonFiniteSamples = nonFinite;
     result.fireflySamples = fireflies;
+    result.rays = {closestRays, shadowRays};
 
     result.image = image::Image(width, height);
     result.varianceOfMean = image::Image(width, height);

@@ -49,7 +49,8 @@ class ReferenceRenderer {
 
     // The radiance one path brings to its pixel: path `sampleIndex` of pixel
     // y * width + x, exactly what the wavefront renderer accumulates for it.
-    glm::vec3 tracePath(uint32_t pixel, uint32_t sampleIndex) const;
+    // Adds the rays it traces to `rays`.
+    glm::vec3 tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays) const;
 
     const wavefront::SceneTables& tables() const { return m_tables; }
     // Worker threads render() uses.

@@ -47,6 +47,14 @@ struct RenderProgress {
     double seconds;
 };
 
+// Rays traced: one closest-hit ray per path segment, one shadow ray per light
+// sample with a non-zero unoccluded contribution.
+struct RayCounts {
+    uint64_t closest = 0;
+    uint64_t shadow = 0;
+    uint64_t total() const { return closest + shadow; }
+};
+
 struct RenderResult {
     image::Image image;          // mean radiance per pixel
     image::Image varianceOfMean; // per channel: sample variance / samples (the variance AOV)
@@ -54,6 +62,7 @@ struct RenderResult {
     uint64_t nonFiniteSamples = 0;
     uint64_t fireflySamples = 0;  // samples that alone add more than 1 to their pixel's mean (> spp)
     uint64_t paths = 0;
+    RayCounts rays;
     uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image
     uint32_t pathsInFlight = 0;  // paths per wave (pass)
     double seconds = 0;                         // wall clock of the waves

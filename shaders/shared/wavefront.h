@@ -47,6 +47,11 @@ struct QueueCounters {
     uint fireflies;       // path samples above SceneInfo::fireflyThreshold (before any clamping)
     uvec3 rayDispatch;    // VkDispatchIndirectCommand for intersect and shade
     uvec3 shadowDispatch; // VkDispatchIndirectCommand for shadow
+    uint shadowRayCount;  // shadow rays shade asked for in this bounce (non-zero contributions)
+    // Rays traced over the whole render, as 64-bit (low, high) pairs summed by
+    // queue_dispatch: closest-hit rays (intersect) and shadow rays (shadow).
+    uvec2 closestRays;
+    uvec2 shadowRays;
 };
 
 // Per-pixel sums over all samples so far, compensated (Kahan) so that 10^5
@@ -73,7 +78,7 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
-static_assert(sizeof(vkpath::shared::QueueCounters) == 44);
+static_assert(sizeof(vkpath::shared::QueueCounters) == 64);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
 static_assert(sizeof(vkpath::shared::WavePush) == 16);
 #endif

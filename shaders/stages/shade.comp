@@ -49,14 +49,17 @@ void main() {
     // ---- next-event estimation ------------------------------------------------------
     vec3 wo = -ray.direction;
     bool anyShadow = false;
+    uint tracedShadowRays = 0u;  // the shadow stage traces the non-zero contributions
     for (uint j = 0u; j < info.lightSamples; ++j) {
         ShadowRequest request = sampleDirectLight(material, surface, wo, beta, key, push.bounce, j);
         uint index = slot * info.lightSamples + j;
         shadowRays[index] = request.ray;
         shadowRadiance[index] = request.valid ? request.contribution : vec3(0.0);
         anyShadow = anyShadow || request.valid;
+        if (request.valid && request.contribution != vec3(0.0)) ++tracedShadowRays;
     }
     if (anyShadow) queues[2u * push.pathCount + atomicAdd(counters.shadowCount, 1u)] = slot;
+    if (tracedShadowRays > 0u) atomicAdd(counters.shadowRayCount, tracedShadowRays);
 
     // ---- the next bounce --------------------------------------------------------------
     PathStep step = continuePath(material, surface, wo, beta, key, push.bounce);

@@ -64,6 +64,7 @@ TEST_F(CompareZTest, CpuRenderWritesTheImageTheVarianceAndASummary) {
     EXPECT_NE(r.out.find("cli.variance.exr"), std::string::npos);
     EXPECT_NE(r.err.find("CPU reference (3 threads)"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("Mpaths/s"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Mrays/s"), std::string::npos) << r.err;
     // The same pixels as the in-process render (hardware threads): any thread count gives the same image.
     for (const char* suffix : {".exr", ".variance.exr"}) {
         SCOPED_TRACE(suffix);

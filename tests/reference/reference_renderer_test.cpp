@@ -6,6 +6,7 @@
 // SameSeed.FollowsTheSamePaths for the bounds). Different seeds: a block z-test
 // with the variance AOVs accepts GPU against CPU and rejects a CPU render
 // whose light-selection pdf is 10% off, so the comparison has power.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -161,6 +162,17 @@ TEST_P(SameSeed, FollowsTheSamePaths) {
     RecordProperty("trimmedRelMse", std::to_string(trimmed));
     RecordProperty("relMse", std::to_string(full));
 
+    // The same paths trace the same rays, but for the few whose decisions
+    // rounding flips (at most 1 - SAME_SEED_MIN_MATCHING of the pixels).
+    auto expectSameCount = [](uint64_t cpuCount, uint64_t gpuCount, const char* what) {
+        EXPECT_GT(cpuCount, 0u) << what;
+        EXPECT_NEAR(double(gpuCount), double(cpuCount), (1 - SAME_SEED_MIN_MATCHING) * double(cpuCount)) << what;
+    };
+    expectSameCount(cpu.rays.closest, gpu.rays.closest, "closest-hit rays");
+    expectSameCount(cpu.rays.shadow, gpu.rays.shadow, "shadow rays");
+    RecordProperty("closestRays", fmt::format("cpu {} gpu {}", cpu.rays.closest, gpu.rays.closest));
+    RecordProperty("shadowRays", fmt::format("cpu {} gpu {}", cpu.rays.shadow, gpu.rays.shadow));
+
     // Another seed fails the first two bounds: they cannot be met by two
     // renders that merely estimate the same image.
     const auto other = renderCpu(s, smallSettings(4, 8));
@@ -252,10 +264,11 @@ TEST(Reference, ImageAndVarianceAreThePathStatistics) {
     const auto settings = smallSettings(5, 3);
     const reference::ReferenceRenderer renderer(s, settings);
     const auto r = renderer.render();
+    wavefront::RayCounts rays;
     for (uint32_t pixel : {0u, 700u, 48u * 36u - 1u}) {
         glm::dvec3 sum(0), sumSquares(0);
         for (uint32_t i = 0; i < 5; ++i) {
-            const glm::dvec3 l(renderer.tracePath(pixel, i));
+            const glm::dvec3 l(renderer.tracePath(pixel, i, rays));
             sum += l;
             sumSquares += l * l;
         }
@@ -280,10 +293,11 @@ TEST(Reference, NonFiniteSamplesAreDroppedAndCounted) {
     const reference::ReferenceRenderer renderer(std::move(tables), settings);
     const auto r = renderer.render();
     uint64_t expectedDropped = 0;
+    wavefront::RayCounts rays;
     for (uint32_t pixel = 0; pixel < 16 * 12; ++pixel) {
         glm::dvec3 sum(0);
         for (uint32_t i = 0; i < 2; ++i) {
-            const glm::vec3 l = renderer.tracePath(pixel, i);
+            const glm::vec3 l = renderer.tracePath(pixel, i, rays);
             if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))
                 sum += glm::dvec3(l);
             else
@@ -293,6 +307,9 @@ TEST(Reference, NonFiniteSamplesAreDroppedAndCounted) {
     }
     EXPECT_GT(expectedDropped, 0u);
     EXPECT_EQ(r.nonFiniteSamples, expectedDropped);
+    // Every path of the render was traced again above: the same rays.
+    EXPECT_EQ(r.rays.closest, rays.closest);
+    EXPECT_EQ(r.rays.shadow, rays.shadow);
 }
 
 }  // namespace
