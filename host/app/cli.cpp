@@ -54,6 +54,7 @@ int runCli(int argc, char** argv) {
     addConvergeCommand(app, global, commands);
     addCompareCommand(app, global, commands);
     addSceneInfoCommand(app, global, commands);
+    addExportMitsubaCommand(app, global, commands);
 
     try {
         app.parse(argc, argv);

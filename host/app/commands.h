@@ -34,5 +34,6 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
 void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addCompareCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addSceneInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addExportMitsubaCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 
 }  // namespace vkpath::app

@@ -1,0 +1,303 @@
+#include "scene/mitsuba_export.h"
+
+#include <fmt/format.h>
+#include <pugixml.hpp>
+
+#include <bit>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "image/image.h"
+#include "scene/camera.h"
+
+namespace vkpath::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The PLY files are written as binary_little_endian straight from memory.
+static_assert(std::endian::native == std::endian::little, "export-mitsuba writes PLY from memory: little-endian only");
+
+// Nine significant digits: a float survives the round trip through text.
+std::string num(float v) { return fmt::format("{:.9g}", v); }
+std::string rgb(const glm::vec3& v) { return fmt::format("{:.9g}, {:.9g}, {:.9g}", v.x, v.y, v.z); }
+
+// A name that is safe in a file name and an XML id.
+std::string safeName(const std::string& name) {
+    std::string out;
+    for (char c : name.substr(0, 40))
+        out += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+    return out;
+}
+
+pugi::xml_node child(pugi::xml_node parent, const char* tag, const std::string& name = "") {
+    pugi::xml_node node = parent.append_child(tag);
+    if (!name.empty()) node.append_attribute("name") = name.c_str();
+    return node;
+}
+
+void addValue(pugi::xml_node parent, const char* tag, const std::string& name, const std::string& value) {
+    child(parent, tag, name).append_attribute("value") = value.c_str();
+}
+
+void addRgb(pugi::xml_node parent, const std::string& name, const glm::vec3& value) {
+    addValue(parent, "rgb", name, rgb(value));
+}
+
+void addXyz(pugi::xml_node parent, const char* tag, const std::string& name, const glm::vec3& v) {
+    pugi::xml_node node = child(parent, tag, name);
+    node.append_attribute("x") = num(v.x).c_str();
+    node.append_attribute("y") = num(v.y).c_str();
+    node.append_attribute("z") = num(v.z).c_str();
+}
+
+void addLookAt(pugi::xml_node transform, const glm::vec3& origin, const glm::vec3& target, const glm::vec3& up) {
+    pugi::xml_node lookat = transform.append_child("lookat");
+    lookat.append_attribute("origin") = rgb(origin).c_str();
+    lookat.append_attribute("target") = rgb(target).c_str();
+    lookat.append_attribute("up") = rgb(up).c_str();
+}
+
+// Binary PLY: positions, the per-vertex normals when the mesh has them, and
+// triangles as lists of three int indices.
+void writePly(const fs::path& path, const Mesh& mesh) {
+    const bool normals = mesh.normals.size() == mesh.positions.size();
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment vkpath export-mitsuba\n";
+    header += fmt::format("element vertex {}\nproperty float x\nproperty float y\nproperty float z\n", mesh.positions.size());
+    if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    header += fmt::format("element face {}\nproperty list uchar int vertex_indices\nend_header\n", mesh.triangles.size());
+
+    std::ofstream out(path, std::ios::binary);
+    out.write(header.data(), std::streamsize(header.size()));
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        out.write(reinterpret_cast<const char*>(&mesh.positions[i]), sizeof(glm::vec3));
+        if (normals) out.write(reinterpret_cast<const char*>(&mesh.normals[i]), sizeof(glm::vec3));
+    }
+    for (const glm::uvec3& t : mesh.triangles) {
+        const char count = 3;
+        out.write(&count, 1);
+        const int32_t indices[3] = {int32_t(t.x), int32_t(t.y), int32_t(t.z)};
+        out.write(reinterpret_cast<const char*>(indices), sizeof(indices));
+    }
+    if (!out.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
+}
+
+// vkpath's diffuse and mirror surfaces reflect on both sides (shared/bsdf.h);
+// Mitsuba's only on the front unless wrapped in `twosided`. The dielectric is
+// one-sided in both: the normal tells inside from outside.
+void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id) {
+    if (m.kind == MaterialKind::Dielectric) {
+        pugi::xml_node bsdf = scene.append_child("bsdf");
+        bsdf.append_attribute("type") = "dielectric";
+        bsdf.append_attribute("id") = id.c_str();
+        addValue(bsdf, "float", "int_ior", num(m.ior));
+        addValue(bsdf, "float", "ext_ior", "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
+        addRgb(bsdf, "specular_reflectance", m.reflectance);
+        addRgb(bsdf, "specular_transmittance", m.transmittance);
+        return;
+    }
+    pugi::xml_node twosided = scene.append_child("bsdf");
+    twosided.append_attribute("type") = "twosided";
+    twosided.append_attribute("id") = id.c_str();
+    pugi::xml_node bsdf = twosided.append_child("bsdf");
+    if (m.kind == MaterialKind::Mirror) {
+        // material "none": a perfect conductor (Fresnel reflectance 1), tinted.
+        bsdf.append_attribute("type") = "conductor";
+        addValue(bsdf, "string", "material", "none");
+        addRgb(bsdf, "specular_reflectance", m.reflectance);
+    } else {
+        bsdf.append_attribute("type") = "diffuse";
+        addRgb(bsdf, "reflectance", m.reflectance);
+    }
+}
+
+// The material reference, the area emitter of an emissive material, and,
+// since vkpath shades with geometric normals only (shared/intersect.h), face
+// normals for meshes.
+void finishShape(pugi::xml_node shape, const Scene& scene, uint32_t material) {
+    child(shape, "ref").append_attribute("id") = fmt::format("mat{}", material).c_str();
+    if (material < scene.materials.size() && scene.materials[material].emissive()) {
+        pugi::xml_node emitter = shape.append_child("emitter");
+        emitter.append_attribute("type") = "area";
+        addRgb(emitter, "radiance", scene.materials[material].emission);
+    }
+}
+
+// Bounds of the geometry, for the sensor's clip planes.
+void sceneBounds(const Scene& scene, glm::vec3& lo, glm::vec3& hi) {
+    lo = glm::vec3(std::numeric_limits<float>::max());
+    hi = -lo;
+    for (const Mesh& mesh : scene.meshes)
+        for (const glm::vec3& p : mesh.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    for (const Sphere& s : scene.spheres) {
+        lo = glm::min(lo, s.center - s.radius);
+        hi = glm::max(hi, s.center + s.radius);
+    }
+}
+
+void addSensor(pugi::xml_node scene, const Scene& s, const MitsubaExportSettings& settings) {
+    // The kernels' camera frame (makeGpuCamera widens the narrower axis to
+    // the film), so the exported field of view is the one vkpath renders.
+    const shared::Camera gpu = makeGpuCamera(s.camera, settings.width, settings.height);
+    const float tanX = glm::length(gpu.right);
+    pugi::xml_node sensor = scene.append_child("sensor");
+    sensor.append_attribute("type") = "perspective";
+    addValue(sensor, "string", "fov_axis", "x");
+    addValue(sensor, "float", "fov", num(glm::degrees(2.0f * std::atan(tanX))));
+
+    // vkpath has no clip planes; Mitsuba needs them. Far: twice the distance
+    // to the farthest corner of the geometry's bounds; near: a millionth of it.
+    glm::vec3 lo, hi;
+    sceneBounds(s, lo, hi);
+    float farthest = 1.0f;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        farthest = std::max(farthest, glm::length(p - gpu.origin));
+    }
+    addValue(sensor, "float", "near_clip", num(2.0f * farthest * 1e-6f));
+    addValue(sensor, "float", "far_clip", num(2.0f * farthest));
+
+    pugi::xml_node transform = child(sensor, "transform", "to_world");
+    addLookAt(transform, gpu.origin, gpu.origin + gpu.forward, glm::normalize(gpu.up));
+
+    // Independent uniform samples, as vkpath draws them (shared/rng.h).
+    pugi::xml_node sampler = sensor.append_child("sampler");
+    sampler.append_attribute("type") = "independent";
+    addValue(sampler, "integer", "sample_count", std::to_string(settings.samplesPerPixel));
+    addValue(sampler, "integer", "seed", std::to_string(settings.seed));
+
+    pugi::xml_node film = sensor.append_child("film");
+    film.append_attribute("type") = "hdrfilm";
+    addValue(film, "integer", "width", std::to_string(settings.width));
+    addValue(film, "integer", "height", std::to_string(settings.height));
+    addValue(film, "string", "pixel_format", "rgb");
+    addValue(film, "string", "component_format", "float32");
+    // vkpath jitters each sample inside its own pixel and averages: a box of one pixel.
+    film.append_child("rfilter").append_attribute("type") = "box";
+}
+
+void addLights(pugi::xml_node root, const Scene& s) {
+    for (const PointLight& light : s.pointLights) {
+        pugi::xml_node e = root.append_child("emitter");
+        e.append_attribute("type") = "point";
+        addXyz(e, "point", "position", light.position);
+        addRgb(e, "intensity", light.intensity);
+    }
+    for (const SpotLight& light : s.spotLights) {
+        pugi::xml_node e = root.append_child("emitter");
+        e.append_attribute("type") = "spot";
+        // Mitsuba's spot points along its local +Z; any up not along the axis will do.
+        const glm::vec3 up = std::abs(light.direction.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+        addLookAt(child(e, "transform", "to_world"), light.position, light.position + light.direction, up);
+        addRgb(e, "intensity", light.intensity);
+        addValue(e, "float", "cutoff_angle", num(glm::degrees(light.outerConeAngle)));
+        addValue(e, "float", "beam_width", num(glm::degrees(light.innerConeAngle)));
+    }
+    for (const DirectionalLight& light : s.directionalLights) {
+        pugi::xml_node e = root.append_child("emitter");
+        e.append_attribute("type") = "directional";
+        addXyz(e, "vector", "direction", light.direction);
+        addRgb(e, "irradiance", light.irradiance);
+    }
+}
+
+}  // namespace
+
+MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& settings, const fs::path& outDir) {
+    pugi::xml_document doc;
+    pugi::xml_node root = doc.append_child("scene");
+    root.append_attribute("version") = "3.0.0";
+
+    // Mitsuba's max_depth counts path segments (1: emitters seen directly),
+    // vkpath's -m bounces (0: emitters seen directly): one more. Both start
+    // Russian roulette after the same vertex (the rr_depth-th hit).
+    pugi::xml_node integrator = root.append_child("integrator");
+    integrator.append_attribute("type") = "path";
+    addValue(integrator, "integer", "max_depth", std::to_string(settings.maxDepth + 1));
+    addValue(integrator, "integer", "rr_depth", std::to_string(settings.rouletteDepth));
+    addSensor(root, s, settings);  // first: it checks the camera and film before anything is written
+
+    MitsubaExportResult result;
+    fs::create_directories(outDir / "meshes");
+
+    for (size_t i = 0; i < s.materials.size(); ++i) addMaterial(root, s.materials[i], fmt::format("mat{}", i));
+
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+        const Mesh& mesh = s.meshes[i];
+        if (mesh.triangles.empty()) continue;
+        const std::string id = fmt::format("mesh{:03}_{}", i, safeName(mesh.name));
+        const fs::path file = fs::path("meshes") / (id + ".ply");
+        writePly(outDir / file, mesh);
+        result.files.push_back(outDir / file);
+        pugi::xml_node shape = root.append_child("shape");
+        shape.append_attribute("type") = "ply";
+        shape.append_attribute("id") = id.c_str();
+        addValue(shape, "string", "filename", file.generic_string());
+        addValue(shape, "boolean", "face_normals", "true");
+        finishShape(shape, s, mesh.material);
+    }
+    size_t emissiveSpheres = 0;
+    for (size_t i = 0; i < s.spheres.size(); ++i) {
+        const Sphere& sphere = s.spheres[i];
+        pugi::xml_node shape = root.append_child("shape");
+        shape.append_attribute("type") = "sphere";
+        shape.append_attribute("id") = fmt::format("sphere{:03}_{}", i, safeName(sphere.name)).c_str();
+        addXyz(shape, "point", "center", sphere.center);
+        addValue(shape, "float", "radius", num(sphere.radius));
+        finishShape(shape, s, sphere.material);
+        emissiveSpheres += sphere.material < s.materials.size() && s.materials[sphere.material].emissive();
+    }
+    addLights(root, s);
+
+    if (s.environment) {
+        const Environment& env = *s.environment;
+        pugi::xml_node e = root.append_child("emitter");
+        if (env.map) {
+            // The texels vkpath renders with (after its own clamping), in the
+            // same equirectangular orientation: Mitsuba's envmap maps a
+            // direction d to u = atan2(d.x, -d.z) / 2 pi, v = acos(d.y) / pi,
+            // exactly as shared/environment_map.h does. vkpath's rotation is
+            // world = R_y(angle) map, Mitsuba's to_world rotation the same.
+            image::writeExr(outDir / "envmap.exr", *env.map);
+            result.files.push_back(outDir / "envmap.exr");
+            e.append_attribute("type") = "envmap";
+            addValue(e, "string", "filename", "envmap.exr");
+            addValue(e, "float", "scale", num(env.strength));
+            pugi::xml_node rotate = child(e, "transform", "to_world").append_child("rotate");
+            rotate.append_attribute("y") = "1";
+            rotate.append_attribute("angle") = num(env.rotationDegrees).c_str();
+            result.warnings.push_back(
+                "environment map: Mitsuba interpolates its texels bilinearly, vkpath looks up the nearest texel "
+                "(a half-texel blur; sharp features such as a small sun differ in shape, not in power)");
+        } else {
+            e.append_attribute("type") = "constant";
+            addRgb(e, "radiance", env.color * env.strength);
+        }
+    }
+
+    if (!s.spotLights.empty())
+        result.warnings.push_back(fmt::format(
+            "spot lights: Mitsuba's falloff is linear in angle from beam_width (inner cone) to cutoff_angle "
+            "(outer cone), vkpath's is KHR_lights_punctual's squared ramp in cosine: the cones' edges differ "
+            "({} spot lights)",
+            s.spotLights.size()));
+    if (emissiveSpheres > 0)
+        result.warnings.push_back(fmt::format(
+            "emissive spheres: Mitsuba's emit outward only, vkpath's to both sides (the same unless something "
+            "sees a sphere from inside; {} spheres)",
+            emissiveSpheres));
+
+    result.xml = outDir / "scene.xml";
+    if (!doc.save_file(result.xml.c_str(), "    "))
+        throw std::runtime_error(fmt::format("{}: cannot write", result.xml.string()));
+    result.files.push_back(result.xml);
+    return result;
+}
+
+}  // namespace vkpath::scene
