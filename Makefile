@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps configure build demo test test-long bench fuzz fuzz-smoke clean
+.PHONY: all deps configure build demo test test-long bench bench-peer fuzz fuzz-smoke clean
 
 all: build
 
@@ -47,6 +47,14 @@ fuzz: deps
 bench: build
 	@$(BUILD)/bvh_bench
 	@tools/bench/render-bench --vkpath $(VKPATH)
+
+# vkpath side by side with Mitsuba 3 (not in CI): installs Debian's libllvm19 and a
+# venv in build-peer/ with mitsuba from PyPI, checks that the exported scenes
+# render the same, then plots error against time. PEER_ARGS=--size 800x600 etc.;
+# figures and commands: docs/TRADEOFFS.md.
+PEER_ARGS ?=
+bench-peer: build
+	@tools/bench/peer-bench --vkpath $(VKPATH) $(PEER_ARGS)
 
 clean:
 	rm -rf $(BUILD) build-fuzz out
