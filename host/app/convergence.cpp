@@ -41,6 +41,11 @@ const std::vector<Knob> KNOBS = {
     {"max-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.maxDepth = unsignedValue("max-depth", v); }},
     {"light-samples", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.lightSamples = unsignedValue("light-samples", v); }},
     {"rr-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.rouletteDepth = unsignedValue("rr-depth", v); }},
+    {"sampler", "independent or sobol", [](wavefront::RenderSettings& s, const std::string& v) {
+         const auto sampler = wavefront::parseSampler(v);
+         if (!sampler) throw InputError(fmt::format("--sweep sampler: '{}' is neither independent nor sobol", v));
+         s.sampler = *sampler;
+     }},
     {"clamp", "off or numbers > 0", [](wavefront::RenderSettings& s, const std::string& v) {
          if (v == "off") {
              s.clampRadiance = 0;

@@ -72,6 +72,7 @@ void writeOutputs(const RenderCommandOptions& o, const wavefront::RenderResult& 
         {"vkpath:version", VKPATH_VERSION},
         {"vkpath:spp", std::to_string(result.samplesPerPixel)},
         {"vkpath:seed", std::to_string(o.seed)},
+        {"vkpath:sampler", o.sampler},
         {"vkpath:maxDepth", std::to_string(o.maxDepth)},
         {"vkpath:lightSamples", std::to_string(o.lightSamples)},
         {"vkpath:rrDepth", std::to_string(o.rouletteDepth)},

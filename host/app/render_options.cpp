@@ -20,13 +20,19 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     cmd.add_option("--rr-depth", o.rouletteDepth, "Russian roulette from this bounce on (unbiased at any depth)")
         ->capture_default_str();
     cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
+    cmd.add_option("--sampler", o.sampler,
+                   "independent: hashed random numbers; sobol: Owen-scrambled Sobol' points, stratified per pair of "
+                   "dimensions (lower error at equal spp, best at powers of two)")
+        ->check(CLI::IsMember({"independent", "sobol"}))
+        ->capture_default_str();
     cmd.add_option("--clamp", o.clamp,
                    "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
         ->capture_default_str();
     cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular");
     cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
-    cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier")->capture_default_str();
-    cmd.add_option("--env-rotate", o.environmentRotation, "Environment rotation about +Y, degrees")->capture_default_str();
+    cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier (default: the scene's, or 1)");
+    cmd.add_option("--env-rotate", o.environmentRotation,
+                   "Environment rotation about +Y, degrees (default: the scene's, or 0)");
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
     cmd.add_option("--workgroup-size", o.workgroupSize, "Threads per workgroup of the stage kernels")
         ->capture_default_str();
@@ -47,11 +53,14 @@ scene::Scene loadRenderScene(const RenderOptions& o) {
         if (!o.environmentColor.empty()) env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
         scene.environment = env;
     }
-    if (scene.environment) {
-        if (!(o.environmentStrength >= 0) || !std::isfinite(o.environmentStrength))
+    if (o.environmentStrength) {
+        if (!(*o.environmentStrength >= 0) || !std::isfinite(*o.environmentStrength))
             throw InputError("--env-strength must be a finite number >= 0");
-        scene.environment->strength = o.environmentStrength;
-        scene.environment->rotationDegrees = o.environmentRotation;
+        if (scene.environment) scene.environment->strength = *o.environmentStrength;
+    }
+    if (o.environmentRotation) {
+        if (!std::isfinite(*o.environmentRotation)) throw InputError("--env-rotate must be a finite number");
+        if (scene.environment) scene.environment->rotationDegrees = *o.environmentRotation;
     }
     return scene;
 }
@@ -75,6 +84,9 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.lightSamples = o.lightSamples;
     settings.rouletteDepth = o.rouletteDepth;
     settings.seed = o.seed;
+    const auto sampler = wavefront::parseSampler(o.sampler);
+    if (!sampler) throw InputError(fmt::format("--sampler: '{}' is neither independent nor sobol", o.sampler));
+    settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
     settings.workgroupSize = o.workgroupSize;
     settings.maxPathsInFlight = o.pathsInFlight;

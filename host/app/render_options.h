@@ -26,11 +26,12 @@ struct RenderOptions {
     uint32_t lightSamples = 1;
     uint32_t rouletteDepth = wavefront::RenderSettings{}.rouletteDepth;
     uint32_t seed = 0;
+    std::string sampler = "independent";  // wavefront::parseSampler's names
     float clamp = 0;
     std::string environment;
     std::vector<float> environmentColor;
-    float environmentStrength = 1.0f;
-    float environmentRotation = 0.0f;
+    std::optional<float> environmentStrength;  // unset: the scene's own (1 for -e)
+    std::optional<float> environmentRotation;
     std::string camera;
     uint32_t workgroupSize = 64;
     uint32_t pathsInFlight = 1u << 20;

@@ -86,7 +86,7 @@ glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wav
     using namespace shared;
     const shared::PathTracerView& scene = m_view;
     const SceneInfo info = scene.sceneInfo();
-    const RngKey key = makeRngKey(pixel, sampleIndex, info.seed);
+    const RngKey key = makeRngKey(pixel, sampleIndex, info.seed, info.samplerKind);
 
     // ---- generate ----------------------------------------------------------------
     const uvec2 xy(pixel % m_camera.width, pixel / m_camera.width);

@@ -29,6 +29,7 @@
 #include <string_view>
 
 #include "input_error.h"
+#include "scene/environment.h"
 
 // Third-party headers: their warnings are not ours (-Werror).
 #pragma GCC diagnostic push
@@ -63,7 +64,7 @@ constexpr double DEFAULT_CAMERA_FOV_DEGREES = 40.0;
 // and refused when required.
 const std::set<std::string> SUPPORTED_EXTENSIONS = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_transmission", "VKPATH_sphere"};
+    "KHR_materials_transmission", "VKPATH_environment", "VKPATH_sphere"};
 
 // ---------------------------------------------------------------------------
 // Warnings: one line per kind, with a count and the first example.
@@ -440,8 +441,9 @@ struct CameraCandidate {
 
 class Importer {
   public:
-    Importer(std::string file, const tinygltf::Model& model, const LoadOptions& options)
-        : m_file(std::move(file)), m_model(model), m_options(options), m_warnings(m_file) {}
+    Importer(std::string file, fs::path folder, const tinygltf::Model& model, const LoadOptions& options)
+        : m_file(std::move(file)), m_folder(std::move(folder)), m_model(model), m_options(options),
+          m_warnings(m_file) {}
 
     Scene run() {
         checkExtensions();
@@ -456,6 +458,7 @@ class Importer {
         if (m_scene.meshes.empty() && m_scene.spheres.empty())
             fail("no geometry: the scene has no triangles and no spheres");
         chooseCamera();
+        readEnvironment();
         m_warnings.print();
         return std::move(m_scene);
     }
@@ -500,6 +503,49 @@ class Importer {
         for (const std::string& name : used)
             if (!SUPPORTED_EXTENSIONS.contains(name))
                 m_warnings.add(fmt::format("extension '{}' is not supported and is ignored", name));
+    }
+
+    // ---- the environment ------------------------------------------------------
+
+    // VKPATH_environment (docs/SCENES.md), on the glTF root: the light from
+    // infinitely far away, so that a scene file carries its sky. Either an
+    // equirectangular map `uri` (relative to the scene's folder, inside it) or
+    // a constant `color`, times `strength`, turned `rotation` degrees about +Y.
+    void readEnvironment() {
+        const auto it = m_model.extensions.find("VKPATH_environment");
+        if (it == m_model.extensions.end()) return;
+        const tinygltf::Value& ext = it->second;
+        const std::string what = "VKPATH_environment";
+        if (!ext.IsObject()) fail("{} is not an object", what);
+        auto number = [&](const char* key, double fallback) {
+            if (!ext.Has(key)) return fallback;
+            const tinygltf::Value& value = ext.Get(key);
+            if (!value.IsNumber() || !std::isfinite(value.GetNumberAsDouble()))
+                fail("{}: '{}' is not a finite number", what, key);
+            return value.GetNumberAsDouble();
+        };
+        Environment env;
+        env.strength = float(number("strength", 1.0));
+        if (!(env.strength >= 0.0f)) fail("{}: strength {} is negative", what, env.strength);
+        env.rotationDegrees = float(number("rotation", 0.0));
+        if (ext.Has("uri") == ext.Has("color")) fail("{} needs exactly one of 'uri' and 'color'", what);
+        if (ext.Has("uri")) {
+            const tinygltf::Value& uri = ext.Get("uri");
+            if (!uri.IsString()) fail("{}: uri is not a string", what);
+            const std::string problem = uriProblem(uri.Get<std::string>(), m_folder);
+            if (!problem.empty()) fail("{}: uri '{}' {}", what, uri.Get<std::string>(), problem);
+            env.map = loadEnvironmentMap(m_folder / decodeUri(uri.Get<std::string>()));
+        } else {
+            const tinygltf::Value& color = ext.Get("color");
+            if (!color.IsArray() || color.ArrayLen() != 3) fail("{}: color is not an array of 3 numbers", what);
+            for (int c = 0; c < 3; ++c) {
+                const tinygltf::Value& v = color.Get(c);
+                if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || v.GetNumberAsDouble() < 0.0)
+                    fail("{}: color is not 3 finite numbers >= 0", what);
+                env.color[c] = float(v.GetNumberAsDouble());
+            }
+        }
+        m_scene.environment = std::move(env);
     }
 
     // ---- materials -----------------------------------------------------------
@@ -1175,6 +1221,7 @@ class Importer {
     }
 
     std::string m_file;
+    fs::path m_folder;  // the scene file's folder: external files must stay inside it
     const tinygltf::Model& m_model;
     const LoadOptions& m_options;
     Warnings m_warnings;
@@ -1247,7 +1294,7 @@ Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options) {
             fmt::format("{}: {}", file, err.empty() ? "tinygltf cannot load it" : oneLine(err)));
 
     // Phase 4.
-    return Importer(file, model, options).run();
+    return Importer(file, folder, model, options).run();
 }
 
 }  // namespace vkpath::scene

@@ -4,12 +4,19 @@
 
 namespace vkpath::wavefront {
 
+std::optional<SamplerKind> parseSampler(const std::string& name) {
+    if (name == "independent") return SamplerKind::Independent;
+    if (name == "sobol") return SamplerKind::Sobol;
+    return std::nullopt;
+}
+
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings) {
     shared::SceneInfo info = tables.info;
     info.lightSamples = tables.lights.empty() ? 0 : settings.lightSamples;
     info.maxDepth = settings.maxDepth;
     info.rouletteDepth = settings.rouletteDepth;
     info.seed = settings.seed;
+    info.samplerKind = uint32_t(settings.sampler);
     info.width = settings.width;
     info.height = settings.height;
     info.clampRadiance = settings.clampRadiance;

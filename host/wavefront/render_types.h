@@ -10,10 +10,19 @@
 #include <string>
 
 #include "image/image.h"
+#include "shared/rng.h"
 #include "shared/scene_data.h"
 #include "wavefront/gpu_scene.h"
 
 namespace vkpath::wavefront {
+
+// Where a path's random numbers come from (shared/rng.h): independent hashes,
+// or Owen-scrambled Sobol' points stratified per pair of dimensions.
+enum class SamplerKind : uint32_t { Independent = VKP_SAMPLER_INDEPENDENT, Sobol = VKP_SAMPLER_SOBOL };
+
+// The sampler named "independent" or "sobol" (--sampler, --sweep sampler=);
+// nullopt for any other name.
+std::optional<SamplerKind> parseSampler(const std::string& name);
 
 struct RenderSettings {
     uint32_t width = 640;
@@ -23,6 +32,7 @@ struct RenderSettings {
     uint32_t lightSamples = 1;      // light samples per diffuse vertex (-l)
     uint32_t rouletteDepth = 4;     // Russian roulette from this bounce on
     uint32_t seed = 0;
+    SamplerKind sampler = SamplerKind::Independent;
     // > 0: clamp each path sample's largest component to this. Biased (it
     // removes energy), off by default; fireflies are counted either way.
     float clampRadiance = 0;
@@ -70,7 +80,7 @@ struct RenderResult {
 };
 
 // The scene tables' SceneInfo with the render's settings filled in (samples,
-// depth, seed, film size); lightSamples is 0 when the scene has no light to
+// depth, seed, sampler, film size); lightSamples is 0 when the scene has no light to
 // sample, so emission then counts fully.
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings);
 

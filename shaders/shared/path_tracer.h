@@ -31,7 +31,10 @@
 
 // Random dimensions: after the pixel jitter, each bounce uses
 // VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * lightSamples numbers.
-#define VKP_DIMS_PER_BOUNCE_BASE 3u  // BSDF direction (2), Russian roulette (1)
+// Every 2-D quantity starts at an even dimension, the pairs that the Sobol'
+// sampler stratifies together (shared/rng.h); roulette's single number is
+// padded to a pair for that.
+#define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), padding (1)
 #define VKP_DIMS_PER_LIGHT_SAMPLE 6u  // light choice (2 words), environment texel (2 words), position (2)
 
 VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {

@@ -6,10 +6,27 @@
 // (pixel, sampleIndex, dimension, seed) with pcg4d, the 4-D PCG-style hash of
 // Jarzynski and Olano, "Hash Functions for GPU Rendering", JCGT 9(3), 2020,
 // which passes TestU01's BigCrush on its output.
+//
+// Two samplers draw from the same counters (RngKey::samplerKind):
+//  - independent: every (pixel, sample, dimension) hashed on its own;
+//  - sobol: dimensions taken in pairs (2d, 2d + 1), each pair an
+//    Owen-scrambled 2-D Sobol' sequence over the pixel's sample indices
+//    (shared/sobol.h), shuffled and scrambled by a hash of (pixel, pair,
+//    seed). The first 2^k samples of a pixel then form a (0,k,2)-net in
+//    every pair (one point in each elementary interval of area 2^-k), and
+//    different pairs and pixels are decorrelated by their own shuffles, as
+//    in pbrt-v4's padded Sobol' sampler. Callers draw 2-D quantities from a
+//    pair starting at an even dimension (path_tracer.h pads its layout so)
+//    to get that stratification.
 #ifndef VKPATH_SHARED_RNG_H
 #define VKPATH_SHARED_RNG_H
 
 #include "shared/compat.h"
+#include "shared/sobol.h"
+
+// RngKey::samplerKind and SceneInfo::samplerKind (wavefront::SamplerKind on the host).
+#define VKP_SAMPLER_INDEPENDENT 0u
+#define VKP_SAMPLER_SOBOL 1u
 
 VKP_NAMESPACE_BEGIN
 
@@ -34,23 +51,38 @@ VKP_FN float uintToUnitFloat(uint bits) {
 }
 
 // Where a random number comes from: pixel index (y * width + x), sample index
-// within the pixel, and the render's seed. `dimension` counts the numbers one
-// path consumes, in a fixed order (see the dimension constants of each stage).
+// within the pixel, the render's seed and the sampler. `dimension` counts the
+// numbers one path consumes, in a fixed order (see the dimension constants of
+// each stage).
 struct RngKey {
     uint pixel;
     uint sampleIndex;
     uint seed;
+    uint samplerKind;  // VKP_SAMPLER_* (GLSL reserves `sampler`)
 };
 
-VKP_FN RngKey makeRngKey(uint pixel, uint sampleIndex, uint seed) {
+VKP_FN RngKey makeRngKey(uint pixel, uint sampleIndex, uint seed, uint samplerKind) {
     RngKey key;
     key.pixel = pixel;
     key.sampleIndex = sampleIndex;
     key.seed = seed;
+    key.samplerKind = samplerKind;
     return key;
 }
 
+// The independent sampler's key, for code that needs no stratification.
+VKP_FN RngKey makeRngKey(uint pixel, uint sampleIndex, uint seed) {
+    return makeRngKey(pixel, sampleIndex, seed, VKP_SAMPLER_INDEPENDENT);
+}
+
 VKP_FN uint rngBits(RngKey key, uint dimension) {
+    if (key.samplerKind == VKP_SAMPLER_SOBOL) {
+        // One hash per (pixel, pair, seed) seeds the pair's index shuffle
+        // and its two coordinates' scrambles.
+        uvec4 h = pcg4d(uvec4(key.pixel, dimension >> 1u, key.seed, 0u));
+        uint component = dimension & 1u;
+        return scrambledSobol2(key.sampleIndex, component, h.x, component == 0u ? h.y : h.z);
+    }
     return pcg4d(uvec4(key.pixel, key.sampleIndex, dimension, key.seed)).x;
 }
 

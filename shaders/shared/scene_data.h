@@ -25,12 +25,13 @@ struct SceneInfo {
     uint height;
     float clampRadiance;          // > 0: each path sample's largest component is clamped to this (biased)
     float fireflyThreshold;       // samples above this (largest component) are counted as fireflies
+    uint samplerKind;             // VKP_SAMPLER_* (shared/rng.h): where the random numbers come from
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 76);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 80);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -33,7 +33,7 @@ void main() {
     uint pixel = path % pixels;
     uint sampleIndex = path / pixels;
     uvec2 xy = uvec2(pixel % camera.width, pixel / camera.width);
-    RngKey key = makeRngKey(pixel, sampleIndex, info.seed);
+    RngKey key = makeRngKey(pixel, sampleIndex, info.seed, info.samplerKind);
     rays[slot] = generateCameraRay(camera, xy, rngUniform2(key, VKP_DIM_PIXEL_JITTER));
     throughput[slot] = vec3(1.0);
     radiance[slot] = vec3(0.0);

@@ -27,7 +27,7 @@ void main() {
     SceneInfo info = sceneInfo();
     uint path = push.firstPath + slot;
     uint pixels = info.width * info.height;
-    RngKey key = makeRngKey(path % pixels, path / pixels, info.seed);
+    RngKey key = makeRngKey(path % pixels, path / pixels, info.seed, info.samplerKind);
     Ray ray = rays[slot];
     Hit hit = hits[slot];
     PathVertex previous = vertices[slot];

@@ -40,9 +40,11 @@ TEST(Convergence, SweepsNameAKnobAndValuesItAccepts) {
     EXPECT_EQ(s.lightSamples, 4u);
     app::parseSweep("rr-depth=1,8").knob->apply(s, "8");
     EXPECT_EQ(s.rouletteDepth, 8u);
+    app::parseSweep("sampler=independent,sobol").knob->apply(s, "sobol");
+    EXPECT_EQ(s.sampler, wavefront::SamplerKind::Sobol);
 
     for (const char* bad : {"max-depth", "no-such-knob=1", "max-depth=", "max-depth=1,,2", "max-depth=two",
-                            "clamp=0", "clamp=-1", "clamp=inf", "rr-depth=1.5"})
+                            "clamp=0", "clamp=-1", "clamp=inf", "rr-depth=1.5", "sampler=halton"})
         EXPECT_THROW(app::parseSweep(bad), InputError) << bad;
 }
 

@@ -1,5 +1,6 @@
-// Test kernel: writes rngBits(key, dimension) for a grid of counters, so the
-// RNG test can compare GPU bits with the same function on the CPU.
+// Test kernel: writes rngBits(key, dimension) of either sampler for a grid of
+// counters, so the RNG and sampler tests can compare GPU bits with the same
+// function on the CPU.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -14,6 +15,8 @@ layout(push_constant, scalar) uniform Push {
     uint pixels;      // counter layout: i = (sample * dims + dimension) * pixels + pixel
     uint dimensions;
     uint seed;
+    uint samplerKind;  // VKP_SAMPLER_*
+    uint firstSample;  // sample indices start here (wrapping at 2^32)
 };
 
 void main() {
@@ -21,6 +24,6 @@ void main() {
     if (i >= count) return;
     uint pixel = i % pixels;
     uint dimension = (i / pixels) % dimensions;
-    uint sampleIndex = i / (pixels * dimensions);
-    bits[i] = rngBits(makeRngKey(pixel, sampleIndex, seed), dimension);
+    uint sampleIndex = firstSample + i / (pixels * dimensions);
+    bits[i] = rngBits(makeRngKey(pixel, sampleIndex, seed, samplerKind), dimension);
 }

@@ -16,7 +16,7 @@ namespace {
 using namespace vkpath;
 
 struct RngFillPush {
-    uint32_t count, pixels, dimensions, seed;
+    uint32_t count, pixels, dimensions, seed, sampler, firstSample;
 };
 
 constexpr uint32_t PIXELS = 1000, DIMENSIONS = 10, SAMPLES = 100;  // 10^6 values
@@ -26,7 +26,7 @@ std::vector<uint32_t> gpuBits(uint32_t seed) {
     vk::Context& context = test::context();
     vk::Buffer bits(context, COUNT * sizeof(uint32_t));
     vk::Kernel kernel(context, "rng_fill");
-    kernel.dispatch(COUNT, {{0, &bits}}, RngFillPush{COUNT, PIXELS, DIMENSIONS, seed});
+    kernel.dispatch(COUNT, {{0, &bits}}, RngFillPush{COUNT, PIXELS, DIMENSIONS, seed, VKP_SAMPLER_INDEPENDENT, 0});
     return bits.download<uint32_t>();
 }
 

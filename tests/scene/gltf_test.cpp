@@ -19,6 +19,7 @@
 #pragma GCC diagnostic pop
 
 #include "support/temp_dir.h"
+#include "image/image.h"
 #include "input_error.h"
 #include "scene/camera.h"
 #include "scene/gltf_loader.h"
@@ -336,6 +337,26 @@ TEST(GltfAssets, DiffuseCornellBoxHasOnlyDiffuseMaterials) {
     EXPECT_EQ(loaded.scene.spheres.size(), 2u);
 }
 
+// The environment-lit scene: three spheres on a ground, and the bundled sky
+// named by VKPATH_environment.
+TEST(GltfAssets, SkySpheresIsLitByTheBundledSky) {
+    const Loaded loaded = load(test::sourcePath("assets/sky_spheres.gltf"));
+    EXPECT_EQ(loaded.warnings, "");
+    const scene::Scene& s = loaded.scene;
+    EXPECT_EQ(s.triangleCount(), 2u);
+    ASSERT_EQ(s.spheres.size(), 3u);
+    const scene::FeatureSummary f = s.features();
+    EXPECT_TRUE(f.diffuse && f.mirror && f.glass && f.environment);
+    EXPECT_FALSE(f.emissiveSurfaces);
+    ASSERT_TRUE(s.environment && s.environment->map);
+    EXPECT_EQ(s.environment->map->width, 2048u);
+    EXPECT_EQ(s.environment->map->height, 1024u);
+    EXPECT_FLOAT_EQ(s.environment->strength, 1.0f);
+    // The camera looks at the middle sphere's centre.
+    expectVec3Near(glm::normalize(s.camera.target - s.camera.position),
+                   glm::normalize(glm::vec3(0, 0.5f, 0) - s.camera.position), 1e-5f);
+}
+
 TEST(GltfAssets, LoadSceneDispatchesGltf) {
     testing::internal::CaptureStderr();
     const scene::Scene s = scene::loadScene(test::sourcePath("assets/cornell_box.gltf"));
@@ -351,7 +372,7 @@ TEST(GltfAssets, GeneratorReproducesCommittedAssets) {
     const std::string command = "python3 '" + test::sourcePath("tools/make-assets").string() +
                                 "' --out '" + dir.path().string() + "'";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    for (const char* name : {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr"}) {
+    for (const char* name : {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr", "sky_spheres.gltf"}) {
         SCOPED_TRACE(name);
         const auto generated = readBytes(dir / name);
         const auto committed = readBytes(test::sourcePath(std::string("assets/") + name));
@@ -892,6 +913,69 @@ TEST(GltfSpheres, NonUniformScaleWarnsAndBadRadiusFails) {
     GltfBuilder badMaterial;
     badMaterial.node({{"extensions", {{"VKPATH_sphere", {{"radius", 1}, {"material", 3}}}}}});
     EXPECT_CONTAINS(loadError(badMaterial.writeGltf(dir / "material.gltf")), "material");
+}
+
+// ---------------------------------------------------------------------------
+// VKPATH_environment: the scene's sky
+// ---------------------------------------------------------------------------
+
+TEST(GltfEnvironment, ColourStrengthAndRotation) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.doc["extensionsUsed"] = {"VKPATH_environment"};
+    g.doc["extensions"] = {{"VKPATH_environment", {{"color", {0.5, 1, 2}}, {"strength", 3}, {"rotation", 30}}}};
+    const Loaded loaded = load(g.writeGltf(dir / "sky.gltf"));
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "VKPATH_environment"), 0u);
+    ASSERT_TRUE(loaded.scene.environment);
+    const scene::Environment& env = *loaded.scene.environment;
+    EXPECT_FALSE(env.map);
+    expectVec3Near(env.color, {0.5f, 1, 2}, 0);
+    EXPECT_FLOAT_EQ(env.strength, 3.0f);
+    EXPECT_FLOAT_EQ(env.rotationDegrees, 30.0f);
+    EXPECT_TRUE(loaded.scene.features().environment);
+}
+
+TEST(GltfEnvironment, MapBesideTheScene) {
+    TempDir dir;
+    fs::create_directories(dir / "scene" / "maps");
+    image::Image map(4, 2);
+    for (size_t i = 0; i < map.pixels.size(); ++i) map.pixels[i] = glm::vec3(float(i));
+    image::writeExr(dir / "scene" / "maps" / "sky map.exr", map, {});
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.doc["extensions"] = {{"VKPATH_environment", {{"uri", "maps/sky%20map.exr"}}}};
+    const Loaded loaded = load(g.writeGltf(dir / "scene" / "sky.gltf"));
+    ASSERT_TRUE(loaded.scene.environment && loaded.scene.environment->map);
+    EXPECT_EQ(loaded.scene.environment->map->pixels, map.pixels);
+    EXPECT_FLOAT_EQ(loaded.scene.environment->strength, 1.0f);
+    EXPECT_FLOAT_EQ(loaded.scene.environment->rotationDegrees, 0.0f);
+}
+
+TEST(GltfEnvironment, BadEnvironmentsAreOneLineErrors) {
+    TempDir dir;
+    fs::create_directories(dir / "scene");
+    image::writeExr(dir / "outside.exr", image::Image(2, 1), {});
+    const std::vector<std::pair<Json, std::string>> cases = {
+        {Json::object(), "exactly one of 'uri' and 'color'"},
+        {{{"uri", "a.exr"}, {"color", {1, 1, 1}}}, "exactly one of 'uri' and 'color'"},
+        {{{"uri", "../outside.exr"}}, "leaves the scene's folder"},
+        {{{"uri", "missing.exr"}}, "does not exist"},
+        {{{"uri", 7}}, "uri is not a string"},
+        {{{"color", {1, 1}}}, "color"},
+        {{{"color", {1, -1, 1}}}, "color"},
+        {{{"color", {1, 1, 1}}, {"strength", -1}}, "strength"},
+        {{{"color", {1, 1, 1}}, {"rotation", "north"}}, "rotation"},
+    };
+    for (const auto& [extension, problem] : cases) {
+        SCOPED_TRACE(extension.dump());
+        GltfBuilder g;
+        g.node({{"mesh", g.triangle()}});
+        g.doc["extensions"] = {{"VKPATH_environment", extension}};
+        const std::string message = loadError(g.writeGltf(dir / "scene" / "bad.gltf"));
+        EXPECT_CONTAINS(message, "VKPATH_environment");
+        EXPECT_CONTAINS(message, problem);
+    }
 }
 
 // ---------------------------------------------------------------------------

@@ -1,0 +1,52 @@
+// The render flags' effect on the loaded scene: the command line replaces
+// what the scene file says only where a flag is given.
+#include <gtest/gtest.h>
+
+#include "app/render_options.h"
+#include "input_error.h"
+#include "support/test_context.h"
+
+namespace {
+
+using namespace vkpath;
+
+app::RenderOptions skySpheres() {
+    app::RenderOptions o;
+    o.scene = test::sourcePath("assets/sky_spheres.gltf").string();
+    return o;
+}
+
+TEST(RenderOptions, SceneEnvironmentIsKeptWithoutFlags) {
+    const scene::Scene s = app::loadRenderScene(skySpheres());
+    ASSERT_TRUE(s.environment && s.environment->map);
+    EXPECT_FLOAT_EQ(s.environment->strength, 1.0f);
+    EXPECT_FLOAT_EQ(s.environment->rotationDegrees, 0.0f);
+}
+
+TEST(RenderOptions, FlagsReplaceTheSceneEnvironment) {
+    app::RenderOptions o = skySpheres();
+    o.environmentStrength = 0.25f;
+    o.environmentRotation = 90.0f;
+    scene::Scene s = app::loadRenderScene(o);
+    ASSERT_TRUE(s.environment && s.environment->map);
+    EXPECT_FLOAT_EQ(s.environment->strength, 0.25f);
+    EXPECT_FLOAT_EQ(s.environment->rotationDegrees, 90.0f);
+
+    o.environmentColor = {1, 2, 3};
+    s = app::loadRenderScene(o);
+    ASSERT_TRUE(s.environment);
+    EXPECT_FALSE(s.environment->map);
+    EXPECT_EQ(s.environment->color, glm::vec3(1, 2, 3));
+    EXPECT_FLOAT_EQ(s.environment->strength, 0.25f);
+}
+
+TEST(RenderOptions, BadEnvironmentFlagsAreInputErrors) {
+    app::RenderOptions o = skySpheres();
+    o.environmentStrength = -1.0f;
+    EXPECT_THROW(app::loadRenderScene(o), InputError);
+    o.environmentStrength.reset();
+    o.environmentRotation = std::numeric_limits<float>::infinity();
+    EXPECT_THROW(app::loadRenderScene(o), InputError);
+}
+
+}  // namespace
