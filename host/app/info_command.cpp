@@ -29,6 +29,7 @@ nlohmann::json deviceJson(const vk::DeviceInfo& d) {
         {"shaderInt64", d.shaderInt64},
         {"scalarBlockLayout", d.scalarBlockLayout},
         {"bufferDeviceAddress", d.bufferDeviceAddress},
+        {"signedZeroInfNanPreserveFloat32", d.signedZeroInfNanPreserveFloat32},
         {"timestamps", d.timestamps},
         {"timestampPeriodNs", d.timestampPeriodNs},
         {"deviceLocalMemory", d.deviceLocalMemory},

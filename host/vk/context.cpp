@@ -67,6 +67,9 @@ std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice device, uint32_t* ti
 
 DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceFloatControlsProperties floatControls{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES};
+    driver.pNext = &floatControls;
     VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     subgroup.pNext = &driver;
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -107,6 +110,7 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     info.shaderInt64 = features.features.shaderInt64;
     info.scalarBlockLayout = vulkan12 && features12.scalarBlockLayout;
     info.bufferDeviceAddress = vulkan12 && features12.bufferDeviceAddress;
+    info.signedZeroInfNanPreserveFloat32 = vulkan12 && floatControls.shaderSignedZeroInfNanPreserveFloat32;
     uint32_t timestampBits = 0;
     computeQueueFamily(device, &timestampBits);
     info.timestamps = timestampBits > 0;
@@ -122,6 +126,9 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
 std::string unsuitableReason(const DeviceInfo& info) {
     if (info.apiVersion < VK_API_VERSION_1_2) return "Vulkan 1.2 is required";
     if (!info.scalarBlockLayout) return "scalarBlockLayout is required";
+    // Without it a compiler may assume no NaN or infinity exists and fold away
+    // the kernels' non-finite checks.
+    if (!info.signedZeroInfNanPreserveFloat32) return "shaderSignedZeroInfNanPreserveFloat32 is required";
     return {};
 }
 
@@ -200,7 +207,8 @@ uint32_t preferredDeviceIndex(const std::vector<DeviceInfo>& devices) {
         if (!unsuitableReason(d).empty()) continue;
         if (!best || deviceTypeRank(d.type) > deviceTypeRank(devices[*best].type)) best = d.index;
     }
-    if (!best) throw std::runtime_error("no Vulkan 1.2 device with scalarBlockLayout was found");
+    if (!best) throw std::runtime_error(
+            "no Vulkan 1.2 device with scalarBlockLayout and shaderSignedZeroInfNanPreserveFloat32 was found");
     return *best;
 }
 

@@ -53,6 +53,9 @@ struct DeviceInfo {
     bool shaderInt64 = false;
     bool scalarBlockLayout = false;
     bool bufferDeviceAddress = false;
+    // The kernels declare the SignedZeroInfNanPreserve execution mode for
+    // 32-bit floats (shaders/stages/lib/float_controls.glsl): the device must honour it.
+    bool signedZeroInfNanPreserveFloat32 = false;
     bool timestamps = false;       // the compute queue has timestampValidBits > 0
     float timestampPeriodNs = 0;   // nanoseconds per timestamp tick
     uint64_t deviceLocalMemory = 0;  // bytes, largest device-local heap

@@ -12,6 +12,8 @@ namespace {
 // Opcodes and enumerants from the SPIR-V specification (unified, 1.6).
 enum Op : uint32_t {
     OpName = 5,
+    OpExecutionMode = 16,
+    OpCapability = 17,
     OpMemberName = 6,
     OpTypeInt = 21,
     OpTypeFloat = 22,
@@ -61,6 +63,7 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
         uint32_t id, pointerType, storage;
     };
     std::vector<Variable> variables;
+    SpirvReflection result;
 
     for (size_t i = 5; i < words.size();) {
         const uint32_t count = words[i] >> 16;
@@ -70,6 +73,12 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
         switch (op) {
             case OpName:
                 names[in[0]] = literalString(in.subspan(1));
+                break;
+            case OpCapability:
+                result.capabilities.push_back(in[0]);
+                break;
+            case OpExecutionMode:
+                result.executionModes.push_back({in[1], std::vector<uint32_t>(in.begin() + 2, in.end())});
                 break;
             case OpTypeInt:
             case OpTypeFloat:
@@ -124,7 +133,6 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
         }
     };
 
-    SpirvReflection result;
     for (const Variable& v : variables) {
         if (v.storage == PushConstant) {
             const uint32_t pointee = types.at(v.pointerType).operands[1];

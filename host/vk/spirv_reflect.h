@@ -1,7 +1,9 @@
 // Just enough SPIR-V reflection for vkpath: the descriptor bindings and the
 // push-constant size a kernel declares (so the harness builds its layouts
 // without a hand-written table), and the member offsets and array strides of
-// named structs (so tests can check the GLSL layout against C++ sizeof).
+// named structs (so tests can check the GLSL layout against C++ sizeof), and
+// the capabilities and execution modes it declares (so tests can check that a
+// float-controls mode survived compilation).
 #pragma once
 
 #include <cstdint>
@@ -24,10 +26,17 @@ struct SpirvStructLayout {
     std::optional<uint32_t> arrayStride;  // stride of a runtime array of this struct, if any
 };
 
+struct SpirvExecutionMode {
+    uint32_t mode = 0;               // SPIR-V ExecutionMode enumerant, e.g. 4461 SignedZeroInfNanPreserve
+    std::vector<uint32_t> operands;  // its literals, e.g. the float width
+};
+
 struct SpirvReflection {
     std::vector<SpirvBinding> bindings;          // sorted by (set, binding)
     uint32_t pushConstantSize = 0;               // bytes; 0 if there is no push-constant block
     std::map<std::string, SpirvStructLayout> structs;  // by the struct's GLSL name
+    std::vector<uint32_t> capabilities;                // OpCapability operands, in module order
+    std::vector<SpirvExecutionMode> executionModes;    // OpExecutionMode of the entry point(s)
 };
 
 // Throws std::runtime_error on a malformed module.

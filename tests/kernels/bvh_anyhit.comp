@@ -3,6 +3,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
+#include "stages/lib/float_controls.glsl"  // as in the intersect stage
 
 #include "shared/bindings.h"
 #include "shared/bvh.h"

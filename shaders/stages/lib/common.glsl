@@ -1,6 +1,7 @@
 // Declarations every stage kernel starts with (after #version and the
 // include and scalar-layout extensions).
 
+#include "stages/lib/float_controls.glsl"
 #include "shared/bindings.h"
 #include "shared/wavefront.h"
 
