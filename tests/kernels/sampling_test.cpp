@@ -6,11 +6,13 @@
 
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include "kernels/sampling_routines.h"
 #include "shared/bsdf.h"
 #include "shared/sampling.h"
 #include "support/direction_chi2.h"
+#include "support/test_scale.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
@@ -217,18 +219,22 @@ struct DielectricCase {
 
 // The reflect/refract choice follows Fresnel (binomial z-test), reflection is
 // the mirror direction, refraction obeys Snell's law, and refracted radiance
-// is scaled by 1/eta^2, for indices 1.0, 1.33, 1.5, 2.4, from both sides and
-// past the critical angle.
+// is scaled by 1/eta^2, for indices 1.0, 1.33, 1.5, 2.4 and 10, from both
+// sides and past the critical angle. 2 x 10^5 samples per case in CI (the
+// z-test's power: a reflection probability off by 0.01 moves z by 4.5 at
+// F = 0.5), 10^6 under `make test-long`.
 TEST(Dielectric, ChoiceDirectionsAndWeights) {
-    const DielectricCase cases[] = {{1.0f, 0.7f},  {1.33f, 0.9f}, {1.33f, -0.9f}, {1.5f, 0.2f}, {1.5f, -0.8f},
-                                    {1.5f, -0.5f}, {2.4f, 0.6f},  {2.4f, -0.95f}, {1.5f, 1.0f}};
+    // ior 10 from inside: the critical angle has cosine 0.995, so -0.999 refracts and -0.9 reflects totally.
+    const DielectricCase cases[] = {{1.0f, 0.7f},  {1.33f, 0.9f}, {1.33f, -0.9f}, {1.5f, 0.2f},    {1.5f, -0.8f},
+                                    {1.5f, -0.5f}, {2.4f, 0.6f},  {2.4f, -0.95f}, {1.5f, 1.0f},    {10.0f, 0.5f},
+                                    {10.0f, 1e-3f}, {10.0f, -0.999f}, {10.0f, -0.9f}};
     const glm::vec3 n = glm::normalize(glm::vec3(0.2f, 0.9f, -0.3f));
     const shared::Frame frame = shared::makeFrame(n);
     const double zCritical = 4.0;  // two-sided; p ~ 6e-5 per case, well under ALPHA / cases
     for (const DielectricCase& c : cases) {
         SCOPED_TRACE(testing::Message() << "ior " << c.ior << " cos " << c.cosThetaO);
         SamplingPush p = pushFor(ROUTINE_DIELECTRIC, 5);
-        p.count = 200000;
+        p.count = test::ciOrLong(200000u, 1000000u);
         p.scalar = c.ior;
         p.a = n;
         const float sinO = std::sqrt(1 - c.cosThetaO * c.cosThetaO);
@@ -251,7 +257,7 @@ TEST(Dielectric, ChoiceDirectionsAndWeights) {
                 const float sinT = std::sqrt(std::max(0.0f, 1 - cosI * cosI));
                 ASSERT_NEAR(sinT, sinO / eta, 2e-5f);
                 ASSERT_NEAR(r.pdf, 1 - fresnel, 1e-6f);
-                ASSERT_NEAR(r.weight.x, 1 / (eta * eta), 1e-6f);
+                ASSERT_NEAR(r.weight.x, 1 / (eta * eta), 1e-6f / (eta * eta));
             }
         }
         const double n0 = double(results.size());
@@ -274,6 +280,136 @@ TEST(Mirror, ReflectsOnTheSideOfWo) {
         EXPECT_NEAR(r.direction.z, -0.8f, 1e-6f);
         EXPECT_EQ(r.flags, 3u);
     }
+}
+
+// Index exactly 1 is no interface: Fresnel gives exactly 0, so every sample
+// refracts with probability 1 and weight exactly 1, and the direction goes on
+// unchanged: -wo up to the rounding of Snell's formula, whose cos_t =
+// sqrt(1 - sin^2) turns an ulp of 1 - cos^2 into ~ulp / (2 cos): bound 4 ulps
+// of 1 (4.8e-7) / |cos theta_o| (measured 3.4e-6 at cos 1e-3).
+TEST(Dielectric, IndexOneLeavesDirectionAndWeightUnchanged) {
+    const glm::vec3 n = glm::normalize(glm::vec3(-0.5f, 0.3f, 0.8f));
+    const shared::Frame frame = shared::makeFrame(n);
+    for (float cosO : {1.0f, 0.7f, 1e-3f, -0.4f, -0.999f}) {
+        SCOPED_TRACE(cosO);
+        SamplingPush p = pushFor(ROUTINE_DIELECTRIC, 9);
+        p.count = 10000;
+        p.scalar = 1.0f;
+        p.a = n;
+        p.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
+        for (const auto& r : runRoutine(p)) {
+            ASSERT_EQ(r.flags, 3u);
+            ASSERT_EQ(r.pdf, 1.0f);
+            ASSERT_EQ(r.weight, glm::vec3(1.0f));
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(r.direction[k], -p.b[k], 4.8e-7f / std::abs(cosO));
+        }
+    }
+}
+
+// ---- energy and reciprocity of every BSDF ----------------------------------------
+
+// White furnace: with white parameters each BSDF reflects (and transmits)
+// exactly the energy it receives, never more. The sampled weight is the
+// estimator of the albedo, so every sample's weight must be at most 1
+// (exactly 1 here): the Lambertian's and the mirror's, and the dielectric's
+// once its refraction weight is taken back from radiance to flux (times
+// eta^2, PBR 4th ed. section 9.5.2). Independently of sampling, the
+// Lambertian's evaluation (what light sampling uses) integrates to its albedo
+// over the sphere (to 1e-3, the grid's integration error being ~1e-5), and
+// eval / pdf equals the sampled weight (MIS needs the two to agree).
+TEST(Bsdf, WhiteFurnaceAlbedoAtMostOne) {
+    const glm::vec3 n = glm::normalize(glm::vec3(0.1f, -0.7f, 0.4f));
+    const glm::vec3 wo = glm::normalize(glm::vec3(0.6f, -0.5f, -0.2f));
+    SamplingPush p = pushFor(ROUTINE_LAMBERTIAN, 11);
+    p.count = 100000;
+    p.a = n;
+    p.b = wo;
+    for (const auto& r : runRoutine(p)) {
+        ASSERT_EQ(r.weight, glm::vec3(1.0f));
+        const glm::vec3 f = shared::evalLambertian(glm::vec3(1.0f), n, wo, r.direction);
+        ASSERT_NEAR(f.x / shared::lambertianPdf(n, wo, r.direction), 1.0f, 1e-5f);
+    }
+    test::DirectionGrid grid;
+    grid.frame = shared::makeFrame(n);
+    EXPECT_NEAR(test::integrateOverSphere(grid, [&](glm::vec3 d) {
+                    return double(shared::evalLambertian(glm::vec3(1.0f), n, wo, d).x);
+                }),
+                1.0, 1e-3);
+
+    p.routine = ROUTINE_MIRROR;
+    p.count = 64;
+    for (const auto& r : runRoutine(p)) ASSERT_EQ(r.weight, glm::vec3(1.0f));
+
+    for (float ior : {1.0f, 1.33f, 1.5f, 2.4f, 10.0f})
+        for (float cosO : {0.9f, 0.3f, -0.3f, -0.9f}) {
+            SCOPED_TRACE(testing::Message() << "ior " << ior << " cos " << cosO);
+            SamplingPush d = pushFor(ROUTINE_DIELECTRIC, 13);
+            d.count = 10000;
+            d.scalar = ior;
+            d.a = n;
+            const shared::Frame frame = shared::makeFrame(n);
+            d.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
+            const float eta = cosO > 0 ? ior : 1 / ior;
+            for (const auto& r : runRoutine(d)) {
+                const bool refracted = glm::dot(r.direction, n) * cosO < 0;
+                const float flux = r.weight.x * (refracted ? eta * eta : 1.0f);
+                ASSERT_LE(flux, 1.0f + 1e-6f);
+                ASSERT_GE(flux, 1.0f - 1e-6f);
+            }
+        }
+}
+
+// Reciprocity. Lambertian: f(wo, wi) = f(wi, wo) (evaluation divided by the
+// cosine it includes), to float rounding. Dielectric (delta): the light path
+// reversed retraces itself: refracting the refracted direction gives back wo,
+// with the same probability (Fresnel is the same from both sides of a
+// refraction, Stokes' relations) and reciprocal radiance weights (1/eta^2 one
+// way, eta^2 the other: product 1 to 1e-5), the generalised reciprocity
+// f(wo, wi) / eta_i^2 = f(wi, wo) / eta_o^2 of PBR 4th ed., 9.5.2. Going back
+// multiplies sin theta by the index, so a float rounding of the first
+// direction comes back ior / cos theta_o times larger: direction and
+// probability to 4e-6 x ior / |cos theta_o| (measured 9.6e-5 and 1.8e-5 at
+// ior 10, cos 0.1, where the bound is 4e-4).
+TEST(Bsdf, Reciprocity) {
+    std::mt19937 rng(17);
+    std::normal_distribution<float> gauss;
+    auto randomDirection = [&] { return glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng))); };
+    for (int i = 0; i < 10000; ++i) {
+        const glm::vec3 n = randomDirection(), a = randomDirection(), b = randomDirection();
+        const float ca = std::abs(glm::dot(n, a)), cb = std::abs(glm::dot(n, b));
+        if (ca < 1e-3f || cb < 1e-3f) continue;
+        const float fab = shared::evalLambertian(glm::vec3(0.8f), n, a, b).x / cb;
+        const float fba = shared::evalLambertian(glm::vec3(0.8f), n, b, a).x / ca;
+        ASSERT_NEAR(fab, fba, 1e-6f);
+    }
+
+    const glm::vec3 n = glm::normalize(glm::vec3(0.3f, 0.2f, -0.9f));
+    const shared::Frame frame = shared::makeFrame(n);
+    for (float ior : {1.33f, 1.5f, 2.4f, 10.0f})
+        for (float cosO : {0.95f, 0.5f, 0.1f, -0.999f, -0.97f}) {
+            const float eta = cosO > 0 ? ior : 1 / ior;
+            if ((1 - cosO * cosO) / (eta * eta) >= 1) continue;  // total internal reflection: nothing to reverse
+            SCOPED_TRACE(testing::Message() << "ior " << ior << " cos " << cosO);
+            SamplingPush there = pushFor(ROUTINE_DIELECTRIC, 19);
+            there.count = 256;
+            there.scalar = ior;
+            there.a = n;
+            there.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
+            SamplingResult forward{};
+            for (const auto& r : runRoutine(there))
+                if (glm::dot(r.direction, n) * cosO < 0) forward = r;
+            ASSERT_NE(forward.pdf, 0.0f) << "no refraction among 256 samples";
+            SamplingPush back = there;
+            back.b = forward.direction;
+            SamplingResult backward{};
+            for (const auto& r : runRoutine(back))
+                if (glm::dot(r.direction, n) * glm::dot(back.b, n) < 0) backward = r;
+            ASSERT_NE(backward.pdf, 0.0f);
+            const float tolerance = 4e-6f * ior / std::abs(cosO);
+            for (int k = 0; k < 3; ++k) EXPECT_NEAR(backward.direction[k], there.b[k], tolerance);
+            EXPECT_NEAR(backward.pdf, forward.pdf, tolerance);
+            EXPECT_NEAR(forward.weight.x * backward.weight.x, 1.0f, 1e-5f);
+        }
 }
 
 }  // namespace
