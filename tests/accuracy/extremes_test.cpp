@@ -10,6 +10,8 @@
 
 #include <cmath>
 
+#include "scene/environment.h"
+#include "scene/environment_table.h"
 #include "scene/load.h"
 #include "image/statistics.h"
 #include "support/test_context.h"
@@ -122,6 +124,46 @@ TEST(NonFinite, DegenerateGeometryAndHugeEmissionStayFinite) {
     EXPECT_GT(r.nonFiniteSamples, 0u);
 }
 
+// Lights whose pdf is 0 from where they are sampled: two emissive quads in
+// the floor's plane, just outside the box's side walls, facing down. The
+// light sampler picks each as often as the lamp (same power), and from the
+// floor they are seen exactly edge-on (cosine 0: pdf 0, or within rounding
+// of it), from everything above at their back. They light nothing, so the
+// image must equal the plain box's (block z-test), and the pdf-0 samples must
+// be rejected where they arise, in the light-sampling code: not one may reach
+// the film as a NaN (0 / 0) to be dropped there, so the non-finite count is 0.
+TEST(NonFinite, LightsWithPdfZeroAreRejectedBeforeTheFilm) {
+    const scene::Scene box = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    scene::Scene s = box;
+    double lampPower = 0;
+    for (const auto& mesh : box.meshes)
+        if (box.materials[mesh.material].emissive())
+            for (const auto& t : mesh.triangles)
+                lampPower += 0.5 * glm::length(glm::cross(glm::dvec3(mesh.positions[t.y] - mesh.positions[t.x]),
+                                                          glm::dvec3(mesh.positions[t.z] - mesh.positions[t.x]))) *
+                             scene::luminance(box.materials[mesh.material].emission);
+    ASSERT_GT(lampPower, 0);
+    scene::Material edgeOn;
+    edgeOn.name = "edge-on lamp";
+    const float side = 0.2f, depth = 0.5f;  // each quad 0.2 x 0.5 m
+    edgeOn.emission = glm::vec3(float(lampPower / (side * depth)));
+    s.materials.push_back(edgeOn);
+    for (float x0 : {0.3f, -0.3f - side}) {
+        scene::Mesh quad;  // y = 0, the floor's plane; wound so the normal is -y
+        quad.positions = {{x0, 0, -0.05f}, {x0 + side, 0, -0.05f}, {x0 + side, 0, -0.05f - depth}, {x0, 0, -0.05f - depth}};
+        quad.triangles = {{0, 2, 1}, {0, 3, 2}};
+        quad.material = uint32_t(s.materials.size() - 1);
+        const glm::vec3 n = glm::cross(quad.positions[2] - quad.positions[0], quad.positions[1] - quad.positions[0]);
+        ASSERT_LT(n.y, 0.0f);
+        s.meshes.push_back(quad);
+    }
+    const auto withEdgeOn = render(s, 16, 6, 1);
+    const auto plain = render(box, 16, 6, 2);
+    for (const glm::vec3& p : withEdgeOn.image.pixels)
+        for (int i = 0; i < 3; ++i) ASSERT_TRUE(std::isfinite(p[i]));
+    expectSameImage(withEdgeOn, plain);
+}
+
 }  // namespace
 
 namespace {
@@ -151,6 +193,67 @@ TEST(Brightness, FirefliesAreCountedAndClampedOnlyOnRequest) {
             sumFree += unclamped.image.pixels[i][k];
         }
     EXPECT_LT(sumClamped, sumFree);
+}
+
+// The 1e5 sun over a dim room: radiance from 1e-6 to 1e6 in one scene. The
+// bundled sky (assets/sky.hdr: a 0.5 degree sun at ~1e5 times the sky) at
+// strength 10 shines through the Cornell box, its ceiling removed, onto walls
+// lit otherwise only by the lamp turned down to ~1e-6. Criteria: every pixel
+// finite and no sample dropped as non-finite; every texel of the sky with
+// radiance keeps a nonzero sampling probability (the proportionality itself
+// is EnvironmentSampling.SkyWithSunAtExtremeRatios); fireflies (a sample
+// adding more than 1 to its pixel) are counted and reported, and left in the
+// image: without --clamp some pixel stays above the clamp value; with it none
+// does. The clamp is the only thing that limits them (biased, so opt-in).
+TEST(Brightness, SunOverADimRoom) {
+    scene::Scene s = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    float top = 0;
+    for (const auto& mesh : s.meshes)
+        for (const glm::vec3& p : mesh.positions) top = std::max(top, p.y);
+    size_t removed = 0;
+    for (auto& mesh : s.meshes) {
+        std::erase_if(mesh.triangles, [&](const glm::uvec3& t) {
+            const bool ceiling = mesh.positions[t.x].y == top && mesh.positions[t.y].y == top && mesh.positions[t.z].y == top;
+            removed += ceiling;
+            return ceiling;
+        });
+    }
+    ASSERT_GT(removed, 0u) << "no ceiling found";
+    for (auto& m : s.materials) m.emission *= 1e-6f / 17.0f;  // the lamp: 17 W/(m^2 sr) -> 1e-6
+    scene::Environment sky;
+    sky.map = scene::loadEnvironmentMap(test::sourcePath("assets/sky.hdr"));
+    sky.strength = 10.0f;
+    s.environment = sky;
+    const auto table = scene::buildEnvironmentTable(*sky.map);
+    float brightest = 0;
+    for (size_t i = 0; i < sky.map->pixels.size(); ++i) {
+        brightest = std::max(brightest, float(scene::luminance(sky.map->pixels[i])));
+        if (scene::luminance(sky.map->pixels[i]) > 0) ASSERT_GT(table.entries[i].probability, 0.0f) << i;
+    }
+    EXPECT_GT(brightest * sky.strength, 1e5f) << "the sun should be ~1e6 at strength 10";
+
+    wavefront::RenderSettings settings;
+    settings.width = settings.height = 24;
+    settings.samplesPerPixel = 16;
+    settings.maxDepth = 4;
+    wavefront::WavefrontRenderer free(test::context(), s, settings);
+    const auto unclamped = free.render();
+    EXPECT_EQ(unclamped.nonFiniteSamples, 0u);
+    EXPECT_GT(unclamped.fireflySamples, 0u);
+    float largest = 0;
+    for (const glm::vec3& p : unclamped.image.pixels)
+        for (int k = 0; k < 3; ++k) {
+            ASSERT_TRUE(std::isfinite(p[k]));
+            largest = std::max(largest, p[k]);
+        }
+    constexpr float CLAMP = 4.0f;
+    EXPECT_GT(largest, CLAMP) << "fireflies are not clamped unless asked";
+    settings.clampRadiance = CLAMP;
+    wavefront::WavefrontRenderer clamped(test::context(), s, settings);
+    const auto c = clamped.render();
+    EXPECT_GT(c.fireflySamples, 0u);
+    for (const glm::vec3& p : c.image.pixels)
+        for (int k = 0; k < 3; ++k) ASSERT_LE(p[k], CLAMP * (1 + 1e-6f));
 }
 
 }  // namespace
