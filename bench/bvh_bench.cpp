@@ -46,6 +46,9 @@ using glm::vec3;
 
 constexpr uint32_t FILM = 512;  // coherent rays: one per pixel of a 512 x 512 film
 constexpr float FLT_MAX_VALUE = 3.402823466e+38f;
+// Threads per workgroup of the trace kernels, as the wavefront stages use them
+// (chosen by the trace-wg benchmarks, docs/BENCHMARKS.md).
+constexpr uint32_t DEFAULT_WORKGROUP = 64;
 
 // ---- scenes ---------------------------------------------------------------------
 
@@ -182,7 +185,7 @@ void buildBenchmark(benchmark::State& state, const scene::Scene* s, bvh::BvhOpti
 enum class RayKind { Coherent, Incoherent };
 
 void traceBenchmark(benchmark::State& state, const BenchScene* s, bvh::BvhOptions options, RayKind kind,
-                    bool anyHit) {
+                    bool anyHit, uint32_t workgroupSize, bool byAddress) {
     const bvh::BvhBuild build = bvh::buildBvh(s->scene, options);
     std::vector<shared::Ray> rays = cameraRays(s->camera);
     if (kind == RayKind::Incoherent) rays = bounceRays(build, rays);
@@ -191,20 +194,23 @@ void traceBenchmark(benchmark::State& state, const BenchScene* s, bvh::BvhOption
         return;
     }
     vk::Context& c = context();
-    const bvh::GpuBvh gpu = bvh::uploadBvh(c, build);
+    const bvh::GpuBvh gpu = bvh::uploadBvh(c, build, byAddress);
     vk::Buffer rayBuffer = vk::Buffer::fromSpan(c, std::span(rays));
     vk::Buffer results(c, rays.size() * sizeof(shared::Hit));
-    vk::Kernel kernel(c, anyHit ? "bvh_anyhit" : "bvh_closest");
+    vk::Kernel kernel(c, anyHit ? "bvh_anyhit" : "bvh_closest",
+                      vk::KernelOptions{.workgroupSize = workgroupSize,
+                                        .specialization = {bvh::sceneAccessConstant(byAddress)}});
     const auto count = static_cast<uint32_t>(rays.size());
+    const shared::TracePush push{count, gpu.addresses()};
     double totalMs = 0, cpuSeconds = 0;
     for (auto _ : state) {
         const double cpuBefore = processCpuSeconds();
         const double ms = kernel.dispatch(count,
-                                          {{VKP_TRACE_BINDING_NODES, &gpu.nodes},
-                                           {VKP_TRACE_BINDING_PRIMITIVES, &gpu.primitives},
+                                          {{VKP_TRACE_BINDING_NODES, &gpu.nodeBinding()},
+                                           {VKP_TRACE_BINDING_PRIMITIVES, &gpu.primitiveBinding()},
                                            {VKP_TRACE_BINDING_RAYS, &rayBuffer},
                                            {VKP_TRACE_BINDING_RESULTS, &results}},
-                                          shared::TracePush{count});
+                                          push);
         cpuSeconds += processCpuSeconds() - cpuBefore;
         state.SetIterationTime(ms * 1e-3);
         totalMs += ms;
@@ -260,6 +266,29 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
             benchmark::RegisterBenchmark(cpuName.c_str(), cpuTraceBenchmark, &s, kind)
                 ->Unit(benchmark::kMillisecond)
                 ->Iterations(2);
+            const std::string group = s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent");
+            for (bool anyHit : {false, true}) {
+                const std::string hit = anyHit ? "/anyhit" : "/closest";
+                // Scene arrays bound as storage buffers, or read by address
+                // (the path for scenes beyond maxStorageBufferRange).
+                for (bool byAddress : {false, true}) {
+                    const std::string name = "trace-access/" + group + hit + (byAddress ? "/address" : "/binding");
+                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s, bvh::BvhOptions{}, kind, anyHit,
+                                                 DEFAULT_WORKGROUP, byAddress)
+                        ->Unit(benchmark::kMillisecond)
+                        ->UseManualTime()
+                        ->Iterations(5);
+                }
+                // Workgroup sizes (threads per workgroup of the trace kernels).
+                for (uint32_t workgroup : {32u, 64u, 128u, 256u}) {
+                    const std::string name = "trace-wg/" + group + hit + "/wg:" + std::to_string(workgroup);
+                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s, bvh::BvhOptions{}, kind, anyHit,
+                                                 workgroup, false)
+                        ->Unit(benchmark::kMillisecond)
+                        ->UseManualTime()
+                        ->Iterations(5);
+                }
+            }
             for (bool anyHit : {false, true}) {
                 // Leaf sizes at the default SAH traversal cost (1), then other
                 // traversal costs with room for larger leaves.
@@ -271,7 +300,7 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
                     if (traversalCost != 1.0f) name += "/ct:" + fmt::format("{}", traversalCost);
                     benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s,
                                                  bvh::BvhOptions{.maxLeafSize = leaf, .traversalCost = traversalCost},
-                                                 kind, anyHit)
+                                                 kind, anyHit, DEFAULT_WORKGROUP, false)
                         ->Unit(benchmark::kMillisecond)
                         ->UseManualTime()
                         ->Iterations(3);

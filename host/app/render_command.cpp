@@ -132,6 +132,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     }
     return withContext(global, [&](vk::Context& context) {
         wavefront::WavefrontRenderer renderer(context, scene, settings);
+        std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         double cpuSeconds = 0;
         const auto result = renderWithProgress(renderer, film, cpuSeconds);
         writeOutputs(o, result, context.info().name);

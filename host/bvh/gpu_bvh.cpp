@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <span>
-#include <stdexcept>
 #include <vector>
 
 #include "vk/context.h"
@@ -18,31 +17,37 @@ std::string formatBytes(uint64_t bytes) {
     return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
 }
 
+glm::uvec2 split(VkDeviceAddress address) { return {uint32_t(address), uint32_t(address >> 32)}; }
+
 }  // namespace
 
-void checkStorageBufferRange(const BvhBuild& bvh, uint64_t maxStorageBufferRange) {
-    auto check = [&](const char* what, uint64_t bytes, size_t count) {
-        if (bytes > maxStorageBufferRange)
-            throw std::length_error(fmt::format(
-                "BVH {} buffer would be {} ({} elements), more than the device's maxStorageBufferRange "
-                "of {}; splitting the BVH over several buffers is not implemented",
-                what, formatBytes(bytes), count, formatBytes(maxStorageBufferRange)));
-    };
-    check("node", bvh.nodeBytes(), bvh.nodes.size());
-    check("primitive", bvh.primitiveBytes(), bvh.primitives.size());
+shared::BvhAddresses GpuBvh::addresses() const {
+    if (!byAddress) return {};
+    return {split(nodes.deviceAddress()), split(primitives.deviceAddress())};
+}
+
+std::array<vk::ArrayExtent, 2> arrayExtents(const BvhBuild& bvh) {
+    return {vk::ArrayExtent{"BVH node", bvh.nodeBytes(), bvh.nodes.size()},
+            vk::ArrayExtent{"BVH primitive", bvh.primitiveBytes(), bvh.primitives.size()}};
 }
 
 GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh) {
-    checkStorageBufferRange(bvh, context.info().maxStorageBufferRange);
+    const auto extents = arrayExtents(bvh);
+    return uploadBvh(context, bvh, vk::chooseAddressAccess(extents, vk::bufferLimits(context.info())));
+}
+
+GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
     GpuBvh gpu;
+    gpu.byAddress = byAddress;
     gpu.nodes = vk::Buffer::fromSpan(context, std::span(bvh.nodes), "bvh nodes");
     if (bvh.primitives.empty()) {
-        // A binding needs a buffer; the empty tree never reads it.
+        // A binding (or an address) needs a buffer; the empty tree never reads it.
         const std::vector<shared::BvhPrimitive> placeholder(1, shared::BvhPrimitive{});
         gpu.primitives = vk::Buffer::fromSpan(context, std::span(placeholder), "bvh primitives");
     } else {
         gpu.primitives = vk::Buffer::fromSpan(context, std::span(bvh.primitives), "bvh primitives");
     }
+    if (byAddress) gpu.placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "bvh placeholder");
     return gpu;
 }
 

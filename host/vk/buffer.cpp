@@ -2,8 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
+#include "input_error.h"
 #include "vk/check.h"
 #include "vk/context.h"
 
@@ -17,6 +22,8 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
     create.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     if (kind == MemoryKind::DeviceLocal)
         create.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+    const bool addressable = kind == MemoryKind::DeviceLocal && context.info().bufferDeviceAddress;
+    if (addressable) create.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VkDevice device = context.device();
     VK_CHECK(vkCreateBuffer(device, &create, nullptr, &m_buffer));
@@ -25,6 +32,9 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
         vkGetBufferMemoryRequirements(device, m_buffer, &req);
         VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         alloc.allocationSize = req.size;
+        VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+        flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+        if (addressable) alloc.pNext = &flags;
         if (kind == MemoryKind::DeviceLocal) {
             alloc.memoryTypeIndex =
                 context.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
@@ -54,6 +64,14 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
 }
 
 Buffer::~Buffer() { release(); }
+
+VkDeviceAddress Buffer::deviceAddress() const {
+    if (m_kind != MemoryKind::DeviceLocal || !m_context->info().bufferDeviceAddress)
+        throw std::logic_error("buffer device address: needs a device-local buffer and bufferDeviceAddress");
+    VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    info.buffer = m_buffer;
+    return vkGetBufferDeviceAddress(m_context->device(), &info);
+}
 
 Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
 
@@ -125,6 +143,41 @@ void Buffer::clear() {
     m_context->submit([&](VkCommandBuffer cmd) {
         vkCmdFillBuffer(cmd, m_buffer, 0, VK_WHOLE_SIZE, 0);
     });
+}
+
+namespace {
+
+std::string formatBytes(uint64_t bytes) {
+    if (bytes < 1024) return fmt::format("{} B", bytes);
+    if (bytes < 1024 * 1024) return fmt::format("{:.1f} KiB", bytes / 1024.0);
+    return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
+}
+
+}  // namespace
+
+BufferLimits bufferLimits(const DeviceInfo& device) {
+    BufferLimits limits{device.maxStorageBufferRange, std::min(device.maxBufferSize, device.maxMemoryAllocationSize)};
+    if (const char* text = std::getenv("VKPATH_MAX_BINDING_BYTES"); text && *text) {
+        char* end = nullptr;
+        const unsigned long long value = std::strtoull(text, &end, 10);
+        if (*end != '\0' || value == 0)
+            throw InputError(fmt::format("VKPATH_MAX_BINDING_BYTES: '{}' is not a positive number of bytes", text));
+        limits.binding = std::min<uint64_t>(limits.binding, value);
+    }
+    return limits;
+}
+
+bool chooseAddressAccess(std::span<const ArrayExtent> arrays, const BufferLimits& limits) {
+    bool byAddress = false;
+    for (const ArrayExtent& a : arrays) {
+        if (a.bytes > limits.address)
+            throw InputError(fmt::format(
+                "scene too large for the device: the {} array would be {} ({} elements), more than the {} "
+                "one buffer may hold (maxBufferSize, maxMemoryAllocationSize)",
+                a.name, formatBytes(a.bytes), a.count, formatBytes(limits.address)));
+        byAddress = byAddress || a.bytes > limits.binding;
+    }
+    return byAddress;
 }
 
 void computeBarrier(VkCommandBuffer cmd) {

@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <span>
 #include <vector>
@@ -12,6 +13,7 @@
 namespace vkpath::vk {
 
 class Context;
+struct DeviceInfo;
 
 enum class MemoryKind {
     DeviceLocal,  // where kernels read and write; reached through staging copies
@@ -40,6 +42,10 @@ class Buffer {
     }
 
     VkBuffer handle() const { return m_buffer; }
+    // The buffer's address for GL_EXT_buffer_reference (device-local buffers,
+    // on a device with bufferDeviceAddress). Reads through an address are not
+    // bounded by maxStorageBufferRange, only by the buffer's size.
+    VkDeviceAddress deviceAddress() const;
     VkDeviceSize size() const { return m_size; }
     explicit operator bool() const { return m_buffer != VK_NULL_HANDLE; }
 
@@ -68,6 +74,29 @@ class Buffer {
     MemoryKind m_kind = MemoryKind::DeviceLocal;
     void* m_mapped = nullptr;
 };
+
+// The largest array a kernel may read, in bytes, in each of the two ways
+// kernels read scene data (shared/bvh_buffers.h):
+struct BufferLimits {
+    uint64_t binding;  // as a storage-buffer binding: maxStorageBufferRange (128 MiB on lavapipe)
+    uint64_t address;  // through its device address: one buffer, min(maxBufferSize, maxMemoryAllocationSize)
+};
+// The device's limits. The environment variable VKPATH_MAX_BINDING_BYTES, when
+// set, lowers `binding` (never raises it) so that tests take the address path
+// with small scenes.
+BufferLimits bufferLimits(const DeviceInfo& device);
+
+// One array of a scene, for chooseAddressAccess.
+struct ArrayExtent {
+    const char* name;  // e.g. "BVH primitive"
+    uint64_t bytes;
+    uint64_t count;  // elements
+};
+
+// Whether a scene's arrays must be read by address: true when any is larger
+// than limits.binding. Throws InputError, naming the array, its size and the
+// limit, when one is larger than even limits.address.
+bool chooseAddressAccess(std::span<const ArrayExtent> arrays, const BufferLimits& limits);
 
 // A barrier that makes compute-shader and transfer writes visible to later
 // compute-shader, transfer and indirect-command reads (whole-pipeline memory

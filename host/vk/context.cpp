@@ -74,6 +74,19 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     subgroup.pNext = &driver;
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     props.pNext = &subgroup;
+    // Buffer size limits: maxMemoryAllocationSize (Vulkan 1.1 core) and
+    // maxBufferSize (1.3 core; only chained where the device has 1.3).
+    VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+    VkPhysicalDeviceMaintenance4Properties maintenance4{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES};
+    VkPhysicalDeviceProperties basic;
+    vkGetPhysicalDeviceProperties(device, &basic);
+    maintenance3.pNext = props.pNext;
+    props.pNext = &maintenance3;
+    const bool vulkan13 = basic.apiVersion >= VK_API_VERSION_1_3;
+    if (vulkan13) {
+        maintenance4.pNext = props.pNext;
+        props.pNext = &maintenance4;
+    }
     vkGetPhysicalDeviceProperties2(device, &props);
 
     VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
@@ -104,6 +117,8 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
               info.maxWorkgroupCount.begin());
     info.maxWorkgroupInvocations = limits.maxComputeWorkGroupInvocations;
     info.maxStorageBufferRange = limits.maxStorageBufferRange;
+    info.maxMemoryAllocationSize = maintenance3.maxMemoryAllocationSize;
+    info.maxBufferSize = vulkan13 ? maintenance4.maxBufferSize : maintenance3.maxMemoryAllocationSize;
     info.maxPushConstantsSize = limits.maxPushConstantsSize;
     info.subgroupSize = subgroup.subgroupSize;
     info.shaderFloat64 = features.features.shaderFloat64;
@@ -126,6 +141,9 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
 std::string unsuitableReason(const DeviceInfo& info) {
     if (info.apiVersion < VK_API_VERSION_1_2) return "Vulkan 1.2 is required";
     if (!info.scalarBlockLayout) return "scalarBlockLayout is required";
+    // The BVH kernels declare buffer references (GL_EXT_buffer_reference) for
+    // scenes larger than a storage-buffer binding (shared/bvh_buffers.h).
+    if (!info.bufferDeviceAddress) return "bufferDeviceAddress is required";
     // Without it a compiler may assume no NaN or infinity exists and fold away
     // the kernels' non-finite checks.
     if (!info.signedZeroInfNanPreserveFloat32) return "shaderSignedZeroInfNanPreserveFloat32 is required";

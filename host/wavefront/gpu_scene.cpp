@@ -1,11 +1,16 @@
 #include "wavefront/gpu_scene.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <span>
 
+#include "input_error.h"
 #include "scene/alias_table.h"
 #include "scene/environment_table.h"
+#include "vk/context.h"
 
 namespace vkpath::wavefront {
 namespace {
@@ -192,15 +197,50 @@ uint64_t GpuScene::bytes() const {
 }
 
 GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
+    auto extent = [](const char* name, const auto& array) {
+        return vk::ArrayExtent{name, array.size() * sizeof(array[0]), array.size()};
+    };
+    const auto bvhExtents = bvh::arrayExtents(t.bvh);
+    const vk::ArrayExtent extents[] = {bvhExtents[0],
+                                       bvhExtents[1],
+                                       extent("light", t.lights),
+                                       extent("light alias", t.lightAlias),
+                                       extent("primitive light", t.primitiveLight),
+                                       extent("environment alias", t.envAlias),
+                                       extent("environment radiance", t.envRadiance)};
+    const vk::BufferLimits limits = vk::bufferLimits(context.info());
     GpuScene g;
-    g.bvh = bvh::uploadBvh(context, t.bvh);
+    g.byAddress = vk::chooseAddressAccess(extents, limits);
+    // Materials stay bound: one per scene material, not per primitive.
+    if (t.materials.size() * sizeof(shared::Material) > limits.binding)
+        throw InputError(fmt::format("scene too large for the device: {} materials do not fit one storage-buffer "
+                                     "binding",
+                                     t.materials.size()));
+    g.bvh = bvh::uploadBvh(context, t.bvh, g.byAddress);
     g.materials = uploadOrPlaceholder(context, t.materials, "materials");
     g.lights = uploadOrPlaceholder(context, t.lights, "lights");
     g.lightAlias = uploadOrPlaceholder(context, t.lightAlias, "lightAlias");
     g.primitiveLight = uploadOrPlaceholder(context, t.primitiveLight, "primitiveLight");
     g.envAlias = uploadOrPlaceholder(context, t.envAlias, "envAlias");
     g.envRadiance = uploadOrPlaceholder(context, t.envRadiance, "envRadiance");
+    shared::SceneAddresses addresses{};
+    if (g.byAddress) {
+        auto split = [](const vk::Buffer& b) {
+            const VkDeviceAddress a = b.deviceAddress();
+            return glm::uvec2(uint32_t(a), uint32_t(a >> 32));
+        };
+        addresses = {g.bvh.addresses(), split(g.lights),    split(g.lightAlias),
+                     split(g.primitiveLight), split(g.envAlias), split(g.envRadiance)};
+    }
+    g.addresses = vk::Buffer::fromSpan(context, std::span(&addresses, 1), "sceneAddresses");
     return g;
+}
+
+std::string describeMemory(const GpuScene& g, const SceneTables& t) {
+    return fmt::format("scene: {:.1f} MiB on the device ({}), {}", g.bytes() / (1024.0 * 1024.0),
+                       bvh::describeMemory(t.bvh),
+                       g.byAddress ? "read by buffer device address (larger than a storage-buffer binding)"
+                                   : "bound as storage buffers");
 }
 
 }  // namespace vkpath::wavefront

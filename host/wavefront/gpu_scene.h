@@ -16,6 +16,7 @@
 #include "shared/bvh.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
 #include "vk/buffer.h"
 
@@ -57,10 +58,30 @@ struct GpuScene {
     vk::Buffer primitiveLight;
     vk::Buffer envAlias;
     vk::Buffer envRadiance;
+    // Whether the stage kernels read the BVH and the arrays that grow with the
+    // scene (lights, lightAlias, primitiveLight, envAlias, envRadiance) by
+    // address, through `addresses` (shared/scene_addresses.h); then each of
+    // their bindings gets bvh.placeholder. Pipelines take it as
+    // bvh::sceneAccessConstant(byAddress).
+    bool byAddress = false;
+    vk::Buffer addresses;  // SceneAddresses, zeros unless byAddress (always bound)
 
+    // What to bind in place of `array`: itself, or the placeholder when the
+    // kernels read it by address.
+    const vk::Buffer& binding(const vk::Buffer& array) const { return byAddress ? bvh.placeholder : array; }
+    // Device memory of the scene's arrays (not counting placeholders).
     uint64_t bytes() const;
 };
 
+// Uploads the tables. The arrays are read by address when any of them is
+// larger than a storage-buffer binding may span (vk::bufferLimits: the
+// device's maxStorageBufferRange, or VKPATH_MAX_BINDING_BYTES when lower);
+// throws InputError, naming the array, when one is larger than a buffer may be.
 GpuScene uploadScene(vk::Context& context, const SceneTables& tables);
+
+// One line for the render summary: the scene's device memory, the BVH's part
+// of it, and how the kernels read it, e.g. "scene: 12.3 MiB on the device
+// (BVH: 1234 nodes (38.6 KiB) + ...), bound as storage buffers".
+std::string describeMemory(const GpuScene& scene, const SceneTables& tables);
 
 }  // namespace vkpath::wavefront

@@ -83,9 +83,12 @@ WavefrontRenderer::WavefrontRenderer(vk::Context& context, const scene::Scene& s
     vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, settings.workgroupSize}}};
     r->generate = std::make_unique<vk::Kernel>(context, "generate", options);
     r->queueDispatch = std::make_unique<vk::Kernel>(context, "queue_dispatch", dispatchOptions);
-    r->intersect = std::make_unique<vk::Kernel>(context, "intersect", options);
-    r->shade = std::make_unique<vk::Kernel>(context, "shade", options);
-    r->shadow = std::make_unique<vk::Kernel>(context, "shadow", options);
+    // The kernels that read the scene, built for its access path (bound or by address).
+    vk::KernelOptions sceneOptions = options;
+    sceneOptions.specialization.push_back(bvh::sceneAccessConstant(m_scene.byAddress));
+    r->intersect = std::make_unique<vk::Kernel>(context, "intersect", sceneOptions);
+    r->shade = std::make_unique<vk::Kernel>(context, "shade", sceneOptions);
+    r->shadow = std::make_unique<vk::Kernel>(context, "shadow", sceneOptions);
     r->accumulate = std::make_unique<vk::Kernel>(context, "accumulate", options);
 
     const GpuScene& g = m_scene;
@@ -94,20 +97,25 @@ WavefrontRenderer::WavefrontRenderer(vk::Context& context, const scene::Scene& s
                                         {VKP_WF_RADIANCE, &r->radiance}, {VKP_WF_VERTEX, &r->vertices},
                                         {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters}});
     r->queueDispatchSet = r->queueDispatch->bind({{VKP_WF_COUNTERS, &r->counters}});
-    r->intersectSet = r->intersect->bind({{VKP_WF_BVH_NODES, &g.bvh.nodes}, {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitives},
+    r->intersectSet = r->intersect->bind({{VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
+                                          {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
+                                          {VKP_WF_SCENE_ADDRESSES, &g.addresses},
                                           {VKP_WF_RAYS, &r->rays}, {VKP_WF_HITS, &r->hits},
                                           {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters}});
-    r->shadeSet = r->shade->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_BVH_NODES, &g.bvh.nodes},
-                                  {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitives}, {VKP_WF_MATERIALS, &g.materials},
-                                  {VKP_WF_LIGHTS, &g.lights}, {VKP_WF_LIGHT_ALIAS, &g.lightAlias},
-                                  {VKP_WF_PRIMITIVE_LIGHT, &g.primitiveLight}, {VKP_WF_ENV_ALIAS, &g.envAlias},
-                                  {VKP_WF_ENV_RADIANCE, &g.envRadiance}, {VKP_WF_RAYS, &r->rays},
+    r->shadeSet = r->shade->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
+                                  {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
+                                  {VKP_WF_SCENE_ADDRESSES, &g.addresses}, {VKP_WF_MATERIALS, &g.materials},
+                                  {VKP_WF_LIGHTS, &g.binding(g.lights)}, {VKP_WF_LIGHT_ALIAS, &g.binding(g.lightAlias)},
+                                  {VKP_WF_PRIMITIVE_LIGHT, &g.binding(g.primitiveLight)},
+                                  {VKP_WF_ENV_ALIAS, &g.binding(g.envAlias)},
+                                  {VKP_WF_ENV_RADIANCE, &g.binding(g.envRadiance)}, {VKP_WF_RAYS, &r->rays},
                                   {VKP_WF_HITS, &r->hits}, {VKP_WF_THROUGHPUT, &r->throughput},
                                   {VKP_WF_RADIANCE, &r->radiance}, {VKP_WF_VERTEX, &r->vertices},
                                   {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters},
                                   {VKP_WF_SHADOW_RAYS, &r->shadowRays}, {VKP_WF_SHADOW_RADIANCE, &r->shadowRadiance}});
-    r->shadowSet = r->shadow->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_BVH_NODES, &g.bvh.nodes},
-                                    {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitives}, {VKP_WF_RADIANCE, &r->radiance},
+    r->shadowSet = r->shadow->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
+                                    {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
+                                    {VKP_WF_SCENE_ADDRESSES, &g.addresses}, {VKP_WF_RADIANCE, &r->radiance},
                                     {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters},
                                     {VKP_WF_SHADOW_RAYS, &r->shadowRays}, {VKP_WF_SHADOW_RADIANCE, &r->shadowRadiance}});
     r->accumulateSet = r->accumulate->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_RADIANCE, &r->radiance},

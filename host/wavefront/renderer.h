@@ -37,6 +37,7 @@ class WavefrontRenderer {
 
     const SceneTables& tables() const { return m_tables; }
     uint64_t sceneBytes() const { return m_scene.bytes(); }
+    const GpuScene& scene() const { return m_scene; }
 
   private:
     struct Resources;

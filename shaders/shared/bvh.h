@@ -26,8 +26,8 @@
 #define VKP_NO_HIT 0xffffffffu
 
 // ---- the test-level trace kernels (tests/kernels/bvh_closest.comp, bvh_anyhit.comp)
-#define VKP_TRACE_BINDING_NODES 0       // BvhNode[], read
-#define VKP_TRACE_BINDING_PRIMITIVES 1  // BvhPrimitive[], read
+#define VKP_TRACE_BINDING_NODES 0       // BvhNode[], read (a placeholder when read by address)
+#define VKP_TRACE_BINDING_PRIMITIVES 1  // BvhPrimitive[], read (a placeholder when read by address)
 #define VKP_TRACE_BINDING_RAYS 2        // Ray[count], read
 #define VKP_TRACE_BINDING_RESULTS 3     // bvh_closest: Hit[count]; bvh_anyhit: uint[count], 1 = occluded
 
@@ -60,8 +60,17 @@ struct Hit {
     vec2 barycentrics;  // triangle: weights of p1 and p2 (p0's is 1 - x - y); sphere: (0, 0)
 };
 
+// Where the BVH's two arrays lie in device memory, for kernels that read it by
+// address (VKP_SPEC_SCENE_BY_ADDRESS): VkDeviceAddress as (low, high) words,
+// GL_EXT_buffer_reference_uvec2. Zero when the arrays are bound instead.
+struct BvhAddresses {
+    uvec2 nodes;       // BvhNode[]
+    uvec2 primitives;  // BvhPrimitive[]
+};
+
 struct TracePush {
-    uint count;  // number of rays
+    uint count;        // number of rays
+    BvhAddresses bvh;  // read only by address (VKP_SPEC_SCENE_BY_ADDRESS)
 };
 
 VKP_NAMESPACE_END
@@ -70,7 +79,8 @@ VKP_NAMESPACE_END
 static_assert(sizeof(vkpath::shared::BvhNode) == 32);
 static_assert(sizeof(vkpath::shared::BvhPrimitive) == 48);
 static_assert(sizeof(vkpath::shared::Hit) == 16);
-static_assert(sizeof(vkpath::shared::TracePush) == 4);
+static_assert(sizeof(vkpath::shared::BvhAddresses) == 16);
+static_assert(sizeof(vkpath::shared::TracePush) == 20);
 #endif
 
 #endif  // VKPATH_SHARED_BVH_H

@@ -1,9 +1,25 @@
-// GLSL only: the BVH's two storage buffers, the accessors that
-// shared/bvh_traverse.h reads them through, and the traversal itself. A kernel
-// defines the binding indices first, then includes this once:
+// GLSL only: the BVH's two arrays, the accessors that shared/bvh_traverse.h
+// reads them through, and the traversal itself. The arrays reach a kernel in
+// one of two ways, fixed when its pipeline is built (specialisation constant
+// VKP_SPEC_SCENE_BY_ADDRESS):
+//
+//   bound (false, the default): two storage-buffer bindings. A binding spans
+//     at most maxStorageBufferRange bytes (128 MiB on lavapipe: about 2.8
+//     million primitives);
+//   by address (true): buffer references (GL_EXT_buffer_reference) to the
+//     same arrays, limited only by the size of one buffer. Measured 3 to 25%
+//     slower than bindings on lavapipe (docs/BENCHMARKS.md), so only scenes
+//     too large for a binding use it (host/bvh/gpu_bvh.h decides).
+//
+// The pipeline compiler folds the constant, so each pipeline keeps only one
+// path; both bindings are declared either way (a placeholder is bound to them
+// in the address path). A kernel enables GL_EXT_buffer_reference and
+// GL_EXT_buffer_reference_uvec2, defines the binding indices and where the
+// addresses are (a BvhAddresses expression), then includes this once:
 //
 //   #define VKP_BVH_NODES_BINDING VKP_TRACE_BINDING_NODES
 //   #define VKP_BVH_PRIMITIVES_BINDING VKP_TRACE_BINDING_PRIMITIVES
+//   #define VKP_BVH_ADDRESSES push.bvh
 //   #include "shared/bvh_buffers.h"
 //   ... Hit hit = bvhClosestHit(ray); bool blocked = bvhOccluded(shadowRay);
 #ifndef VKPATH_SHARED_BVH_BUFFERS_H
@@ -13,9 +29,12 @@
 #error "shared/bvh_buffers.h is GLSL only; C++ reads a BVH through host/bvh/bvh_view.h"
 #endif
 
+#include "shared/bindings.h"
 #include "shared/bvh.h"
 #include "shared/intersect.h"
 #include "shared/ray.h"
+
+layout(constant_id = VKP_SPEC_SCENE_BY_ADDRESS) const bool sceneByAddress = false;
 
 layout(binding = VKP_BVH_NODES_BINDING, scalar) readonly buffer BvhNodeBuffer {
     BvhNode bvhNodes[];
@@ -24,8 +43,23 @@ layout(binding = VKP_BVH_PRIMITIVES_BINDING, scalar) readonly buffer BvhPrimitiv
     BvhPrimitive bvhPrimitives[];
 };
 
-BvhNode bvhNode(uint index) { return bvhNodes[index]; }
-BvhPrimitive bvhPrimitive(uint index) { return bvhPrimitives[index]; }
+// 16: the arrays start at a buffer's start, and every node and primitive at a
+// multiple of 16 bytes within it (32- and 48-byte elements).
+layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer BvhNodeArray {
+    BvhNode v[];
+};
+layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer BvhPrimitiveArray {
+    BvhPrimitive v[];
+};
+
+BvhNode bvhNode(uint index) {
+    if (sceneByAddress) return BvhNodeArray(VKP_BVH_ADDRESSES.nodes).v[index];
+    return bvhNodes[index];
+}
+BvhPrimitive bvhPrimitive(uint index) {
+    if (sceneByAddress) return BvhPrimitiveArray(VKP_BVH_ADDRESSES.primitives).v[index];
+    return bvhPrimitives[index];
+}
 
 #include "shared/bvh_traverse.h"
 

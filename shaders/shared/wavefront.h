@@ -28,6 +28,7 @@
 #define VKP_WF_SHADOW_RAYS 17      // Ray[W lightSamples]
 #define VKP_WF_SHADOW_RADIANCE 18  // vec3[W lightSamples]: contribution if unoccluded
 #define VKP_WF_FILM 19             // FilmPixel[width height]
+#define VKP_WF_SCENE_ADDRESSES 20  // SceneAddresses (read when the scene is read by address)
 
 VKP_NAMESPACE_BEGIN
 

@@ -5,9 +5,7 @@
 #include "stages/lib/common.glsl"
 #include "shared/ray.h"
 
-#define VKP_BVH_NODES_BINDING VKP_WF_BVH_NODES
-#define VKP_BVH_PRIMITIVES_BINDING VKP_WF_BVH_PRIMITIVES
-#include "shared/bvh_buffers.h"
+#include "stages/lib/scene_bvh.glsl"
 
 layout(binding = VKP_WF_RAYS, scalar) readonly buffer RayBuffer { Ray rays[]; };
 layout(binding = VKP_WF_HITS, scalar) writeonly buffer HitBuffer { Hit hits[]; };

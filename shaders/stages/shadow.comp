@@ -8,9 +8,7 @@
 #include "shared/ray.h"
 #include "shared/scene_data.h"
 
-#define VKP_BVH_NODES_BINDING VKP_WF_BVH_NODES
-#define VKP_BVH_PRIMITIVES_BINDING VKP_WF_BVH_PRIMITIVES
-#include "shared/bvh_buffers.h"
+#include "stages/lib/scene_bvh.glsl"
 
 layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo info; };
 layout(binding = VKP_WF_RADIANCE, scalar) buffer RadianceBuffer { vec3 radiance[]; };

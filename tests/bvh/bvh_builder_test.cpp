@@ -216,24 +216,27 @@ TEST(BvhBuilder, PaddingIsOutwardAndMonotone) {
     }
 }
 
-TEST(BvhBuilder, StorageBufferLimitIsReported) {
+TEST(BvhBuilder, UploadReportsItsMemory) {
     const scene::Scene s = mixedScene();
     const BvhBuild build = buildChecked(s);
-    const size_t larger = std::max(build.nodeBytes(), build.primitiveBytes());
-    const std::string largerName = build.nodeBytes() > build.primitiveBytes() ? "BVH node buffer" : "BVH primitive buffer";
-    try {
-        bvh::checkStorageBufferRange(build, larger - 1);
-        ADD_FAILURE() << "no exception for a limit one byte below the larger buffer";
-    } catch (const std::length_error& e) {
-        const std::string message = e.what();
-        EXPECT_NE(message.find("maxStorageBufferRange"), std::string::npos) << message;
-        EXPECT_NE(message.find(largerName), std::string::npos) << message;
-    }
-    EXPECT_NO_THROW(bvh::checkStorageBufferRange(build, larger));
+    const auto extents = bvh::arrayExtents(build);
+    EXPECT_EQ(extents[0].bytes, build.nodeBytes());
+    EXPECT_EQ(extents[0].count, build.nodes.size());
+    EXPECT_EQ(extents[1].bytes, build.primitiveBytes());
+    EXPECT_EQ(extents[1].count, build.primitives.size());
+    // A limit one byte below the larger array sends the scene to the address path.
+    const uint64_t larger = std::max(build.nodeBytes(), build.primitiveBytes());
+    EXPECT_TRUE(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger}));
+    EXPECT_FALSE(vk::chooseAddressAccess(extents, vk::BufferLimits{larger, larger}));
+    EXPECT_THROW(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger - 1}), InputError);
 
-    const bvh::GpuBvh gpu = bvh::uploadBvh(test::context(), build);
-    EXPECT_EQ(gpu.bytes(), build.bytes());
-    EXPECT_EQ(gpu.nodes.download<shared::BvhNode>().size(), build.nodes.size());
+    for (bool byAddress : {false, true}) {
+        const bvh::GpuBvh gpu = bvh::uploadBvh(test::context(), build, byAddress);
+        EXPECT_EQ(gpu.bytes(), build.bytes());
+        EXPECT_EQ(gpu.nodes.download<shared::BvhNode>().size(), build.nodes.size());
+        EXPECT_EQ(&gpu.nodeBinding() == &gpu.nodes, !byAddress);
+        EXPECT_EQ(gpu.addresses().nodes != glm::uvec2(0), byAddress);
+    }
     const std::string line = bvh::describeMemory(build);
     EXPECT_NE(line.find(std::to_string(build.nodes.size()) + " nodes"), std::string::npos) << line;
     EXPECT_NE(line.find(std::to_string(build.primitives.size()) + " primitives"), std::string::npos) << line;

@@ -310,22 +310,24 @@ inline Comparison compareHits(const vkpath::bvh::BvhBuild& build, const std::vec
 
 class GpuTracer {
   public:
-    GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build)
+    // byAddress: the kernels read the BVH through buffer device addresses (the
+    // path of scenes beyond maxStorageBufferRange) instead of bindings.
+    GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build, bool byAddress = false)
         : m_context(context),
-          m_bvh(vkpath::bvh::uploadBvh(context, build)),
-          m_closest(context, "bvh_closest"),
-          m_anyHit(context, "bvh_anyhit") {}
+          m_bvh(vkpath::bvh::uploadBvh(context, build, byAddress)),
+          m_closest(context, "bvh_closest", options(byAddress)),
+          m_anyHit(context, "bvh_anyhit", options(byAddress)) {}
 
     std::vector<Hit> closest(const std::vector<Ray>& rays) {
         vk::Buffer rayBuffer = vk::Buffer::fromSpan(m_context, std::span(rays));
         vk::Buffer hitBuffer(m_context, rays.size() * sizeof(Hit));
         m_lastMilliseconds = m_closest.dispatch(
             static_cast<uint32_t>(rays.size()),
-            {{VKP_TRACE_BINDING_NODES, &m_bvh.nodes},
-             {VKP_TRACE_BINDING_PRIMITIVES, &m_bvh.primitives},
+            {{VKP_TRACE_BINDING_NODES, &m_bvh.nodeBinding()},
+             {VKP_TRACE_BINDING_PRIMITIVES, &m_bvh.primitiveBinding()},
              {VKP_TRACE_BINDING_RAYS, &rayBuffer},
              {VKP_TRACE_BINDING_RESULTS, &hitBuffer}},
-            shared::TracePush{static_cast<uint32_t>(rays.size())});
+            shared::TracePush{static_cast<uint32_t>(rays.size()), m_bvh.addresses()});
         return hitBuffer.download<Hit>();
     }
 
@@ -334,17 +336,21 @@ class GpuTracer {
         vk::Buffer flagBuffer(m_context, rays.size() * sizeof(uint32_t));
         m_lastMilliseconds = m_anyHit.dispatch(
             static_cast<uint32_t>(rays.size()),
-            {{VKP_TRACE_BINDING_NODES, &m_bvh.nodes},
-             {VKP_TRACE_BINDING_PRIMITIVES, &m_bvh.primitives},
+            {{VKP_TRACE_BINDING_NODES, &m_bvh.nodeBinding()},
+             {VKP_TRACE_BINDING_PRIMITIVES, &m_bvh.primitiveBinding()},
              {VKP_TRACE_BINDING_RAYS, &rayBuffer},
              {VKP_TRACE_BINDING_RESULTS, &flagBuffer}},
-            shared::TracePush{static_cast<uint32_t>(rays.size())});
+            shared::TracePush{static_cast<uint32_t>(rays.size()), m_bvh.addresses()});
         return flagBuffer.download<uint32_t>();
     }
 
     double lastMilliseconds() const { return m_lastMilliseconds; }
 
   private:
+    static vk::KernelOptions options(bool byAddress) {
+        return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress)}};
+    }
+
     vk::Context& m_context;
     vkpath::bvh::GpuBvh m_bvh;
     vk::Kernel m_closest;

@@ -3,12 +3,18 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "stages/lib/float_controls.glsl"  // as in the intersect stage
 
 #include "shared/bindings.h"
 #include "shared/bvh.h"
 #include "shared/ray.h"
 
+layout(push_constant, scalar) uniform Push {
+    TracePush push;
+};
+#define VKP_BVH_ADDRESSES push.bvh
 #define VKP_BVH_NODES_BINDING VKP_TRACE_BINDING_NODES
 #define VKP_BVH_PRIMITIVES_BINDING VKP_TRACE_BINDING_PRIMITIVES
 #include "shared/bvh_buffers.h"
@@ -20,9 +26,6 @@ layout(binding = VKP_TRACE_BINDING_RAYS, scalar) readonly buffer RayBuffer {
 };
 layout(binding = VKP_TRACE_BINDING_RESULTS, scalar) writeonly buffer OcclusionBuffer {
     uint occluded[];
-};
-layout(push_constant, scalar) uniform Push {
-    TracePush push;
 };
 
 void main() {

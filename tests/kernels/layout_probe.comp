@@ -11,6 +11,7 @@
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/ray.h"
+#include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
 #include "shared/wavefront.h"
 
@@ -32,6 +33,8 @@ PROBE(PathVertex, 11)
 PROBE(QueueCounters, 12)
 PROBE(FilmPixel, 13)
 PROBE(WavePush, 14)
+PROBE(BvhAddresses, 15)
+PROBE(SceneAddresses, 16)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
@@ -50,4 +53,6 @@ void main() {
     items12[0] = items12[1];
     items13[0] = items13[1];
     items14[0] = items14[1];
+    items15[0] = items15[1];
+    items16[0] = items16[1];
 }

@@ -12,6 +12,7 @@
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/ray.h"
+#include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
 #include "shared/wavefront.h"
 #include "vk/embedded_shaders.h"
@@ -47,7 +48,11 @@ std::vector<Expected> expectedLayouts() {
          {VKP_O(BvhPrimitive, p0), VKP_O(BvhPrimitive, kind), VKP_O(BvhPrimitive, p1), VKP_O(BvhPrimitive, id),
           VKP_O(BvhPrimitive, p2), VKP_O(BvhPrimitive, material)}},
         {"Hit", sizeof(Hit), {VKP_O(Hit, t), VKP_O(Hit, primitive), VKP_O(Hit, barycentrics)}},
-        {"TracePush", sizeof(TracePush), {VKP_O(TracePush, count)}},
+        {"TracePush", sizeof(TracePush), {VKP_O(TracePush, count), VKP_O(TracePush, bvh)}},
+        {"BvhAddresses", sizeof(BvhAddresses), {VKP_O(BvhAddresses, nodes), VKP_O(BvhAddresses, primitives)}},
+        {"SceneAddresses", sizeof(SceneAddresses),
+         {VKP_O(SceneAddresses, bvh), VKP_O(SceneAddresses, lights), VKP_O(SceneAddresses, lightAlias),
+          VKP_O(SceneAddresses, primitiveLight), VKP_O(SceneAddresses, envAlias), VKP_O(SceneAddresses, envRadiance)}},
         {"AliasEntry", sizeof(AliasEntry),
          {VKP_O(AliasEntry, threshold), VKP_O(AliasEntry, alias), VKP_O(AliasEntry, probability)}},
         {"EnvironmentInfo", sizeof(EnvironmentInfo),

@@ -1,6 +1,10 @@
 // Declarations every stage kernel starts with (after #version and the
 // include and scalar-layout extensions).
 
+// Scenes beyond a storage-buffer binding are read by address (shared/bvh_buffers.h).
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+
 #include "stages/lib/float_controls.glsl"
 #include "shared/bindings.h"
 #include "shared/wavefront.h"

@@ -6,9 +6,7 @@
 #include "shared/rng.h"
 #include "shared/scene_data.h"
 
-#define VKP_BVH_NODES_BINDING VKP_WF_BVH_NODES
-#define VKP_BVH_PRIMITIVES_BINDING VKP_WF_BVH_PRIMITIVES
-#include "shared/bvh_buffers.h"
+#include "stages/lib/scene_bvh.glsl"
 
 layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo sceneInfoData; };
 layout(binding = VKP_WF_MATERIALS, scalar) readonly buffer MaterialBuffer { Material materials[]; };
@@ -18,12 +16,33 @@ layout(binding = VKP_WF_PRIMITIVE_LIGHT, scalar) readonly buffer PrimitiveLightB
 layout(binding = VKP_WF_ENV_ALIAS, scalar) readonly buffer EnvAliasBuffer { AliasEntry envAlias[]; };
 layout(binding = VKP_WF_ENV_RADIANCE, scalar) readonly buffer EnvRadianceBuffer { vec3 envRadiance[]; };
 
+// The same arrays by address (sceneByAddress: scenes beyond a binding).
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer AliasArray { AliasEntry v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec3Array { vec3 v[]; };
+
 SceneInfo sceneInfo() { return sceneInfoData; }
 Material sceneMaterial(uint i) { return materials[i]; }
-Light sceneLight(uint i) { return lights[i]; }
-AliasEntry sceneLightAlias(uint i) { return lightAlias[i]; }
-uint scenePrimitiveLight(uint i) { return primitiveLight[i]; }
-AliasEntry sceneEnvAlias(uint i) { return envAlias[i]; }
-vec3 sceneEnvRadiance(uint i) { return envRadiance[i]; }
+Light sceneLight(uint i) {
+    if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
+    return lights[i];
+}
+AliasEntry sceneLightAlias(uint i) {
+    if (sceneByAddress) return AliasArray(sceneAddresses.lightAlias).v[i];
+    return lightAlias[i];
+}
+uint scenePrimitiveLight(uint i) {
+    if (sceneByAddress) return UintArray(sceneAddresses.primitiveLight).v[i];
+    return primitiveLight[i];
+}
+AliasEntry sceneEnvAlias(uint i) {
+    if (sceneByAddress) return AliasArray(sceneAddresses.envAlias).v[i];
+    return envAlias[i];
+}
+vec3 sceneEnvRadiance(uint i) {
+    if (sceneByAddress) return Vec3Array(sceneAddresses.envRadiance).v[i];
+    return envRadiance[i];
+}
 
 #include "shared/path_tracer.h"

@@ -1,0 +1,13 @@
+// The BVH as the stage kernels read it: bound (VKP_WF_BVH_NODES,
+// VKP_WF_BVH_PRIMITIVES) or by the addresses in the SceneAddresses buffer,
+// as the pipeline's VKP_SPEC_SCENE_BY_ADDRESS says (shared/bvh_buffers.h).
+#include "shared/scene_addresses.h"
+
+layout(binding = VKP_WF_SCENE_ADDRESSES, scalar) readonly buffer SceneAddressBuffer {
+    SceneAddresses sceneAddresses;
+};
+
+#define VKP_BVH_NODES_BINDING VKP_WF_BVH_NODES
+#define VKP_BVH_PRIMITIVES_BINDING VKP_WF_BVH_PRIMITIVES
+#define VKP_BVH_ADDRESSES sceneAddresses.bvh
+#include "shared/bvh_buffers.h"
