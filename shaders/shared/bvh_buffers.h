@@ -7,7 +7,7 @@
 //     at most maxStorageBufferRange bytes (128 MiB on lavapipe: about 2.8
 //     million primitives);
 //   by address (true): buffer references (GL_EXT_buffer_reference) to the
-//     same arrays, limited only by the size of one buffer. Measured 3 to 25%
+//     same arrays, limited only by the size of one buffer. Measured 4 to 15%
 //     slower than bindings on lavapipe (docs/BENCHMARKS.md), so only scenes
 //     too large for a binding use it (host/bvh/gpu_bvh.h decides).
 //
