@@ -228,7 +228,9 @@ TEST(Brightness, SunOverADimRoom) {
     float brightest = 0;
     for (size_t i = 0; i < sky.map->pixels.size(); ++i) {
         brightest = std::max(brightest, float(scene::luminance(sky.map->pixels[i])));
-        if (scene::luminance(sky.map->pixels[i]) > 0) ASSERT_GT(table.entries[i].probability, 0.0f) << i;
+        if (scene::luminance(sky.map->pixels[i]) > 0) {
+            ASSERT_GT(table.entries[i].probability, 0.0f) << i;
+        }
     }
     EXPECT_GT(brightest * sky.strength, 1e5f) << "the sun should be ~1e6 at strength 10";
 
