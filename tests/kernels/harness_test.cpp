@@ -2,6 +2,8 @@
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include "kernels/rng_fill.h"
+#include "shared/rng.h"
 #include "shared/wavefront.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
@@ -27,7 +29,7 @@ TEST(KernelHarness, RejectsWrongBindingsAndPushSize) {
     EXPECT_THROW(fill.bind({}), std::invalid_argument);                          // binding 0 missing
     EXPECT_THROW(fill.bind({{0, &a}, {7, &b}}), std::invalid_argument);          // unknown binding
     EXPECT_THROW(fill.bind({{0, &a}, {0, &b}}), std::invalid_argument);          // given twice
-    EXPECT_THROW(fill.dispatch(1, {{0, &a}}, uint32_t{0}), std::invalid_argument);  // 4 bytes, not 16
+    EXPECT_THROW(fill.dispatch(1, {{0, &a}}, uint32_t{0}), std::invalid_argument);  // 4 bytes, not 24
     EXPECT_THROW(vk::Kernel(context, "no_such_kernel"), std::out_of_range);
     EXPECT_THROW(vk::Kernel(context, "generate", {.workgroupSize = 100000}), std::invalid_argument);
 }
@@ -35,9 +37,7 @@ TEST(KernelHarness, RejectsWrongBindingsAndPushSize) {
 TEST(KernelHarness, SpecialisedWorkgroupSizesGiveTheSameResult) {
     vk::Context& context = test::context();
     const uint32_t count = 1000;  // not a multiple of any size below: the bound check matters
-    struct Push {
-        uint32_t count, pixels, dimensions, seed;
-    } push{count, 10, 10, 3};
+    const test::RngFillPush push{count, 10, 10, 3, VKP_SAMPLER_INDEPENDENT, 0};
     std::vector<std::vector<uint32_t>> results;
     for (uint32_t size : {1u, 8u, 64u, 256u}) {
         vk::Buffer bits(context, (count + 256) * sizeof(uint32_t));

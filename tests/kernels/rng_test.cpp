@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "kernels/rng_fill.h"
 #include "shared/rng.h"
 #include "support/statistics.h"
 #include "support/test_context.h"
@@ -15,9 +16,7 @@ namespace {
 
 using namespace vkpath;
 
-struct RngFillPush {
-    uint32_t count, pixels, dimensions, seed, sampler, firstSample;
-};
+using test::RngFillPush;
 
 constexpr uint32_t PIXELS = 1000, DIMENSIONS = 10, SAMPLES = 100;  // 10^6 values
 constexpr uint32_t COUNT = PIXELS * DIMENSIONS * SAMPLES;

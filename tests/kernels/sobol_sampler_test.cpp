@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "kernels/rng_fill.h"
 #include "shared/rng.h"
 #include "support/statistics.h"
 #include "support/test_context.h"
@@ -18,9 +19,7 @@ namespace {
 
 using namespace vkpath;
 
-struct RngFillPush {
-    uint32_t count, pixels, dimensions, seed, sampler, firstSample;
-};
+using test::RngFillPush;
 
 // 500 pixels x 20 dimensions (10 pairs) x 16 samples: 1.6 x 10^5 values.
 struct Grid {
