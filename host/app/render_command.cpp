@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -26,7 +28,7 @@ namespace {
 struct RenderCommandOptions : RenderOptions {
     std::string output = "out/render.exr";
     std::string png;
-    uint32_t spp = 16;
+    std::optional<uint32_t> spp;  // unset: 16, or with --time-budget as many as the budget allows
     std::optional<double> timeBudget;
     float exposure = 0.0f;
     std::vector<std::string> aovs;
@@ -37,8 +39,10 @@ void ensureParent(const std::filesystem::path& path) {
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
 }
 
-void printProgress(const wavefront::RenderProgress& p, uint64_t pixels) {
-    const double fraction = p.samplesTotal ? double(p.samplesDone) / p.samplesTotal : 1.0;
+// With a time budget the bar measures time, unless the sample count runs out first.
+void printProgress(const wavefront::RenderProgress& p, uint64_t pixels, std::optional<double> timeBudget) {
+    double fraction = p.samplesTotal ? double(p.samplesDone) / p.samplesTotal : 1.0;
+    if (timeBudget && *timeBudget > 0) fraction = std::min(1.0, std::max(fraction, p.seconds / *timeBudget));
     const int width = 30;
     const int filled = int(fraction * width);
     const double mpaths = p.seconds > 0 ? double(p.samplesDone) * pixels / p.seconds * 1e-6 : 0.0;
@@ -52,12 +56,13 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels) {
 // lavapipe's included), which on a shared machine varies far less than the
 // wall clock.
 template <typename Renderer>
-wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& film, double& cpuSeconds) {
+wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& film, std::optional<double> timeBudget,
+                                           double& cpuSeconds) {
     const bool terminal = isatty(STDERR_FILENO);
     const uint64_t pixels = uint64_t(film.width) * film.height;
     const std::clock_t start = std::clock();
     auto result = renderer.render([&](const wavefront::RenderProgress& p) {
-        if (terminal) printProgress(p, pixels);
+        if (terminal) printProgress(p, pixels, timeBudget);
     });
     cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
     if (terminal) std::fprintf(stderr, "\n");
@@ -115,17 +120,22 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
 }
 
 int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
-    if (o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
-    wavefront::RenderSettings settings = renderSettings(o, o.spp);
+    if (o.spp && *o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
+    if (o.timeBudget && !(*o.timeBudget > 0)) throw InputError("--time-budget: seconds must be positive");
+    const FilmSize film = parseFilmSize(o.size);
+    // A budget without -s renders until the budget is spent, up to the
+    // largest count whose path indices fit the kernels' 32 bits.
+    const uint64_t pixelCount = uint64_t(film.width) * film.height;
+    const uint32_t spp = o.spp ? *o.spp : o.timeBudget ? uint32_t(((uint64_t(1) << 32) - 1) / pixelCount) : 16;
+    wavefront::RenderSettings settings = renderSettings(o, spp);
     settings.timeBudgetSeconds = o.timeBudget;
-    const FilmSize film{settings.width, settings.height};
     const scene::Scene scene = loadRenderScene(o);
 
     if (o.device == "cpu") {
         const reference::ReferenceRenderer renderer(scene, settings);
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, film, cpuSeconds);
+        const auto result = renderWithProgress(renderer, film, o.timeBudget, cpuSeconds);
         writeOutputs(o, result, device);
         printSummary(film, result, std::nullopt, cpuSeconds, device, o.clamp > 0);
         return 0;
@@ -134,7 +144,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         wavefront::WavefrontRenderer renderer(context, scene, settings);
         std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, film, cpuSeconds);
+        const auto result = renderWithProgress(renderer, film, o.timeBudget, cpuSeconds);
         writeOutputs(o, result, context.info().name);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
@@ -154,10 +164,12 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
     addRenderOptions(*cmd, *o);
     cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
-    cmd->add_option("-s,--spp", o->spp, "Samples per pixel")->capture_default_str();
+    cmd->add_option("-s,--spp", o->spp, "Samples per pixel (default 16; with --time-budget, as many as it allows)");
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
     cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->capture_default_str();
-    cmd->add_option("--time-budget", o->timeBudget, "Stop after the wave that spends this many seconds");
+    cmd->add_option("--time-budget", o->timeBudget,
+                    "Render whole waves until this many seconds are spent (up to -s samples if given); the EXR and "
+                    "the summary give the spp reached");
     cmd->add_option("--aov", o->aovs, "Extra outputs beside the EXR: variance (of each pixel's mean)")
         ->check(CLI::IsMember({"variance"}));
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");

@@ -1,0 +1,181 @@
+// `vkpath render` as a user meets it: Scotty3D's -w, the EXR's metadata, the
+// PNG preview and its exposure, the summary line, bit-identical reruns and
+// --time-budget.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+#include "support/run_vkpath.h"
+#include "support/temp_dir.h"
+#include "support/test_context.h"
+
+namespace {
+
+using namespace vkpath;
+
+std::string cornellBox() { return test::sourcePath("assets/cornell_box.gltf").string(); }
+
+// Every attribute of the file's header whose name starts with "vkpath:".
+std::map<std::string, std::string> vkpathMetadata(const std::string& path) {
+    std::map<std::string, std::string> attributes;
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return attributes;
+    for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
+        const std::string name = p.name().string();
+        if (name.rfind("vkpath:", 0) == 0) attributes[name] = p.get_string();
+    }
+    return attributes;
+}
+
+// The file's pixels as stored (float32 EXR, uint8 PNG), byte for byte.
+std::vector<unsigned char> storedPixels(const std::string& path, OIIO::TypeDesc type) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return {};
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<unsigned char> bytes(size_t(spec.width) * spec.height * spec.nchannels * type.size());
+    if (!in->read_image(0, 0, 0, spec.nchannels, type, bytes.data())) return {};
+    return bytes;
+}
+
+// The summary line's "N NaN/Inf samples dropped" and "at S spp".
+struct Summary {
+    bool found = false;
+    uint32_t spp = 0;
+    uint64_t nonFinite = 0;
+    double mpaths = 0, mrays = 0;
+};
+Summary parseSummary(const std::string& err) {
+    static const std::regex line(
+        R"(rendered \d+x\d+ at (\d+) spp in [0-9.]+ s[^:]*: ([0-9.]+) Mpaths/s \([0-9.]+ per CPU second\), ([0-9.]+) Mrays/s .* (\d+) NaN/Inf samples dropped)");
+    std::smatch m;
+    Summary s;
+    if (!std::regex_search(err, m, line)) return s;
+    s.found = true;
+    s.spp = uint32_t(std::stoul(m[1]));
+    s.mpaths = std::stod(m[2]);
+    s.mrays = std::stod(m[3]);
+    s.nonFinite = std::stoull(m[4]);
+    return s;
+}
+
+TEST(RenderCli, ScottyOutputFlagMetadataAndSummary) {
+    const test::TempDir dir;
+    const std::string exr = (dir / "box.exr").string();
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 20x16 -s 3 -m 5 -l 2 --seed 11 -w " + exr);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find(exr), std::string::npos) << "the written file is named on stdout";
+    auto m = vkpathMetadata(exr);
+    EXPECT_EQ(m["vkpath:spp"], "3");
+    EXPECT_EQ(m["vkpath:seed"], "11");
+    EXPECT_EQ(m["vkpath:maxDepth"], "5");
+    EXPECT_EQ(m["vkpath:lightSamples"], "2");
+    EXPECT_EQ(m["vkpath:sampler"], "independent");
+    EXPECT_EQ(m["vkpath:version"], VKPATH_VERSION);
+    EXPECT_EQ(m["vkpath:nonFiniteSamples"], "0");
+    EXPECT_EQ(m["vkpath:clamp"], "off");
+    EXPECT_FALSE(m["vkpath:device"].empty());
+    EXPECT_NE(r.err.find(m["vkpath:device"]), std::string::npos) << "the summary names the device the EXR records";
+    EXPECT_GT(std::stod(m["vkpath:renderSeconds"]), 0.0);
+    const Summary s = parseSummary(r.err);
+    ASSERT_TRUE(s.found) << r.err;
+    EXPECT_EQ(s.spp, 3u);
+    EXPECT_EQ(s.nonFinite, 0u);
+    EXPECT_GT(s.mpaths, 0.0);
+    EXPECT_GE(s.mrays, s.mpaths) << "at least one closest-hit ray per path";
+}
+
+// The preview is the EXR, scaled by 2^exposure and sRGB-encoded to 8 bits.
+TEST(RenderCli, PngPreviewIsTheExrInSrgbWithExposure) {
+    const test::TempDir dir;
+    const std::string exr = (dir / "box.exr").string(), png = (dir / "box.png").string();
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 20x16 -s 2 -o " + exr + " --png " + png +
+                                   " --exposure 1.5");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const image::Image linear = image::readImage(exr);
+    const auto bytes = storedPixels(png, OIIO::TypeDesc::UINT8);
+    ASSERT_EQ(bytes.size(), linear.pixels.size() * 3);
+    int mismatches = 0, clipped = 0, lit = 0;
+    for (size_t i = 0; i < linear.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const float v = linear.pixels[i][c] * std::exp2(1.5f);
+            const long expected = std::lround(image::linearToSrgb(v) * 255.0f);
+            if (std::abs(long(bytes[3 * i + c]) - expected) > 0) ++mismatches;
+            clipped += v >= 1.0f;
+            lit += v > 0.0f;
+        }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_GT(lit, 0);
+    EXPECT_GT(clipped, 0) << "the lamp, 17 W/(m^2 sr), clips";
+}
+
+// The same scene, flags and seed: the same pixels, bit for bit, and the same
+// header but for the render time. A different seed gives other pixels.
+TEST(RenderCli, SameSeedSamePixelBytes) {
+    const test::TempDir dir;
+    auto render = [&](const std::string& name, const std::string& flags) {
+        const std::string path = (dir / name).string();
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 24x18 -s 4 -o " + path + " " + flags);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return path;
+    };
+    const std::string a = render("a.exr", "--seed 5"), b = render("b.exr", "--seed 5"), c = render("c.exr", "--seed 6");
+    const auto pa = storedPixels(a, OIIO::TypeDesc::FLOAT), pb = storedPixels(b, OIIO::TypeDesc::FLOAT);
+    ASSERT_FALSE(pa.empty());
+    EXPECT_EQ(pa, pb);
+    EXPECT_NE(pa, storedPixels(c, OIIO::TypeDesc::FLOAT));
+    auto ma = vkpathMetadata(a), mb = vkpathMetadata(b);
+    ma.erase("vkpath:renderSeconds");
+    mb.erase("vkpath:renderSeconds");
+    EXPECT_EQ(ma, mb);
+}
+
+// --time-budget without -s renders past the default 16 spp until the budget
+// is spent, stops within one wave, and records the spp it reached.
+TEST(RenderCli, TimeBudgetRendersUntilSpentAndRecordsTheSppReached) {
+    const test::TempDir dir;
+    const std::string exr = (dir / "budget.exr").string();
+    // 32 x 32 pixels and 2^10 paths per wave: one sample per wave.
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 32x32 -m 2 --paths-in-flight 1024 --time-budget 1 -o " +
+                                   exr);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const Summary s = parseSummary(r.err);
+    ASSERT_TRUE(s.found) << r.err;
+    EXPECT_GT(s.spp, 16u) << "the budget, not the default sample count, ends the render";
+    const auto m = vkpathMetadata(exr);
+    EXPECT_EQ(m.at("vkpath:spp"), std::to_string(s.spp));
+    const double seconds = std::stod(m.at("vkpath:renderSeconds"));
+    EXPECT_GE(seconds, 1.0);
+    EXPECT_LE(seconds, 1.0 + 2.0 * seconds / s.spp + 0.1) << "stops within one wave (one wave is one sample here)";
+}
+
+TEST(RenderCli, TimeBudgetWithSppStopsAtTheSpp) {
+    const test::TempDir dir;
+    const std::string exr = (dir / "capped.exr").string();
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 -s 3 --time-budget 100 -o " + exr);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(vkpathMetadata(exr).at("vkpath:spp"), "3");
+}
+
+TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
+    const test::TempDir dir;
+    for (const char* budget : {"0", "-1", "nan"}) {
+        SCOPED_TRACE(budget);
+        const std::string exr = (dir / "x.exr").string();
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 --time-budget " + std::string(budget) +
+                                       " -o " + exr);
+        EXPECT_EQ(r.exitCode, 2);
+        EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(exr));
+    }
+}
+
+}  // namespace
