@@ -1,11 +1,13 @@
 // Every scene the project ships or reads (../shared/scenes/scotty3d/*.dae and
 // assets/*.gltf) renders through the wavefront path tracer at low spp with
-// no NaN or infinite sample and a finite, non-negative image.
+// no NaN or infinite sample and a finite, non-negative image, and its BVH
+// passes the integrity check.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
+#include "bvh/bvh.h"
 #include "scene/load.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
@@ -29,6 +31,9 @@ class AllScenes : public testing::TestWithParam<std::string> {};
 
 TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
     const scene::Scene s = scene::loadScene(GetParam());
+    // The renderer's builder and options: every primitive in exactly one leaf,
+    // every child box inside its parent.
+    EXPECT_EQ(bvh::integrityCheck(bvh::buildBvh(s), s), std::vector<std::string>{});
     wavefront::RenderSettings settings;
     settings.width = 40;
     settings.height = 30;
