@@ -85,6 +85,7 @@ void writeOutputs(const RenderCommandOptions& o, const wavefront::RenderResult& 
         {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
         {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
         {"vkpath:fireflySamples", std::to_string(result.fireflySamples)},
+        {"vkpath:rejectedLightSamples", std::to_string(result.rejectedLightSamples)},
         {"vkpath:clamp", o.clamp > 0 ? fmt::format("{}", o.clamp) : std::string("off")},
         {"vkpath:scene", o.scene}};
     image::writeExr(output, result.image, metadata);
@@ -111,12 +112,12 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
     std::fprintf(stderr,
                  "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %.3f Mrays/s "
                  "(%llu closest-hit, %llu shadow), %u %s of %u paths, %llu NaN/Inf samples dropped, %llu fireflies%s, "
-                 "on %s\n",
+                 "%llu light samples of pdf 0 skipped, on %s\n",
                  film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
                  mpathsPerCpuSecond, mrays, (unsigned long long)result.rays.closest,
                  (unsigned long long)result.rays.shadow, result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
                  (unsigned long long)result.nonFiniteSamples, (unsigned long long)result.fireflySamples,
-                 clamped ? " (clamped)" : "", device.c_str());
+                 clamped ? " (clamped)" : "", (unsigned long long)result.rejectedLightSamples, device.c_str());
 }
 
 int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {

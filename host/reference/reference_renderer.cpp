@@ -82,7 +82,8 @@ uint32_t ReferenceRenderer::threads() const {
     return std::max(1u, std::thread::hardware_concurrency());
 }
 
-glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays) const {
+glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
+                                       uint64_t& rejectedLightSamples) const {
     using namespace shared;
     const shared::PathTracerView& scene = m_view;
     const SceneInfo info = scene.sceneInfo();
@@ -119,6 +120,7 @@ glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wav
         vec3 shadowSum(0.0f);
         for (uint j = 0; j < info.lightSamples; ++j) {
             const PathTracerView::ShadowRequest request = scene.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
+            rejectedLightSamples += request.rejected;
             if (!request.valid || request.contribution == vec3(0.0f)) continue;
             ++rays.shadow;
             if (!scene.bvhOccluded(request.ray)) shadowSum += request.contribution;
@@ -155,7 +157,7 @@ wavefront::RenderResult ReferenceRenderer::render(
 
     const shared::SceneInfo& info = m_tables.info;
     std::vector<PixelSums> film(pixels);
-    std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0};
+    std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0}, rejectedLightSamples{0};
 
     wavefront::RenderResult result;
     result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
@@ -168,12 +170,14 @@ wavefront::RenderResult ReferenceRenderer::render(
         auto work = [&] {
             SampleCounts counts;
             wavefront::RayCounts rays;
+            uint64_t rejected = 0;
             for (uint32_t y = nextRow++; y < height; y = nextRow++)
                 for (uint32_t x = 0; x < width; ++x) {
                     const uint32_t pixel = y * width + x;
                     for (uint32_t sample = first; sample < end; ++sample)
-                        accumulate(film[pixel], tracePath(pixel, sample, rays), info, counts);
+                        accumulate(film[pixel], tracePath(pixel, sample, rays, rejected), info, counts);
                 }
+            rejectedLightSamples += rejected;
             nonFinite += counts.dropped;
             fireflies += counts.fireflies;
             closestRays += rays.closest;
@@ -195,6 +199,7 @@ wavefront::RenderResult ReferenceRenderer::render(
     result.paths = pixels * done;
     result.nonFiniteSamples = nonFinite;
     result.fireflySamples = fireflies;
+    result.rejectedLightSamples = rejectedLightSamples;
     result.rays = {closestRays, shadowRays};
 
     result.image = image::Image(width, height);

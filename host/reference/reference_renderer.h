@@ -49,8 +49,10 @@ class ReferenceRenderer {
 
     // The radiance one path brings to its pixel: path `sampleIndex` of pixel
     // y * width + x, exactly what the wavefront renderer accumulates for it.
-    // Adds the rays it traces to `rays`.
-    glm::vec3 tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays) const;
+    // Adds the rays it traces to `rays` and its light samples of pdf 0 to
+    // `rejectedLightSamples`.
+    glm::vec3 tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
+                        uint64_t& rejectedLightSamples) const;
 
     const wavefront::SceneTables& tables() const { return m_tables; }
     // Worker threads render() uses.

@@ -71,6 +71,7 @@ struct RenderResult {
     uint32_t samplesPerPixel = 0;  // reached (less than asked when the time budget ran out)
     uint64_t nonFiniteSamples = 0;
     uint64_t fireflySamples = 0;  // samples that alone add more than 1 to their pixel's mean (> spp)
+    uint64_t rejectedLightSamples = 0;  // light samples skipped because their pdf was 0 (shared/path_tracer.h)
     uint64_t paths = 0;
     RayCounts rays;
     uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image

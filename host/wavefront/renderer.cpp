@@ -196,6 +196,7 @@ RenderResult WavefrontRenderer::render(const SampleRange& samples,
     const auto counters = r.counters.download<shared::QueueCounters>();
     result.nonFiniteSamples = counters.at(0).nonFinite;
     result.fireflySamples = counters.at(0).fireflies;
+    result.rejectedLightSamples = counters.at(0).rejectedLightSamples;
     auto join64 = [](glm::uvec2 lowHigh) { return uint64_t(lowHigh.x) | uint64_t(lowHigh.y) << 32; };
     result.rays = {join64(counters.at(0).closestRays), join64(counters.at(0).shadowRays)};
     const auto film = r.film.download<shared::FilmPixel>();

@@ -105,6 +105,10 @@ struct ShadowRequest {
     Ray ray;            // toward the light; tMax stops short of it
     vec3 contribution;  // added to the path's radiance if the ray is unoccluded
     bool valid;
+    // The chosen light gave a direction of density 0 (or NaN) from here, e.g.
+    // an area light seen exactly edge-on: the sample is skipped instead of
+    // divided by its pdf, and counted (RenderResult::rejectedLightSamples).
+    bool rejected;
 };
 
 // f * |cos| of the non-delta BSDF (only Lambertian is non-delta).
@@ -123,6 +127,7 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
                                        RngKey key, uint bounce, uint index) VKP_SCENE_CONST {
     ShadowRequest request;
     request.valid = false;
+    request.rejected = false;
     request.contribution = vec3(0.0f);
     request.ray.origin = surface.position;
     request.ray.direction = vec3(0.0f, 0.0f, 1.0f);
@@ -157,7 +162,11 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
     } else {
         ls = sampleLight(light, surface.position, rngUniform2(key, dim + 4u));
     }
-    if (!(ls.pdf > 0.0f) || ls.radiance == vec3(0.0f)) return request;
+    if (!(ls.pdf > 0.0f)) {
+        request.rejected = true;
+        return request;
+    }
+    if (ls.radiance == vec3(0.0f)) return request;
 
     vec3 f = evalBsdf(material, surface.normal, wo, ls.direction);
     if (f == vec3(0.0f)) return request;

@@ -53,6 +53,7 @@ struct QueueCounters {
     // queue_dispatch: closest-hit rays (intersect) and shadow rays (shadow).
     uvec2 closestRays;
     uvec2 shadowRays;
+    uint rejectedLightSamples;  // light samples of density 0 from their vertex (ShadowRequest::rejected)
 };
 
 // Per-pixel sums over all samples so far, compensated (Kahan) so that 10^5
@@ -79,7 +80,7 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
-static_assert(sizeof(vkpath::shared::QueueCounters) == 64);
+static_assert(sizeof(vkpath::shared::QueueCounters) == 68);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
 static_assert(sizeof(vkpath::shared::WavePush) == 16);
 #endif

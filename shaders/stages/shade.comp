@@ -50,6 +50,7 @@ void main() {
     vec3 wo = -ray.direction;
     bool anyShadow = false;
     uint tracedShadowRays = 0u;  // the shadow stage traces the non-zero contributions
+    uint rejectedLightSamples = 0u;
     for (uint j = 0u; j < info.lightSamples; ++j) {
         ShadowRequest request = sampleDirectLight(material, surface, wo, beta, key, push.bounce, j);
         uint index = slot * info.lightSamples + j;
@@ -57,9 +58,11 @@ void main() {
         shadowRadiance[index] = request.valid ? request.contribution : vec3(0.0);
         anyShadow = anyShadow || request.valid;
         if (request.valid && request.contribution != vec3(0.0)) ++tracedShadowRays;
+        if (request.rejected) ++rejectedLightSamples;
     }
     if (anyShadow) queues[2u * push.pathCount + atomicAdd(counters.shadowCount, 1u)] = slot;
     if (tracedShadowRays > 0u) atomicAdd(counters.shadowRayCount, tracedShadowRays);
+    if (rejectedLightSamples > 0u) atomicAdd(counters.rejectedLightSamples, rejectedLightSamples);
 
     // ---- the next bounce --------------------------------------------------------------
     PathStep step = continuePath(material, surface, wo, beta, key, push.bounce);

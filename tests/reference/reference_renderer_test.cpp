@@ -288,10 +288,11 @@ TEST(Reference, ImageAndVarianceAreThePathStatistics) {
     const reference::ReferenceRenderer renderer(s, settings);
     const auto r = renderer.render();
     wavefront::RayCounts rays;
+    uint64_t rejected = 0;
     for (uint32_t pixel : {0u, 700u, 48u * 36u - 1u}) {
         glm::dvec3 sum(0), sumSquares(0);
         for (uint32_t i = 0; i < 5; ++i) {
-            const glm::dvec3 l(renderer.tracePath(pixel, i, rays));
+            const glm::dvec3 l(renderer.tracePath(pixel, i, rays, rejected));
             sum += l;
             sumSquares += l * l;
         }
@@ -315,12 +316,12 @@ TEST(Reference, NonFiniteSamplesAreDroppedAndCounted) {
     settings.height = 12;
     const reference::ReferenceRenderer renderer(std::move(tables), settings);
     const auto r = renderer.render();
-    uint64_t expectedDropped = 0;
+    uint64_t expectedDropped = 0, rejected = 0;
     wavefront::RayCounts rays;
     for (uint32_t pixel = 0; pixel < 16 * 12; ++pixel) {
         glm::dvec3 sum(0);
         for (uint32_t i = 0; i < 2; ++i) {
-            const glm::vec3 l = renderer.tracePath(pixel, i, rays);
+            const glm::vec3 l = renderer.tracePath(pixel, i, rays, rejected);
             if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))
                 sum += glm::dvec3(l);
             else
