@@ -8,6 +8,12 @@
 //     triangle they leave;
 //   - concentric spheres of radius 1 and 1 + 4e-5, also 1e5 from the world
 //     origin: both surfaces are hit;
+//   - spheres of radius 1e-4 to 1e4, centred or 100 radii away: rays spawned
+//     off them never hit the surface they leave, inward ones reach the far side;
+//   - grazing rays (cos 1e-6 to 1e-8 to the surface) hit, at the right
+//     distance, and leave without hitting it again;
+//   - sliver triangles (a fan of 2^14, aspect ~5000; a needle of 1e-6) are
+//     watertight and never self-hit;
 //   - a unit sphere 1e4 to 1e6 away: every ray aimed at its centre hits it,
 //     at the right distance.
 // lavapipe lowers fma to a multiply and an add, and no criterion here relies
@@ -129,6 +135,209 @@ TEST(GeometryExtremes, SpawnedRaysNeverHitTheirTriangleAtAnyScale) {
         }
     }
     EXPECT_GT(naive, 0u) << "control: rays from the bare hit points should self-intersect";
+}
+
+// Spheres of radius 1e-4 ... 1e4, at the origin or 100 radii from it in a
+// random direction (a sphere's rotation changes nothing; its scale and place
+// are its transform). Rays from a shell of 3 radii hit it; from each hit one
+// ray is spawned outward (to a uniform direction of its hemisphere), which must hit nothing (the sphere is the only
+// primitive and convex), and one inward, which must hit the far side: at the
+// chord's length computed in double from the spawned ray (within 1e-3 of the
+// radius), not at the surface it leaves.
+TEST(GeometryExtremes, SpawnedRaysNeverHitTheirSphereAtAnyScale) {
+    std::mt19937 rng(73);
+    for (int exponent = -4; exponent <= 4; ++exponent) {
+        for (double distance : {0.0, 100.0}) {
+            const double radius = std::pow(10.0, exponent);
+            const glm::dvec3 centre = distance * radius * glm::dvec3(randomDirection(rng));
+            SCOPED_TRACE(testing::Message() << "radius " << radius << " centre " << glm::length(centre));
+            scene::Scene s = emptyScene();
+            s.spheres.push_back(scene::Sphere{.name = "ball", .center = vec3(centre), .radius = float(radius)});
+            const bvh::BvhBuild build = buildChecked(s);
+            const BvhPrimitive& ball = build.primitives.at(0);
+            GpuTracer tracer(test::context(), build);
+            std::vector<Ray> rays;
+            for (uint32_t i = 0; i < SPAWNED_PER_OBJECT / 2; ++i) {
+                const vec3 origin = ball.p0 + 3.0f * ball.p1.x * randomDirection(rng);
+                const vec3 inside = ball.p0 + 0.9f * ball.p1.x * randomDirection(rng);  // no tangent rays
+                rays.push_back(makeRay(origin, glm::normalize(inside - origin)));
+            }
+            const std::vector<Hit> hits = tracer.closest(rays);
+            std::vector<Ray> outward, inward;
+            size_t misses = 0;
+            for (size_t i = 0; i < rays.size(); ++i) {
+                if (hits[i].primitive == VKP_NO_HIT) {
+                    ++misses;
+                    continue;
+                }
+                const shared::SurfacePoint sp = shared::surfacePoint(ball, rays[i], hits[i]);
+                outward.push_back(shared::spawnRay(sp, directionAround(rng, sp.normal), FLT_MAX_VALUE, 0));
+                inward.push_back(shared::spawnRay(sp, directionAround(rng, -sp.normal), FLT_MAX_VALUE, 0));
+            }
+            EXPECT_EQ(misses, 0u) << "rays aimed into the sphere missed it";
+            size_t selfHits = 0, leaks = 0, wrongDistance = 0;
+            for (const Hit& h : tracer.closest(outward)) selfHits += h.primitive != VKP_NO_HIT;
+            const std::vector<Hit> far = tracer.closest(inward);
+            for (size_t i = 0; i < inward.size(); ++i) {
+                if (far[i].primitive == VKP_NO_HIT) {
+                    ++leaks;
+                    continue;
+                }
+                // The far intersection of the spawned ray, in double.
+                const glm::dvec3 o = glm::dvec3(inward[i].origin) - glm::dvec3(ball.p0);
+                const glm::dvec3 d = glm::normalize(glm::dvec3(inward[i].direction));
+                const double b = glm::dot(o, d), c = glm::dot(o, o) - radius * radius;
+                const double chord = -b + std::sqrt(std::max(0.0, b * b - c));
+                const double t = double(far[i].t) * glm::length(glm::dvec3(inward[i].direction));
+                wrongDistance += std::abs(t - chord) > 1e-3 * radius;
+            }
+            EXPECT_EQ(selfHits, 0u) << "outward rays hit the sphere they leave";
+            EXPECT_EQ(leaks, 0u) << "inward rays escaped the sphere";
+            EXPECT_EQ(wrongDistance, 0u) << "inward rays stopped short of the far side";
+        }
+    }
+}
+
+// ---- grazing rays ----------------------------------------------------------------------
+
+// A square of side 2 s in the plane z = 0 (two triangles; z = 0 keeps the
+// origins' heights exact in float) at s = 1e-4, 1, 1e4, centred or 100 s
+// away along x and y. Rays arrive at cos theta = 1e-6, 1e-7 and 1e-8 to the
+// plane (the "cos < 1e-6"), aimed at random points of its inner 90%:
+// every ray hits, at o.z / -d.z (in double, from the float ray) to 1e-5
+// relative; a ray spawned from the hit into the mirror direction (cos
+// 1e-8 above the plane) or onward below it must hit nothing.
+TEST(GeometryExtremes, GrazingRaysHitAndLeaveCleanly) {
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> u(-0.9f, 0.9f), angle(0.0f, 6.2831853f);
+    for (float size : {1e-4f, 1.0f, 1e4f}) {
+        for (float away : {0.0f, 100.0f}) {
+            for (double cosine : {1e-6, 1e-7, 1e-8}) {
+                SCOPED_TRACE(testing::Message() << "size " << size << " away " << away << " cos " << cosine);
+                const vec3 c(away * size, away * size, 0.0f);
+                scene::Scene s = emptyScene();
+                scene::Mesh quad;
+                quad.positions = {c + vec3(-size, -size, 0), c + vec3(size, -size, 0), c + vec3(size, size, 0),
+                                  c + vec3(-size, size, 0)};
+                quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+                s.meshes.push_back(quad);
+                const bvh::BvhBuild build = buildChecked(s);
+                GpuTracer tracer(test::context(), build);
+                std::vector<Ray> rays;
+                for (uint32_t i = 0; i < SPAWNED_PER_OBJECT / 2; ++i) {
+                    const double phi = angle(rng), h = std::sqrt(1.0 - cosine * cosine);
+                    const glm::dvec3 d(h * std::cos(phi), h * std::sin(phi), -cosine);
+                    const glm::dvec3 target(c.x + u(rng) * size, c.y + u(rng) * size, 0.0);
+                    rays.push_back(makeRay(vec3(target - 0.5 * double(size) * d), vec3(d)));
+                }
+                const std::vector<Hit> hits = tracer.closest(rays);
+                size_t misses = 0, wrongT = 0;
+                double worst = 0;
+                std::vector<Ray> spawned;
+                for (size_t i = 0; i < rays.size(); ++i) {
+                    if (hits[i].primitive == VKP_NO_HIT) {
+                        ++misses;
+                        continue;
+                    }
+                    const double expected = double(rays[i].origin.z) / -double(rays[i].direction.z);
+                    const double error = std::abs(double(hits[i].t) - expected) / expected;
+                    worst = std::max(worst, error);
+                    wrongT += error > 1e-5;
+                    const auto sp = shared::surfacePoint(build.primitives[hits[i].primitive], rays[i], hits[i]);
+                    const vec3 mirror(rays[i].direction.x, rays[i].direction.y, -rays[i].direction.z);
+                    spawned.push_back(shared::spawnRay(sp, mirror, FLT_MAX_VALUE, 0));
+                    spawned.push_back(shared::spawnRay(sp, rays[i].direction, FLT_MAX_VALUE, 0));
+                }
+                EXPECT_EQ(misses, 0u);
+                EXPECT_EQ(wrongT, 0u) << "worst relative error of t " << worst;
+                size_t selfHits = 0;
+                for (const Hit& h : tracer.closest(spawned)) selfHits += h.primitive != VKP_NO_HIT;
+                EXPECT_EQ(selfHits, 0u) << "grazing rays spawned off the square hit it again";
+            }
+        }
+    }
+}
+
+// ---- sliver triangles ---------------------------------------------------------------------
+
+// A disc of radius s (1e-3, 1, 1e3) fanned from its centre into 2^14
+// slivers (apex angle 3.8e-4 rad, aspect ratio ~5000), vertices shared: rays from above at random
+// points and at points on the shared edges (rounded to float, so just beside
+// them as often as on them) never pass through, and rays spawned from the
+// hits, up or down, hit nothing (the disc is flat). And one needle, 1e-6 s
+// wide and s long: rays down its middle line hit it, rays 1e-7 s beside it
+// miss.
+TEST(GeometryExtremes, SliverTrianglesAreWatertightAndNeverSelfHit) {
+    constexpr uint32_t SLIVERS = 1u << 14;
+    constexpr uint32_t RAYS = 20000;
+    std::mt19937 rng(79);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (float size : {1e-3f, 1.0f, 1e3f}) {
+        SCOPED_TRACE(testing::Message() << "size " << size);
+        scene::Scene s = emptyScene();
+        scene::Mesh fan;
+        fan.positions.push_back(vec3(0.0f));
+        for (uint32_t k = 0; k < SLIVERS; ++k) {
+            const double a = 6.283185307179586 * k / SLIVERS;
+            fan.positions.push_back(size * vec3(float(std::cos(a)), float(std::sin(a)), 0.0f));
+        }
+        for (uint32_t k = 0; k < SLIVERS; ++k) fan.triangles.emplace_back(0u, 1u + k, 1u + (k + 1) % SLIVERS);
+        s.meshes.push_back(fan);
+        const bvh::BvhBuild build = buildChecked(s);
+        ASSERT_EQ(build.primitives.size(), SLIVERS);
+        GpuTracer tracer(test::context(), build);
+        std::vector<Ray> rays;
+        for (uint32_t i = 0; i < RAYS; ++i) {
+            vec3 target;
+            if (i % 2 == 0) {  // on a shared edge: from the centre to rim vertex k
+                const uint32_t k = uint32_t(u(rng) * SLIVERS) % SLIVERS;
+                target = (0.01f + 0.98f * u(rng)) * fan.positions[1 + k];
+            } else {
+                const float r = 0.99f * size * std::sqrt(u(rng)), a = 6.2831853f * u(rng);
+                target = vec3(r * std::cos(a), r * std::sin(a), 0.0f);
+            }
+            const vec3 d = glm::normalize(vec3(u(rng) - 0.5f, u(rng) - 0.5f, -1.0f));
+            rays.push_back(makeRay(target - size * d, d));
+        }
+        const std::vector<Hit> hits = tracer.closest(rays);
+        size_t escapes = 0;
+        std::vector<Ray> spawned;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            if (hits[i].primitive == VKP_NO_HIT) {
+                ++escapes;
+                continue;
+            }
+            const auto sp = shared::surfacePoint(build.primitives[hits[i].primitive], rays[i], hits[i]);
+            spawned.push_back(shared::spawnRay(sp, directionAround(rng, vec3(0, 0, 1)), FLT_MAX_VALUE, 0));
+            spawned.push_back(shared::spawnRay(sp, directionAround(rng, vec3(0, 0, -1)), FLT_MAX_VALUE, 0));
+        }
+        EXPECT_EQ(escapes, 0u) << "rays passed through the fan of slivers";
+        size_t selfHits = 0;
+        for (const Hit& h : tracer.closest(spawned)) selfHits += h.primitive != VKP_NO_HIT;
+        EXPECT_EQ(selfHits, 0u) << "rays spawned off a sliver hit the fan again";
+
+        // The needle: (0, 0), (s, 0), (s / 2, 1e-6 s) in z = 0.
+        scene::Scene n = emptyScene();
+        scene::Mesh needle;
+        needle.positions = {vec3(0.0f), vec3(size, 0.0f, 0.0f), vec3(0.5f * size, 1e-6f * size, 0.0f)};
+        needle.triangles = {{0, 1, 2}};
+        n.meshes.push_back(needle);
+        const bvh::BvhBuild needleBuild = buildChecked(n);
+        ASSERT_EQ(needleBuild.primitives.size(), 1u) << "a needle is thin, not degenerate";
+        GpuTracer needleTracer(test::context(), needleBuild);
+        std::vector<Ray> along, beside;
+        for (uint32_t i = 0; i < 1000; ++i) {
+            const float x = (0.05f + 0.9f * u(rng)) * size;
+            const float height = 1e-6f * size * (1.0f - std::abs(2.0f * x / size - 1.0f));  // the needle's width at x
+            along.push_back(makeRay(vec3(x, 0.5f * height, size), vec3(0, 0, -1)));
+            beside.push_back(makeRay(vec3(x, -1e-7f * size, size), vec3(0, 0, -1)));
+        }
+        size_t missedAlong = 0, hitBeside = 0;
+        for (const Hit& h : needleTracer.closest(along)) missedAlong += h.primitive == VKP_NO_HIT;
+        for (const Hit& h : needleTracer.closest(beside)) hitBeside += h.primitive != VKP_NO_HIT;
+        EXPECT_EQ(missedAlong, 0u);
+        EXPECT_EQ(hitBeside, 0u);
+    }
 }
 
 // ---- concentric spheres ---------------------------------------------------------------
