@@ -73,8 +73,9 @@ VKP_FN EnvSample envSampleInTexel(EnvironmentInfo info, uint texel, vec2 jitter)
     uint y = texel / info.width;
     EnvSample s;
     s.uv = vec2((float(x) + jitter.x) / float(info.width), (float(y) + jitter.y) / float(info.height));
-    // Keep the point inside the texel after rounding (a jitter of 1 - 2^-24
-    // could round to the next texel's edge).
+    // Keep the point inside the map: a jitter of 1 - 2^-24 can round up to
+    // the texel's far edge, which for the last column or row is 1. (There the
+    // point may fall in the neighbouring texel, which pdfTexel then names.)
     s.uv = min(s.uv, vec2(VKP_ONE_MINUS_EPSILON));
     vec3 mapDirection = equirectDirection(s.uv.x, s.uv.y);
     s.direction = envMapToWorld(info, mapDirection);

@@ -24,16 +24,19 @@ layout(push_constant, scalar) uniform Push {
     EnvironmentInfo info;
     uint count;
     uint seed;
+    uint largest;  // 1: every random word is 2^32 - 1 (the largest uniform, 1 - 2^-24)
 };
+
+uint bitsFor(RngKey key, uint dimension) { return largest != 0u ? 0xffffffffu : rngBits(key, dimension); }
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= count) return;
     RngKey key = makeRngKey(i, 0u, seed);
     uint texelCount = info.width * info.height;
-    uint bucket = aliasBucket(rngBits(key, 0u), texelCount);
-    uint texel = aliasResolve(table[bucket], bucket, rngBits(key, 1u));
-    EnvSample s = envSampleInTexel(info, texel, rngUniform2(key, 2u));
+    uint bucket = aliasBucket(bitsFor(key, 0u), texelCount);
+    uint texel = aliasResolve(table[bucket], bucket, bitsFor(key, 1u));
+    EnvSample s = envSampleInTexel(info, texel, vec2(uintToUnitFloat(bitsFor(key, 2u)), uintToUnitFloat(bitsFor(key, 3u))));
 
     // As a BSDF-sampled ray escaping in this direction would evaluate it.
     vec3 mapDirection = envWorldToMap(info, s.direction);

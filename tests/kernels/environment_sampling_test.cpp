@@ -30,6 +30,7 @@ struct EnvPush {
     shared::EnvironmentInfo info;
     uint32_t count;
     uint32_t seed;
+    uint32_t largest;  // 1: every random word is 2^32 - 1
 };
 
 constexpr uint32_t SAMPLES = 1000000;
@@ -48,12 +49,12 @@ shared::EnvironmentInfo infoFor(const image::Image& map, float rotationDegrees =
 }
 
 std::vector<EnvTestResult> sample(const scene::EnvironmentTable& table, const shared::EnvironmentInfo& info,
-                                  uint32_t count = SAMPLES) {
+                                  uint32_t count = SAMPLES, bool largestUniforms = false) {
     vk::Context& context = test::context();
     vk::Buffer entries = vk::Buffer::fromSpan(context, std::span(table.entries));
     vk::Buffer results(context, count * sizeof(EnvTestResult));
     vk::Kernel kernel(context, "environment_sampling");
-    kernel.dispatch(count, {{0, &entries}, {1, &results}}, EnvPush{info, count, 3});
+    kernel.dispatch(count, {{0, &entries}, {1, &results}}, EnvPush{info, count, 3, largestUniforms ? 1u : 0u});
     return results.download<EnvTestResult>();
 }
 
@@ -61,6 +62,30 @@ std::vector<EnvTestResult> sample(const scene::EnvironmentTable& table, const sh
 double pdfOf(const scene::EnvironmentTable& table, const shared::EnvironmentInfo& info, glm::vec3 d) {
     const glm::vec2 uv = shared::equirectUv(shared::envWorldToMap(info, d));
     return shared::envDirectionPdf(info, table.entries[shared::envTexelOfUv(info, uv)].probability, d);
+}
+
+// The integral over the sphere of directions of pdfOf, in the map's own
+// coordinates: dw = 2 pi^2 sin(theta) du dv. The integrand is constant over
+// each texel (the pdf is uniform in (u, v) inside a texel), so k x k
+// midpoints per texel integrate it exactly but for float rounding: a pdf
+// whose 1/sin(theta) or W H factor were wrong, or a lookup that picked the
+// wrong texel, would show. (The (phi, cos theta) grid of the chi-square
+// tests cuts texels anywhere and resolves the poles' 1/sin(theta) poorly:
+// it integrates these pdfs only to ~2e-3.)
+double integrateInMapCoordinates(const scene::EnvironmentTable& table, const shared::EnvironmentInfo& info,
+                                 uint32_t k = 2) {
+    const uint32_t nu = info.width * k, nv = info.height * k;
+    double sum = 0;
+    for (uint32_t j = 0; j < nv; ++j) {
+        const double v = (j + 0.5) / nv, sinTheta = std::sin(std::numbers::pi * v);
+        double row = 0;
+        for (uint32_t i = 0; i < nu; ++i) {
+            const glm::vec3 map = shared::equirectDirection(float((i + 0.5) / nu), float(v));
+            row += pdfOf(table, info, shared::envMapToWorld(info, map));
+        }
+        sum += row * 2 * std::numbers::pi * std::numbers::pi * sinTheta / (double(nu) * nv);
+    }
+    return sum;
 }
 
 // The pdf a sample reports equals the pdf looked up for its direction, and
@@ -81,7 +106,8 @@ void expectDirectionsFit(const scene::EnvironmentTable& table, const shared::Env
                          const std::vector<EnvTestResult>& results) {
     test::DirectionGrid grid;
     auto pdf = [&](glm::vec3 d) { return pdfOf(table, info, d); };
-    EXPECT_NEAR(test::integrateOverSphere(grid, pdf), 1.0, 2e-3);
+    EXPECT_NEAR(integrateInMapCoordinates(table, info), 1.0, 1e-3) << "pdf does not integrate to 1";
+    EXPECT_NEAR(test::integrateOverSphere(grid, pdf), 1.0, 2e-3) << "the chi-square's expected counts";
     std::vector<glm::vec3> directions;
     for (const auto& r : results) directions.push_back(r.direction);
     const auto chi = test::chiSquareDirections(grid, directions, pdf);
@@ -153,6 +179,7 @@ TEST(EnvironmentSampling, OneHotMapSamplesOnlyItsTexel) {
         ASSERT_EQ(shared::envTexelOfUv(info, uv), hot);
     }
     expectPdfsAgree(results);
+    EXPECT_NEAR(integrateInMapCoordinates(table, info, 8), 1.0, 1e-3);
 }
 
 // A 2048x1024 sky: a smooth gradient with a 0.5 degree sun `ratio` times brighter.
@@ -202,6 +229,31 @@ TEST(EnvironmentSampling, SkyWithSunAtExtremeRatios) {
         const auto results = sample(table, infoFor(map));
         expectPdfsAgree(results);
         expectTexelsFollowLuminance(map, results);
+        EXPECT_NEAR(integrateInMapCoordinates(table, infoFor(map)), 1.0, 1e-3) << "pdf does not integrate to 1";
+    }
+}
+
+// The largest random words the GPU can draw (2^32 - 1, the uniform
+// 1 - 2^-24) pick the last bucket and a finite unit direction, on maps whose
+// sizes are not powers of two, and the sky. The point lies at the texel's far
+// corner, where rounding may carry it into the next row or column: the pdf
+// then comes from that texel (pdfTexel), so sampling and evaluation agree.
+TEST(EnvironmentSampling, LargestUniformsStayInRangeOnTheGpu) {
+    for (const image::Image& map : {constantMap(3, 2), gradientMap(100, 37), skyWithSun(1e7f)}) {
+        SCOPED_TRACE(testing::Message() << map.width << "x" << map.height);
+        const auto table = scene::buildEnvironmentTable(map);
+        const auto results = sample(table, infoFor(map), 8, /*largestUniforms*/ true);
+        for (const auto& r : results) {
+            ASSERT_LT(r.texel, map.width * map.height);
+            ASSERT_TRUE(std::isfinite(r.direction.x) && std::isfinite(r.direction.y) && std::isfinite(r.direction.z));
+            ASSERT_NEAR(glm::length(r.direction), 1.0f, 1e-6f);
+            ASSERT_GT(r.pdf, 0.0f);
+            ASSERT_EQ(r.pdfLookup, r.pdf);
+            const int dx = int(r.lookedUpTexel % map.width) - int(r.texel % map.width);
+            const int dy = int(r.lookedUpTexel / map.width) - int(r.texel / map.width);
+            ASSERT_TRUE((dx == 0 || dx == 1 || dx == 1 - int(map.width)) && (dy == 0 || dy == 1))
+                << "texel " << r.texel << " looked up as " << r.lookedUpTexel;
+        }
     }
 }
 
