@@ -3,7 +3,9 @@
 // dispatched through the kernel harness) and the mean is the constant to
 // 1e-5 relative. Plain float sums stall once the sum reaches 2^24 times the
 // addend and would be off by tens of percent here; the compensated (Kahan)
-// sums with `precise` arithmetic keep the error near one float ulp.
+// sums with `precise` arithmetic keep the error near one float ulp. The
+// same holds through the whole renderer: 2^25 samples of a constant
+// environment in one pixel, over 513 waves.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,30 +85,32 @@ TEST(FilmAccumulation, NonFiniteSamplesAreDroppedAndCounted) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.mean[c], 2.0, 1e-6) << c;
 }
 
-// lavapipe ends any shader loop after 65535 iterations (llvmpipe's guard
-// against endless loops), and the accumulate stage loops over a pixel's
-// samples in a wave, so the renderer caps a wave at 65535 samples per pixel.
-// A one-pixel render of 10^5 samples of a constant environment must still
-// count every sample.
-TEST(FilmAccumulation, RendererKeepsEverySampleOfATinyImage) {
+// The whole renderer at 2^25 samples per pixel of a constant environment
+// (0.1, 1, 3.7): one pixel, so 513 waves of at most 65535 samples each
+// (lavapipe ends any shader loop after 65535 iterations, and the accumulate
+// stage loops over a pixel's samples in a wave). Every sample is counted
+// and the mean is the radiance to 1e-5 relative, the criterion; a
+// float sum would have stalled at 2^24 samples of 3.7 (an error of ~50%).
+TEST(FilmAccumulation, RendererAtTwoToThe25SamplesIsExact) {
     scene::Scene s;
     s.materials.push_back({});
     s.spheres.push_back({"behind", glm::vec3(0, 0, 10), 1.0f, 0});  // out of view
     s.camera.position = glm::vec3(0);
     s.camera.target = glm::vec3(0, 0, -1);
     scene::Environment env;
-    env.color = glm::vec3(0.5f, 0.25f, 2.0f);
+    const glm::vec3 radiance(0.1f, 1.0f, 3.7f);
+    env.color = radiance;
     s.environment = env;
     wavefront::RenderSettings settings;
     settings.width = settings.height = 1;
-    settings.samplesPerPixel = 100000;
+    settings.samplesPerPixel = 1u << 25;
+    settings.maxDepth = 0;
     wavefront::WavefrontRenderer renderer(test::context(), s, settings);
     const auto r = renderer.render();
-    EXPECT_GE(r.waves, 2u);
-    EXPECT_EQ(r.samplesPerPixel, 100000u);
-    EXPECT_NEAR(r.image.pixels[0].x, 0.5f, 1e-6f);
-    EXPECT_NEAR(r.image.pixels[0].y, 0.25f, 1e-6f);
-    EXPECT_NEAR(r.image.pixels[0].z, 2.0f, 2e-6f);
+    EXPECT_EQ(r.waves, 513u);
+    EXPECT_EQ(r.samplesPerPixel, 1u << 25);
+    EXPECT_EQ(r.nonFiniteSamples, 0u);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.image.pixels[0][c], radiance[c], 1e-5f * radiance[c]) << c;
 }
 
 }  // namespace
