@@ -1,6 +1,6 @@
 // Watertightness: rays from inside a closed mesh aimed exactly at its edges and
 // vertices (where a ray passes between triangles, and where a non-watertight
-// test lets it slip through) must all hit the mesh: 10^6 rays over a finely
+// test lets it slip through) must all hit the mesh: 10^6 rays into each of a finely
 // tessellated icosphere and cube, traced on the GPU, zero escapes.
 //
 // The cube's faces lie in the planes of BVH boxes, so it also checks that
@@ -19,7 +19,7 @@ namespace {
 using namespace vkpath;
 using namespace vkpath::test::bvh;
 
-constexpr uint32_t RAYS_PER_MESH = 500000;
+constexpr uint32_t RAYS_PER_MESH = 1000000;
 
 struct AimedRays {
     std::vector<Ray> rays;
