@@ -188,6 +188,11 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         configs.push_back({"", "", o.device, base, {}});
     } else {
         const Sweep sweep = parseSweep(o.sweep);
+        if (sweep.knob->biased && o.reference.empty())
+            std::fprintf(stderr,
+                         "vkpath: warning: --sweep %s without --reference: the two-seed estimate measures noise only, "
+                         "not the bias of %s; give a deep, unclamped reference to see it\n",
+                         sweep.knob->name, sweep.knob->name);
         for (const std::string& value : sweep.values) {
             Configuration c{sweep.knob->name, value, fmt::format("{}={}", sweep.knob->name, value), base, {}};
             sweep.knob->apply(c.settings, value);

@@ -38,14 +38,14 @@ uint32_t unsignedValue(const char* knob, const std::string& value) {
 // The knob table. Each row: the name --sweep takes, the values it accepts and
 // how one sets RenderSettings.
 const std::vector<Knob> KNOBS = {
-    {"max-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.maxDepth = unsignedValue("max-depth", v); }},
-    {"light-samples", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.lightSamples = unsignedValue("light-samples", v); }},
-    {"rr-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.rouletteDepth = unsignedValue("rr-depth", v); }},
+    {"max-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.maxDepth = unsignedValue("max-depth", v); }, true},
+    {"light-samples", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.lightSamples = unsignedValue("light-samples", v); }, false},
+    {"rr-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.rouletteDepth = unsignedValue("rr-depth", v); }, false},
     {"sampler", "independent or sobol", [](wavefront::RenderSettings& s, const std::string& v) {
          const auto sampler = wavefront::parseSampler(v);
          if (!sampler) throw InputError(fmt::format("--sweep sampler: '{}' is neither independent nor sobol", v));
          s.sampler = *sampler;
-     }},
+     }, false},
     {"clamp", "off or numbers > 0", [](wavefront::RenderSettings& s, const std::string& v) {
          if (v == "off") {
              s.clampRadiance = 0;
@@ -56,7 +56,7 @@ const std::vector<Knob> KNOBS = {
          if (error != std::errc() || end != v.data() + v.size() || !(c > 0) || !std::isfinite(c))
              throw InputError(fmt::format("--sweep clamp: '{}' is neither off nor a number > 0", v));
          s.clampRadiance = c;
-     }},
+     }, true},
 };
 
 }  // namespace

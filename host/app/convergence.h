@@ -22,6 +22,9 @@ struct Knob {
     const char* values;  // what the values look like, for error messages
     // Sets the knob in `settings`; throws InputError naming the knob when `value` is bad.
     void (*apply)(wavefront::RenderSettings& settings, const std::string& value);
+    // Some values change the image's expectation (clamping removes energy, a
+    // short max depth drops light): only a reference shows that bias.
+    bool biased;
 };
 const std::vector<Knob>& knobs();
 

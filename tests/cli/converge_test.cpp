@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -128,6 +129,43 @@ TEST(Converge, SweepRecordsOneCurvePerValue) {
     EXPECT_EQ(curves, (std::map<std::string, std::vector<uint32_t>>{{"0", spp}, {"1", spp}, {"4", spp}}));
     EXPECT_NE(r.out.find("<- best"), std::string::npos) << r.out;
 }
+
+// Every knob of the table runs, one curve per value; sweeping a biased knob
+// (clamp, max-depth) without a reference warns that the two-seed estimate
+// cannot see its bias, an unbiased one does not.
+struct KnobCase {
+    const char* sweep;
+    std::vector<std::string> values;
+    bool warns;
+};
+
+class ConvergeKnob : public testing::TestWithParam<KnobCase> {};
+
+TEST_P(ConvergeKnob, SweepRunsEveryValue) {
+    const KnobCase& k = GetParam();
+    const test::TempDir dir;
+    const auto r = test::runVkpath(fmt::format("converge {} -d 16x12 --device cpu --spp 1,2 --sweep {} --csv {}",
+                                               scene(), k.sweep, (dir / "c.csv").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::map<std::string, size_t> points;
+    for (const Row& row : readCsv(dir / "c.csv")) points[row.value] += 1;
+    std::map<std::string, size_t> expected;
+    for (const std::string& v : k.values) expected[v] = 2;
+    EXPECT_EQ(points, expected);
+    EXPECT_EQ(r.err.find("warning: --sweep") != std::string::npos, k.warns) << r.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Knobs, ConvergeKnob,
+    testing::Values(KnobCase{"light-samples=1,2", {"1", "2"}, false}, KnobCase{"rr-depth=1,4", {"1", "4"}, false},
+                    KnobCase{"sampler=independent,sobol", {"independent", "sobol"}, false},
+                    KnobCase{"clamp=off,1", {"off", "1"}, true}, KnobCase{"max-depth=1,3", {"1", "3"}, true}),
+    [](const testing::TestParamInfo<KnobCase>& p) {
+        std::string name = p.param.sweep;
+        name = name.substr(0, name.find('='));
+        name.erase(std::remove(name.begin(), name.end(), '-'), name.end());
+        return name;
+    });
 
 TEST(Converge, BadInputIsOneLineAndExitTwo) {
     const test::TempDir dir;
