@@ -1,6 +1,6 @@
 // `vkpath render` as a user meets it: Scotty3D's -w, the EXR's metadata, the
-// PNG preview and its exposure, the summary line, bit-identical reruns and
-// --time-budget.
+// PNG preview and its exposure, the summary line and the progress bar,
+// bit-identical reruns and --time-budget.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <regex>
 #include <string>
@@ -163,6 +165,27 @@ TEST(RenderCli, TimeBudgetWithSppStopsAtTheSpp) {
     const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 -s 3 --time-budget 100 -o " + exr);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(vkpathMetadata(exr).at("vkpath:spp"), "3");
+}
+
+// On a terminal a progress bar runs on stderr (samples done, Mpaths/s, ETA),
+// redrawn in place; piped, stderr carries only the summary. The terminal is a
+// pseudo-terminal from util-linux's `script`.
+TEST(RenderCli, ProgressBarOnATerminalOnly) {
+    const test::TempDir dir;
+    const std::string exr = (dir / "p.exr").string(), log = (dir / "tty.txt").string();
+    const std::string render = std::string("'") + VKPATH_BINARY + "' render " + cornellBox() +
+                               " -d 16x16 -s 8 --paths-in-flight 256 -o " + exr;
+    const std::string command = "script -qec \"" + render + "\" /dev/null > '" + log + "' 2>&1 </dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    std::ifstream in(log);
+    const std::string tty((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(tty.find("8/8 spp"), std::string::npos) << tty;
+    EXPECT_NE(tty.find("Mpaths/s  ETA"), std::string::npos) << tty;
+    EXPECT_NE(tty.find('\r'), std::string::npos) << "the bar is redrawn in place";
+    const auto piped = test::runVkpath(render.substr(render.find("' ") + 2));
+    ASSERT_EQ(piped.exitCode, 0) << piped.err;
+    EXPECT_EQ(piped.err.find("ETA"), std::string::npos) << piped.err;
+    EXPECT_EQ(piped.err.find('\r'), std::string::npos);
 }
 
 TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
