@@ -144,6 +144,7 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
                                       {"nonFiniteA", m.nonFiniteA},
                                       {"nonFiniteB", m.nonFiniteB},
                                       {"overall", channelJson(m.overall)},
+                                      {"relMseTrimmed", m.overall.relMseTrimmed},
                                       {"R", channelJson(m.channels[0])},
                                       {"G", channelJson(m.channels[1])},
                                       {"B", channelJson(m.channels[2])},
@@ -156,6 +157,8 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
                 printChannel("G", m.channels[1]);
                 printChannel("B", m.channels[2]);
                 printChannel("overall", m.overall);
+                std::printf("relMSE without the %g%% of pixels with the largest error (fireflies): %.6g\n",
+                            100 * image::TRIMMED_FRACTION, m.overall.relMseTrimmed);
                 std::printf("non-finite pixels: %llu in A, %llu in B\n", (unsigned long long)m.nonFiniteA,
                             (unsigned long long)m.nonFiniteB);
                 for (const auto& name : exceeded) std::printf("bound exceeded: %s\n", name.get<std::string>().c_str());

@@ -38,7 +38,9 @@ struct ConvergeOptions : RenderOptions {
     std::string csv = "out/converge.csv";
     std::string plot = "out/converge.png";
     std::string sweep;
+    std::string metric = "relmse";  // what the tables and the plot use: relmse or trimmed-relmse
 };
+
 
 // The relMSE levels of the time-to-error table.
 constexpr double TARGETS[] = {1e-1, 1e-2, 1e-3};
@@ -49,6 +51,15 @@ struct Configuration {
     wavefront::RenderSettings settings;
     std::vector<Checkpoint> curve;
 };
+
+// The curves as the tables and the plot see them: with `trimmed`, each
+// checkpoint's relMSE is the trimmed one (the CSV keeps both).
+std::vector<Configuration> tabulated(std::vector<Configuration> configs, bool trimmed) {
+    if (trimmed)
+        for (Configuration& c : configs)
+            for (Checkpoint& p : c.curve) p.relMse = p.relMseTrimmed;
+    return configs;
+}
 
 // One renderer's samples so far: each range it renders is added to a
 // running sum weighted by its sample count; the cost is the wall clock of
@@ -124,7 +135,9 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config, c
         }
         c.relMse = error.relMse;
         c.rmse = error.rmse;
-        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g\n", config.label.c_str(), n, c.wallSeconds, c.relMse);
+        c.relMseTrimmed = error.relMseTrimmed;
+        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g (trimmed %.4g)\n", config.label.c_str(), n, c.wallSeconds,
+                     c.relMse, c.relMseTrimmed);
         curve.push_back(c);
     }
     return curve;
@@ -139,21 +152,21 @@ void writeCsv(const std::filesystem::path& path, const std::vector<Configuration
     const std::filesystem::path temporary = path.string() + ".tmp";
     {
         std::ofstream out(temporary);
-        out << "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,error\n";
+        out << "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error\n";
         for (const Configuration& config : configs)
             for (const Checkpoint& c : config.curve)
-                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{}\n", config.knob, config.value, c.spp, c.wallSeconds,
-                                   c.deviceSeconds ? fmt::format("{:.6f}", *c.deviceSeconds) : "", c.relMse, c.rmse,
-                                   errorSource);
+                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{:.6g},{}\n", config.knob, config.value, c.spp,
+                                   c.wallSeconds, c.deviceSeconds ? fmt::format("{:.6f}", *c.deviceSeconds) : "",
+                                   c.relMse, c.rmse, c.relMseTrimmed, errorSource);
         if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
     }
     std::filesystem::rename(temporary, path);
 }
 
-void printTables(const std::vector<Configuration>& configs) {
+void printTables(const std::vector<Configuration>& configs, const char* metric) {
     size_t width = std::string("configuration").size();
     for (const Configuration& c : configs) width = std::max(width, c.label.size());
-    std::printf("time to reach relMSE (wall seconds, interpolated on log-log axes between checkpoints)\n");
+    std::printf("time to reach %s (wall seconds, interpolated on log-log axes between checkpoints)\n", metric);
     std::printf("%-*s", int(width), "configuration");
     for (double target : TARGETS) std::printf("  %12s", fmt::format("{:g}", target).c_str());
     std::printf("\n");
@@ -168,7 +181,7 @@ void printTables(const std::vector<Configuration>& configs) {
         std::printf("\n");
     }
 
-    std::printf("\nefficiency at the last checkpoint: 1 / (wall seconds x relMSE)\n");
+    std::printf("\nefficiency at the last checkpoint: 1 / (wall seconds x %s)\n", metric);
     double best = 0;
     for (const Configuration& c : configs) best = std::max(best, efficiency(c.curve));
     std::printf("%-*s  %6s  %10s  %10s  %12s\n", int(width), "configuration", "spp", "wall s", "relMSE", "efficiency");
@@ -208,17 +221,20 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
     }
     const scene::Scene scene = loadRenderScene(o);
 
+    const bool trimmed = o.metric == "trimmed-relmse";
+    const char* metric = trimmed ? "trimmed relMSE" : "relMSE";
     auto run = [&](const auto& measureOne) {
         for (Configuration& c : configs) c.curve = measureOne(c);
         writeCsv(o.csv, configs, reference ? "reference" : "two-seed estimate");
+        const std::vector<Configuration> shown = tabulated(configs, trimmed);
         plot::Chart chart;
         chart.title = fmt::format("{} {}x{} on {}, error against {}", std::filesystem::path(o.scene).filename().string(),
                                   base.width, base.height, o.device,
                                   reference ? std::filesystem::path(o.reference).filename().string() : "a second seed");
         chart.xLabel = "wall time (s)";
-        chart.yLabel = "relMSE";
-        chart.scoreLabel = "efficiency 1/(s*relMSE)";
-        for (const Configuration& c : configs) {
+        chart.yLabel = metric;
+        chart.scoreLabel = trimmed ? "efficiency 1/(s*trimmed relMSE)" : "efficiency 1/(s*relMSE)";
+        for (const Configuration& c : shown) {
             plot::Series s{c.label, {}, {}};
             for (const Checkpoint& p : c.curve) {
                 s.x.push_back(p.wallSeconds);
@@ -229,7 +245,7 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         }
         ensureParent(o.plot);
         image::writePng(o.plot, plot::renderChart(chart));
-        printTables(configs);
+        printTables(shown, metric);
         std::printf("%s\n%s\n", o.csv.c_str(), o.plot.c_str());
         return 0;
     };
@@ -264,6 +280,11 @@ void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& co
     cmd->add_option("--sweep", o->sweep, "KNOB=v1,v2,...: one curve per value; knobs: " + knobNames);
     cmd->add_option("--csv", o->csv, "Measurements, one row per configuration and sample count")->capture_default_str();
     cmd->add_option("--plot", o->plot, "Log-log plot of relMSE against wall time (PNG)")->capture_default_str();
+    cmd->add_option("--metric", o->metric,
+                    "The error of the tables and the plot: relmse, or trimmed-relmse (without the 0.1% of pixels with "
+                    "the largest error: robust to fireflies; the CSV has both)")
+        ->check(CLI::IsMember({"relmse", "trimmed-relmse"}))
+        ->capture_default_str();
     cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runConverge(global, *o); }; });
 }
 

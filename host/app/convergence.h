@@ -43,6 +43,7 @@ struct Checkpoint {
     std::optional<double> deviceSeconds;     // GPU: summed stage timestamps; none on the CPU
     double relMse = 0;
     double rmse = 0;
+    double relMseTrimmed = 0;  // image::ChannelMetrics::relMseTrimmed
 };
 
 // The time at which the curve first reaches relMSE <= target, interpolated

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "input_error.h"
 
@@ -56,6 +57,16 @@ glm::vec3 ramp(float t) {
     return glm::mix(stops[i], stops[i + 1], t - float(i));
 }
 
+// The mean of `terms` without its largest TRIMMED_FRACTION (rounded down).
+double trimmedMean(std::vector<double> terms) {
+    if (terms.empty()) return 0;
+    const size_t kept = terms.size() - size_t(double(terms.size()) * TRIMMED_FRACTION);
+    std::nth_element(terms.begin(), terms.begin() + (kept - 1), terms.end());
+    double sum = 0;
+    for (size_t i = 0; i < kept; ++i) sum += terms[i];
+    return sum / double(kept);
+}
+
 }  // namespace
 
 ImageMetrics compareImages(const Image& a, const Image& b) {
@@ -64,6 +75,8 @@ ImageMetrics compareImages(const Image& a, const Image& b) {
     ImageMetrics metrics;
     std::array<Accumulator, 3> channels;
     Accumulator overall;
+    std::vector<double> pixelRelMse;
+    pixelRelMse.reserve(a.pixels.size());
     for (uint32_t y = 0; y < a.height; ++y)
         for (uint32_t x = 0; x < a.width; ++x) {
             const glm::vec3 pa = a.at(x, y), pb = b.at(x, y);
@@ -72,13 +85,18 @@ ImageMetrics compareImages(const Image& a, const Image& b) {
             metrics.nonFiniteB += !fb;
             if (!fa || !fb) continue;
             ++metrics.comparedPixels;
+            double relative = 0;
             for (int c = 0; c < 3; ++c) {
                 channels[c].add(pa[c], pb[c], x, y);
                 overall.add(pa[c], pb[c], x, y);
+                const double d = double(pa[c]) - double(pb[c]);
+                relative += d * d / (double(pb[c]) * pb[c] + RELMSE_EPSILON) / 3;
             }
+            pixelRelMse.push_back(relative);
         }
     for (int c = 0; c < 3; ++c) metrics.channels[c] = channels[c].result();
     metrics.overall = overall.result();
+    metrics.overall.relMseTrimmed = trimmedMean(std::move(pixelRelMse));
     return metrics;
 }
 
@@ -87,21 +105,27 @@ ChannelMetrics estimateErrorFromPair(const Image& a, const Image& b) {
         throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height, b.width, b.height));
     double sumSquared = 0, sumRelative = 0;
     uint64_t count = 0;
+    std::vector<double> pixelRelMse;
+    pixelRelMse.reserve(a.pixels.size());
     for (size_t i = 0; i < a.pixels.size(); ++i) {
         const glm::vec3 pa = a.pixels[i], pb = b.pixels[i];
         if (!finite(pa) || !finite(pb)) continue;
+        double relative = 0;
         for (int c = 0; c < 3; ++c) {
             const double d = double(pa[c]) - double(pb[c]);
             const double m = (double(pa[c]) + double(pb[c])) / 2;
             sumSquared += d * d / 2;
             sumRelative += d * d / 2 / (m * m + RELMSE_EPSILON);
+            relative += d * d / 2 / (m * m + RELMSE_EPSILON) / 3;
             ++count;
         }
+        pixelRelMse.push_back(relative);
     }
     ChannelMetrics m;
     if (count == 0) return m;
     m.rmse = std::sqrt(sumSquared / double(count));
     m.relMse = sumRelative / double(count);
+    m.relMseTrimmed = trimmedMean(std::move(pixelRelMse));
     return m;
 }
 

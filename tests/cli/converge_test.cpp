@@ -29,7 +29,7 @@ struct Row {
     uint32_t spp = 0;
     double wallSeconds = 0;
     std::string deviceSeconds;
-    double relMse = 0, rmse = 0;
+    double relMse = 0, rmse = 0, relMseTrimmed = 0;
     std::string error;
 };
 
@@ -37,16 +37,17 @@ std::vector<Row> readCsv(const std::filesystem::path& path) {
     std::ifstream in(path);
     std::string line;
     std::getline(in, line);
-    EXPECT_EQ(line, "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,error");
+    EXPECT_EQ(line, "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error");
     std::vector<Row> rows;
     while (std::getline(in, line)) {
         std::vector<std::string> f;
         std::stringstream s(line);
         for (std::string field; std::getline(s, field, ',');) f.push_back(field);
         if (line.back() == ',') f.push_back("");
-        EXPECT_EQ(f.size(), 8u) << line;
-        if (f.size() != 8) continue;
-        rows.push_back({f[0], f[1], uint32_t(std::stoul(f[2])), std::stod(f[3]), f[4], std::stod(f[5]), std::stod(f[6]), f[7]});
+        EXPECT_EQ(f.size(), 9u) << line;
+        if (f.size() != 9) continue;
+        rows.push_back({f[0], f[1], uint32_t(std::stoul(f[2])), std::stod(f[3]), f[4], std::stod(f[5]), std::stod(f[6]),
+                        std::stod(f[7]), f[8]});
     }
     return rows;
 }
@@ -153,6 +154,22 @@ TEST_P(ConvergeKnob, SweepRunsEveryValue) {
     for (const std::string& v : k.values) expected[v] = 2;
     EXPECT_EQ(points, expected);
     EXPECT_EQ(r.err.find("warning: --sweep") != std::string::npos, k.warns) << r.err;
+}
+
+// --metric trimmed-relmse: the tables and the plot use the trimmed relMSE,
+// which the CSV records beside the plain one, never above it.
+TEST(Converge, TrimmedMetricDrivesTheTables) {
+    const test::TempDir dir;
+    const auto r = test::runVkpath(fmt::format("converge {} -d 32x24 --device cpu --spp 1,4 --metric trimmed-relmse --csv {} "
+                                               "--plot {}",
+                                               scene(), (dir / "c.csv").string(), (dir / "c.png").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("time to reach trimmed relMSE"), std::string::npos) << r.out;
+    for (const Row& row : readCsv(dir / "c.csv")) {
+        EXPECT_GT(row.relMseTrimmed, 0);
+        EXPECT_LE(row.relMseTrimmed, row.relMse);
+    }
+    EXPECT_EQ(test::runVkpath(fmt::format("converge {} -d 8x8 --metric median", scene())).exitCode, 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(

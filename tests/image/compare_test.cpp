@@ -48,6 +48,29 @@ TEST(Metrics, HandComputedValues) {
     EXPECT_EQ(m.comparedPixels, 2u);
 }
 
+// The trimmed relMSE leaves out the 0.1% of pixels with the largest error:
+// on 100 x 100 pixels, the 10 worst. One firefly among otherwise equal
+// pixels dominates relMSE and vanishes from the trimmed one; with no
+// outliers the two agree; a pair estimate trims the same way.
+TEST(Metrics, TrimmedRelMseDropsTheWorstPixels) {
+    image::Image reference(100, 100), render(100, 100);
+    for (auto& p : reference.pixels) p = glm::vec3(0.5f);
+    for (size_t i = 0; i < render.pixels.size(); ++i) render.pixels[i] = glm::vec3(i % 2 ? 0.55f : 0.45f);
+    const double uniform = 0.05 * 0.05 / (0.25 + image::RELMSE_EPSILON);  // to float rounding of 0.45, 0.55
+    const double tolerance = 1e-6 * uniform;
+    auto m = image::compareImages(render, reference);
+    EXPECT_NEAR(m.overall.relMse, uniform, tolerance);
+    EXPECT_NEAR(m.overall.relMseTrimmed, uniform, tolerance);
+    for (int k = 0; k < 10; ++k) render.pixels[k * 997] = glm::vec3(1e4f);  // ten fireflies
+    m = image::compareImages(render, reference);
+    EXPECT_GT(m.overall.relMse, 1e3);
+    EXPECT_NEAR(m.overall.relMseTrimmed, uniform, tolerance);
+    render.pixels[5] = glm::vec3(1e4f);  // an eleventh stays in
+    EXPECT_GT(image::compareImages(render, reference).overall.relMseTrimmed, 1);
+    const auto pair = image::estimateErrorFromPair(render, reference);
+    EXPECT_GT(pair.relMse, pair.relMseTrimmed);
+}
+
 TEST(Metrics, NonFinitePixelsAreCountedNotMeasured) {
     image::Image a = imageA();
     a.pixels[1].y = std::nanf("");
