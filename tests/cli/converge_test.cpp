@@ -140,6 +140,8 @@ struct KnobCase {
     bool warns;
 };
 
+void PrintTo(const KnobCase& k, std::ostream* os) { *os << k.sweep; }
+
 class ConvergeKnob : public testing::TestWithParam<KnobCase> {};
 
 TEST_P(ConvergeKnob, SweepRunsEveryValue) {
