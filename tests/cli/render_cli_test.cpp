@@ -141,7 +141,7 @@ TEST(RenderCli, SameSeedSamePixelBytes) {
 }
 
 // --time-budget without -s renders past the default 16 spp until the budget
-// is spent, stops within one wave, and records the spp it reached.
+// is spent, and records the spp it reached.
 TEST(RenderCli, TimeBudgetRendersUntilSpentAndRecordsTheSppReached) {
     const test::TempDir dir;
     const std::string exr = (dir / "budget.exr").string();
@@ -154,9 +154,12 @@ TEST(RenderCli, TimeBudgetRendersUntilSpentAndRecordsTheSppReached) {
     EXPECT_GT(s.spp, 16u) << "the budget, not the default sample count, ends the render";
     const auto m = vkpathMetadata(exr);
     EXPECT_EQ(m.at("vkpath:spp"), std::to_string(s.spp));
+    // Stopping within one wave is TimeBudget.StopsWithinOneWave's (in process,
+    // timed per wave); here the bound only says the budget ended the render,
+    // with room for a busy machine's scheduling (one wave is a few ms).
     const double seconds = std::stod(m.at("vkpath:renderSeconds"));
     EXPECT_GE(seconds, 1.0);
-    EXPECT_LE(seconds, 1.0 + 2.0 * seconds / s.spp + 0.1) << "stops within one wave (one wave is one sample here)";
+    EXPECT_LE(seconds, 1.5);
 }
 
 TEST(RenderCli, TimeBudgetWithSppStopsAtTheSpp) {
