@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "support/exr_metadata.h"
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
@@ -23,20 +24,9 @@
 namespace {
 
 using namespace vkpath;
+using test::vkpathMetadata;
 
 std::string cornellBox() { return test::sourcePath("assets/cornell_box.gltf").string(); }
-
-// Every attribute of the file's header whose name starts with "vkpath:".
-std::map<std::string, std::string> vkpathMetadata(const std::string& path) {
-    std::map<std::string, std::string> attributes;
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return attributes;
-    for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
-        const std::string name = p.name().string();
-        if (name.rfind("vkpath:", 0) == 0) attributes[name] = p.get_string();
-    }
-    return attributes;
-}
 
 // The file's pixels as stored (float32 EXR, uint8 PNG), byte for byte.
 std::vector<unsigned char> storedPixels(const std::string& path, OIIO::TypeDesc type) {

@@ -3,12 +3,11 @@
 // independent sampler), the EXR records it, and a bad name is refused.
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include <string>
 
 #include "image/image.h"
 #include "image/metrics.h"
+#include "support/exr_metadata.h"
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
@@ -19,11 +18,7 @@ using namespace vkpath;
 
 std::string sceneArgument() { return test::sourcePath("assets/cornell_box_diffuse.gltf").string(); }
 
-std::string samplerMetadata(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return "(cannot open " + path + ")";
-    return in->spec().get_string_attribute("vkpath:sampler");
-}
+std::string samplerMetadata(const std::string& path) { return test::vkpathMetadata(path)["vkpath:sampler"]; }
 
 TEST(SamplerCli, SobolOnBothDevicesAndRecordedInTheExr) {
     const test::TempDir dir;
