@@ -258,10 +258,10 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
     }
     return withContext(global, [&](vk::Context& context) {
         auto make = [&](const wavefront::RenderSettings& s) {
-            return std::make_unique<wavefront::WavefrontRenderer>(context, scene, s);
+            return std::make_unique<wavefront::GpuRenderer>(context, scene, s);
         };
         return run([&](const Configuration& c) {
-            return measure<wavefront::WavefrontRenderer>(make, c, spp, reference, true, &c == &configs.front());
+            return measure<wavefront::GpuRenderer>(make, c, spp, reference, true, &c == &configs.front());
         });
     });
 }

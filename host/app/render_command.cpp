@@ -142,8 +142,9 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         return 0;
     }
     return withContext(global, [&](vk::Context& context) {
-        wavefront::WavefrontRenderer renderer(context, scene, settings);
+        wavefront::GpuRenderer renderer(context, scene, settings);
         std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
+        std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         double cpuSeconds = 0;
         const auto result = renderWithProgress(renderer, film, o.timeBudget, cpuSeconds);
         writeOutputs(o, result, context.info().name);

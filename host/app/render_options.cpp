@@ -37,7 +37,13 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     cmd.add_option("--workgroup-size", o.workgroupSize, "Threads per workgroup of the stage kernels")
         ->capture_default_str();
     cmd.add_option("--paths-in-flight", o.pathsInFlight, "Upper bound on the paths of one wave")->capture_default_str();
-    cmd.add_option("--device", o.device, "gpu: the Vulkan wavefront renderer; cpu: the CPU reference (same math)")
+    cmd.add_option("--kernel", o.kernel,
+                   "GPU kernel form: wavefront (stages with queues between them) or megakernel (one invocation per "
+                   "path); default: the faster on the device's type")
+        ->check(CLI::IsMember({"wavefront", "megakernel"}));
+    cmd.add_flag("--no-specialize", o.noSpecialize,
+                 "GPU: the general kernels, not kernels specialised to the scene's features (same image, slower)");
+    cmd.add_option("--device", o.device, "gpu: the Vulkan renderer; cpu: the CPU reference (same math)")
         ->check(CLI::IsMember({"gpu", "cpu"}))
         ->capture_default_str();
     cmd.add_option("-t,--threads", o.threads, "--device cpu: worker threads (default: every hardware thread)");
@@ -88,6 +94,10 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (!sampler) throw InputError(fmt::format("--sampler: '{}' is neither independent nor sobol", o.sampler));
     settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
+    if ((!o.kernel.empty() || o.noSpecialize) && o.device == "cpu")
+        throw InputError("--kernel and --no-specialize choose GPU kernels: not with --device cpu");
+    if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);
+    settings.specialize = !o.noSpecialize;
     settings.workgroupSize = o.workgroupSize;
     settings.maxPathsInFlight = o.pathsInFlight;
     settings.threads = o.threads.value_or(0);

@@ -35,7 +35,9 @@ struct RenderOptions {
     std::string camera;
     uint32_t workgroupSize = 64;
     uint32_t pathsInFlight = 1u << 20;
-    std::string device = "gpu";      // gpu: the wavefront renderer; cpu: the reference
+    std::string kernel;              // wavefront::parseKernelForm's names; empty: the device's default
+    bool noSpecialize = false;       // general kernels instead of ones specialised to the scene
+    std::string device = "gpu";      // gpu: the Vulkan renderer; cpu: the reference
     std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
 };
 

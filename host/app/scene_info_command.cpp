@@ -13,6 +13,10 @@
 #include "app/commands.h"
 #include "scene/load.h"
 #include "scene/scene.h"
+#include "shared/wavefront.h"
+#include "wavefront/gpu_scene.h"
+#include "wavefront/kernel_features.h"
+#include "wavefront/renderer.h"
 
 namespace vkpath::app {
 namespace {
@@ -23,6 +27,28 @@ struct SceneCounts {
     bool hasBounds = false;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // meshes and spheres, world space
 };
+
+// What a render at the default settings would build for the scene: the
+// feature set of its kernels and the device memory it takes, by group
+// (the same functions as the renderer's; no device needed).
+struct KernelPlan {
+    uint32_t features = 0;
+    uint64_t sceneBytes = 0;
+    uint64_t wavefrontPathBytes = 0;  // per path in flight
+    uint64_t megakernelPathBytes = 0;
+};
+
+KernelPlan planKernels(const scene::Scene& s) {
+    const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
+    const shared::SceneInfo info = wavefront::renderSceneInfo(tables, wavefront::RenderSettings{});
+    KernelPlan plan;
+    plan.features = wavefront::renderFeatures(tables, info);
+    plan.sceneBytes = wavefront::deviceBytes(tables);
+    const uint32_t shadowRays = wavefront::shadowRaysPerVertex(plan.features, info.lightSamples);
+    plan.wavefrontPathBytes = wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, shadowRays);
+    plan.megakernelPathBytes = wavefront::pathStateBytes(wavefront::KernelForm::Megakernel, shadowRays);
+    return plan;
+}
 
 SceneCounts countScene(const scene::Scene& s) {
     SceneCounts c;
@@ -79,7 +105,7 @@ std::string vecText(const glm::vec3& v) {
     return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
 }
 
-nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const SceneCounts& c) {
+nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const SceneCounts& c, const KernelPlan& k) {
     nlohmann::json features = nlohmann::json::object();
     for (const auto& [name, value] : featureList(s.features())) features[name] = value;
     return {
@@ -113,10 +139,16 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
                                                 {"max", vecJson(c.boundsMax)}}
                                : nlohmann::json(nullptr)},
         {"features", features},
+        {"kernelFeatures", wavefront::describeFeatures(k.features)},
+        {"deviceBytes",
+         {{"scene", k.sceneBytes},
+          {"perPathWavefront", k.wavefrontPathBytes},
+          {"perPathMegakernel", k.megakernelPathBytes},
+          {"perPixelFilm", sizeof(shared::FilmPixel)}}},
     };
 }
 
-void printScene(const std::string& file, const scene::Scene& s, const SceneCounts& c) {
+void printScene(const std::string& file, const scene::Scene& s, const SceneCounts& c, const KernelPlan& k) {
     std::printf("scene       %s\n", file.c_str());
     std::printf("triangles   %zu\n", s.triangleCount());
     std::printf("meshes      %zu\n", s.meshes.size());
@@ -142,6 +174,12 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
     for (const auto& [name, value] : featureList(s.features()))
         if (value) features += (features.empty() ? "" : " ") + std::string(name);
     std::printf("features    %s\n", features.empty() ? "(none)" : features.c_str());
+    std::printf("kernels     specialised to %s (at the default settings)\n",
+                wavefront::describeFeatures(k.features).c_str());
+    std::printf("memory      scene %llu B on the device; per path in flight: wavefront %llu B, megakernel %llu B; "
+                "film %zu B per pixel\n",
+                (unsigned long long)k.sceneBytes, (unsigned long long)k.wavefrontPathBytes,
+                (unsigned long long)k.megakernelPathBytes, sizeof(shared::FilmPixel));
 }
 
 }  // namespace
@@ -160,10 +198,11 @@ void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands
             // Bad input throws InputError: runCli prints it as one line, exit 2.
             const scene::Scene s = scene::loadScene(o->file);
             const SceneCounts counts = countScene(s);
+            const KernelPlan plan = planKernels(s);
             if (o->json)
-                std::printf("%s\n", sceneJson(o->file, s, counts).dump(2).c_str());
+                std::printf("%s\n", sceneJson(o->file, s, counts, plan).dump(2).c_str());
             else
-                printScene(o->file, s, counts);
+                printScene(o->file, s, counts, plan);
             return 0;
         };
     });

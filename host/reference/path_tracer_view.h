@@ -1,5 +1,5 @@
-// The kernels' path-tracing math on the CPU: the body of
-// shaders/shared/path_tracer.h becomes the const member functions of
+// The kernels' path-tracing math on the CPU: the bodies of
+// shaders/shared/path_tracer.h and integrator.h (the per-path loop) become the const member functions of
 // PathTracerView, which reads the scene tables (wavefront::SceneTables, what
 // the GPU buffers hold) through std::span where the shade kernel reads its
 // storage buffers (shaders/stages/lib/scene_access.glsl). Traversal comes
@@ -18,6 +18,7 @@
 #include "bvh/bvh_view.h"
 #include "shared/alias.h"
 #include "shared/bsdf.h"
+#include "shared/path_state.h"
 #include "shared/constants.h"
 #include "shared/environment_sampling.h"
 #include "shared/lights.h"
@@ -49,6 +50,7 @@ struct PathTracerView : BvhView {
     vec3 sceneEnvRadiance(uint texel) const { return m_envRadiance[texel]; }
 
 #include "shared/path_tracer.h"
+#include "shared/integrator.h"
 
   private:
     SceneInfo m_info;

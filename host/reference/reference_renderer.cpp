@@ -11,8 +11,6 @@
 #include <vector>
 
 #include "scene/camera.h"
-#include "shared/dimensions.h"
-#include "shared/intersect.h"
 #include "shared/rng.h"
 
 namespace vkpath::reference {
@@ -84,58 +82,13 @@ uint32_t ReferenceRenderer::threads() const {
 
 glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
                                        uint64_t& rejectedLightSamples) const {
-    using namespace shared;
-    const shared::PathTracerView& scene = m_view;
-    const SceneInfo info = scene.sceneInfo();
-    const RngKey key = makeRngKey(pixel, sampleIndex, info.seed, info.samplerKind);
-
-    // ---- generate ----------------------------------------------------------------
-    const uvec2 xy(pixel % m_camera.width, pixel / m_camera.width);
-    Ray ray = generateCameraRay(m_camera, xy, rngUniform2(key, VKP_DIM_PIXEL_JITTER));
-    vec3 beta(1.0f);
-    vec3 radiance(0.0f);
-    vec3 previousPosition = m_camera.origin;
-    float previousBsdfPdf = 0.0f;
-    bool specular = true;
-
-    for (uint bounce = 0;; ++bounce) {
-        // ---- intersect ---------------------------------------------------------------
-        const Hit hit = scene.bvhClosestHit(ray);
-        ++rays.closest;
-
-        // ---- shade: what the ray sees ------------------------------------------------
-        if (hit.primitive == VKP_NO_HIT) {
-            radiance += beta * scene.escapedRadiance(ray.direction, specular, previousBsdfPdf);
-            break;
-        }
-        const BvhPrimitive primitive = scene.bvhPrimitive(hit.primitive);
-        const Material material = scene.sceneMaterial(primitive.material);
-        const SurfacePoint surface = surfacePoint(primitive, ray, hit);
-        radiance += beta * scene.emittedRadiance(material, hit.primitive, surface, ray.direction, previousPosition,
-                                                 specular, previousBsdfPdf);
-        if (bounce >= info.maxDepth) break;
-
-        // ---- shade: next-event estimation, then shadow: the unoccluded ones -------------
-        const vec3 wo = -ray.direction;
-        vec3 shadowSum(0.0f);
-        for (uint j = 0; j < info.lightSamples; ++j) {
-            const PathTracerView::ShadowRequest request = scene.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
-            rejectedLightSamples += request.rejected;
-            if (!request.valid || request.contribution == vec3(0.0f)) continue;
-            ++rays.shadow;
-            if (!scene.bvhOccluded(request.ray)) shadowSum += request.contribution;
-        }
-        radiance += shadowSum;
-
-        // ---- shade: the next bounce ------------------------------------------------------
-        const PathTracerView::PathStep step = scene.continuePath(material, surface, wo, beta, key, bounce);
-        if (!step.alive) break;
-        ray = step.ray;
-        beta = step.throughput;
-        previousPosition = surface.position;
-        previousBsdfPdf = step.bsdfPdf;
-        specular = step.specular;
-    }
+    // The loop the GPU runs (shared/integrator.h), one path at a time.
+    const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);
+    shared::PathTally tally{};
+    const glm::vec3 radiance = m_view.tracePath(shared::startPath(m_camera, pixel, key), key, tally);
+    rays.closest += tally.closestRays;
+    rays.shadow += tally.shadowRays;
+    rejectedLightSamples += tally.rejectedLightSamples;
     return radiance;
 }
 

@@ -190,7 +190,18 @@ void Kernel::release() {
     m_module = VK_NULL_HANDLE;
 }
 
-DescriptorSet Kernel::bind(std::initializer_list<BufferBinding> buffers) {
+DescriptorSet Kernel::bindDeclared(const std::map<uint32_t, const Buffer*>& available) {
+    std::vector<BufferBinding> buffers;
+    for (const SpirvBinding& b : m_reflection.bindings) {
+        const auto it = available.find(b.binding);
+        if (it == available.end())
+            throw std::invalid_argument(fmt::format("kernel {}: binding {} has no buffer", m_name, b.binding));
+        buffers.push_back({b.binding, it->second});
+    }
+    return bind(buffers);
+}
+
+DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
     std::set<uint32_t> declared;
     for (const SpirvBinding& b : m_reflection.bindings) declared.insert(b.binding);
     std::set<uint32_t> given;

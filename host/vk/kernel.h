@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <initializer_list>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
@@ -70,7 +71,12 @@ class Kernel {
 
     // A descriptor set with every binding the kernel declares filled; throws
     // naming the kernel if one is missing, unknown or given twice.
-    DescriptorSet bind(std::initializer_list<BufferBinding> buffers);
+    DescriptorSet bind(std::initializer_list<BufferBinding> buffers) { return bind(std::span(buffers)); }
+    DescriptorSet bind(std::span<const BufferBinding> buffers);
+    // A descriptor set with every binding the kernel declares filled from
+    // `available` (binding -> buffer), which may hold more; throws naming the
+    // kernel and binding if one it declares is not there.
+    DescriptorSet bindDeclared(const std::map<uint32_t, const Buffer*>& available);
 
     // Records a dispatch of at least `invocations` threads (whole workgroups);
     // `push` must be exactly the kernel's push-constant block.

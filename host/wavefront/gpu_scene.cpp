@@ -191,6 +191,12 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     return t;
 }
 
+uint64_t deviceBytes(const SceneTables& t) {
+    auto bytes = [](const auto& array) { return uint64_t(array.size() * sizeof(array[0])); };
+    return t.bvh.bytes() + bytes(t.materials) + bytes(t.lights) + bytes(t.lightAlias) + bytes(t.primitiveLight) +
+           bytes(t.envAlias) + bytes(t.envRadiance);
+}
+
 uint64_t GpuScene::bytes() const {
     return bvh.bytes() + materials.size() + lights.size() + lightAlias.size() + primitiveLight.size() +
            envAlias.size() + envRadiance.size();

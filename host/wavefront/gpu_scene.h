@@ -73,6 +73,9 @@ struct GpuScene {
     uint64_t bytes() const;
 };
 
+// Device memory the tables take once uploaded (GpuScene::bytes of their upload).
+uint64_t deviceBytes(const SceneTables& tables);
+
 // Uploads the tables. The arrays are read by address when any of them is
 // larger than a storage-buffer binding may span (vk::bufferLimits: the
 // device's maxStorageBufferRange, or VKPATH_MAX_BINDING_BYTES when lower);

@@ -10,6 +10,14 @@ std::optional<SamplerKind> parseSampler(const std::string& name) {
     return std::nullopt;
 }
 
+std::optional<KernelForm> parseKernelForm(const std::string& name) {
+    if (name == "wavefront") return KernelForm::Wavefront;
+    if (name == "megakernel") return KernelForm::Megakernel;
+    return std::nullopt;
+}
+
+const char* kernelFormName(KernelForm form) { return form == KernelForm::Megakernel ? "megakernel" : "wavefront"; }
+
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings) {
     shared::SceneInfo info = tables.info;
     info.lightSamples = tables.lights.empty() ? 0 : settings.lightSamples;

@@ -24,6 +24,14 @@ enum class SamplerKind : uint32_t { Independent = VKP_SAMPLER_INDEPENDENT, Sobol
 // nullopt for any other name.
 std::optional<SamplerKind> parseSampler(const std::string& name);
 
+// How the GPU runs the integrator's loop (shared/integrator.h): cut into
+// stages with queues between them, or one invocation per whole path.
+enum class KernelForm { Wavefront, Megakernel };
+
+// "wavefront" or "megakernel" (--kernel); nullopt for any other name.
+std::optional<KernelForm> parseKernelForm(const std::string& name);
+const char* kernelFormName(KernelForm form);
+
 struct RenderSettings {
     uint32_t width = 640;
     uint32_t height = 480;
@@ -37,6 +45,12 @@ struct RenderSettings {
     // removes energy), off by default; fireflies are counted either way.
     float clampRadiance = 0;
     std::optional<double> timeBudgetSeconds;  // stop after the wave that crosses it
+    // GPU: the form of the kernels; unset: the measured default for the
+    // device's type (defaultKernelForm).
+    std::optional<KernelForm> kernel;
+    // GPU: kernels specialised to the scene's features (shared/features.h);
+    // false builds the general kernels (--no-specialize).
+    bool specialize = true;
     uint32_t workgroupSize = 64;              // GPU: threads per workgroup of the stage kernels
     uint32_t maxPathsInFlight = 1u << 20;     // GPU: upper bound; also limited by device memory
     uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread

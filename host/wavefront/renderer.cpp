@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "scene/camera.h"
@@ -15,25 +16,55 @@
 #include "vk/context.h"
 #include "vk/kernel.h"
 #include "vk/timestamps.h"
+#include "wavefront/kernel_features.h"
 
 namespace vkpath::wavefront {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The per-path buffers of a wave, one row each: this table alone decides
+// their sizes (and so how many paths a wave holds), allocates them and binds
+// them (stages/lib/path_buffers.glsl and queues.glsl declare the same).
+struct PathBufferRow {
+    uint32_t binding;
+    const char* name;
+    uint64_t bytes;       // per path, or per light sample of a path
+    bool perLightSample;  // holds one element per traced light sample
+    bool megakernel;      // the megakernel uses it too (else only the wavefront stages)
+};
+
+constexpr PathBufferRow PATH_BUFFERS[] = {
+    {VKP_WF_RAYS, "rays", sizeof(shared::Ray), false, false},
+    {VKP_WF_HITS, "hits", sizeof(shared::Hit), false, false},
+    {VKP_WF_THROUGHPUT, "throughput", sizeof(glm::vec3), false, false},
+    {VKP_WF_RADIANCE, "radiance", sizeof(glm::vec3), false, true},
+    {VKP_WF_VERTEX, "vertices", sizeof(shared::PathVertex), false, false},
+    {VKP_WF_QUEUES, "queues", 3 * sizeof(uint32_t), false, false},  // stages/lib/queues.glsl
+    {VKP_WF_SHADOW_RAYS, "shadowRays", sizeof(shared::Ray), true, false},
+    {VKP_WF_SHADOW_RADIANCE, "shadowRadiance", sizeof(glm::vec3), true, false},
+};
+
+// Bytes per path of `row` in a render of this form that traces `shadowSamples`
+// light samples per vertex; 0 when the render does not use it (a
+// placeholder is bound to it).
+uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples) {
+    if (form == KernelForm::Megakernel && !row.megakernel) return 0;
+    return row.perLightSample ? row.bytes * shadowSamples : row.bytes;
+}
+
 // How many paths a wave holds: as many as memory allows up to the setting,
 // rounded so that a wave holds whole samples of every pixel (or, for images
 // larger than a wave, a whole sample is split into equal waves).
-uint32_t pathsPerWave(const RenderSettings& s, const vk::DeviceInfo& device, uint64_t pixels) {
-    const uint64_t bytesPerPath = sizeof(shared::Ray) + sizeof(shared::Hit) + 2 * sizeof(glm::vec3) +
-                                  sizeof(shared::PathVertex) + 3 * sizeof(uint32_t) +
-                                  s.lightSamples * (sizeof(shared::Ray) + sizeof(glm::vec3));
+uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowSamples, const vk::DeviceInfo& device,
+                      uint64_t pixels) {
+    const uint64_t total = pathStateBytes(form, shadowSamples);
+    uint64_t largest = 1;
+    for (const PathBufferRow& row : PATH_BUFFERS) largest = std::max(largest, bytesPerPath(row, form, shadowSamples));
     uint64_t limit = s.maxPathsInFlight;
-    limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / bytesPerPath);
+    limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / total);
     // The largest per-path array must fit one storage-buffer binding.
-    limit = std::min<uint64_t>(limit, device.maxStorageBufferRange / (3 * sizeof(uint32_t)));
-    limit = std::min<uint64_t>(limit, device.maxStorageBufferRange /
-                                          (std::max<uint64_t>(1, s.lightSamples) * sizeof(shared::Ray)));
+    limit = std::min<uint64_t>(limit, device.maxStorageBufferRange / largest);
     limit = std::max<uint64_t>(limit, 1);
     // The accumulate stage loops over a pixel's samples in the wave, and
     // lavapipe cuts every shader loop at 65535 iterations.
@@ -46,90 +77,122 @@ uint32_t pathsPerWave(const RenderSettings& s, const vk::DeviceInfo& device, uin
 
 }  // namespace
 
-struct WavefrontRenderer::Resources {
+uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex) {
+    uint64_t total = 0;
+    for (const PathBufferRow& row : PATH_BUFFERS) total += bytesPerPath(row, form, shadowRaysPerVertex);
+    return total;
+}
+
+KernelForm defaultKernelForm(const vk::DeviceInfo&) { return KernelForm::Wavefront; }
+
+struct GpuRenderer::Resources {
     uint32_t pathCount = 0;  // paths in flight (the wave size)
-    vk::Buffer sceneInfo, camera;
-    vk::Buffer rays, hits, throughput, radiance, vertices, queues, counters, shadowRays, shadowRadiance, film;
-    std::unique_ptr<vk::Kernel> generate, queueDispatch, intersect, shade, shadow, accumulate;
-    vk::DescriptorSet generateSet, queueDispatchSet, intersectSet, shadeSet, shadowSet, accumulateSet;
+    bool shadowStage = false;
+    vk::Buffer sceneInfo, camera, counters, film, placeholder;
+    std::map<uint32_t, vk::Buffer> pathBuffers;  // by binding, the rows of PATH_BUFFERS in use
+    std::unique_ptr<vk::Kernel> generate, queueDispatch, intersect, shade, shadow, megakernel, accumulate;
+    vk::DescriptorSet generateSet, queueDispatchSet, intersectSet, shadeSet, shadowSet, megakernelSet, accumulateSet;
 };
 
-WavefrontRenderer::WavefrontRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings)
+GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings)
     : m_context(context), m_settings(settings), m_tables(buildSceneTables(scene)) {
     const shared::Camera camera = scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
     m_scene = uploadScene(context, m_tables);
 
     shared::SceneInfo& info = m_tables.info;
     info = renderSceneInfo(m_tables, settings);
+    m_form = settings.kernel.value_or(defaultKernelForm(context.info()));
+    m_features = settings.specialize ? renderFeatures(m_tables, info) : VKP_FEATURES_ALL;
 
     auto r = std::make_unique<Resources>();
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
-    const uint32_t w = r->pathCount = pathsPerWave(settings, context.info(), pixels);
-    const uint32_t shadowSlots = std::max(1u, info.lightSamples) * w;
+    // Light samples traced per vertex: none where no stage could queue one.
+    const uint32_t shadowSamples = shadowRaysPerVertex(m_features, info.lightSamples);
+    r->shadowStage = m_form == KernelForm::Wavefront && shadowSamples > 0;
+    const uint32_t w = r->pathCount = pathsPerWave(settings, m_form, shadowSamples, context.info(), pixels);
     r->sceneInfo = vk::Buffer::fromSpan(context, std::span(&info, 1), "sceneInfo");
     r->camera = vk::Buffer::fromSpan(context, std::span(&camera, 1), "camera");
-    r->rays = vk::Buffer(context, uint64_t(w) * sizeof(shared::Ray), vk::MemoryKind::DeviceLocal, "rays");
-    r->hits = vk::Buffer(context, uint64_t(w) * sizeof(shared::Hit), vk::MemoryKind::DeviceLocal, "hits");
-    r->throughput = vk::Buffer(context, uint64_t(w) * sizeof(glm::vec3), vk::MemoryKind::DeviceLocal, "throughput");
-    r->radiance = vk::Buffer(context, uint64_t(w) * sizeof(glm::vec3), vk::MemoryKind::DeviceLocal, "radiance");
-    r->vertices = vk::Buffer(context, uint64_t(w) * sizeof(shared::PathVertex), vk::MemoryKind::DeviceLocal, "vertices");
-    r->queues = vk::Buffer(context, uint64_t(w) * 3 * sizeof(uint32_t), vk::MemoryKind::DeviceLocal, "queues");
     r->counters = vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
-    r->shadowRays = vk::Buffer(context, uint64_t(shadowSlots) * sizeof(shared::Ray), vk::MemoryKind::DeviceLocal, "shadowRays");
-    r->shadowRadiance = vk::Buffer(context, uint64_t(shadowSlots) * sizeof(glm::vec3), vk::MemoryKind::DeviceLocal, "shadowRadiance");
     r->film = vk::Buffer(context, pixels * sizeof(shared::FilmPixel), vk::MemoryKind::DeviceLocal, "film");
-
-    const vk::KernelOptions options{.workgroupSize = settings.workgroupSize};
-    vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, settings.workgroupSize}}};
-    r->generate = std::make_unique<vk::Kernel>(context, "generate", options);
-    r->queueDispatch = std::make_unique<vk::Kernel>(context, "queue_dispatch", dispatchOptions);
-    // The kernels that read the scene, built for its access path (bound or by address).
-    vk::KernelOptions sceneOptions = options;
-    sceneOptions.specialization.push_back(bvh::sceneAccessConstant(m_scene.byAddress));
-    r->intersect = std::make_unique<vk::Kernel>(context, "intersect", sceneOptions);
-    r->shade = std::make_unique<vk::Kernel>(context, "shade", sceneOptions);
-    r->shadow = std::make_unique<vk::Kernel>(context, "shadow", sceneOptions);
-    r->accumulate = std::make_unique<vk::Kernel>(context, "accumulate", options);
+    r->placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
 
     const GpuScene& g = m_scene;
-    r->generateSet = r->generate->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_CAMERA, &r->camera},
-                                        {VKP_WF_RAYS, &r->rays}, {VKP_WF_THROUGHPUT, &r->throughput},
-                                        {VKP_WF_RADIANCE, &r->radiance}, {VKP_WF_VERTEX, &r->vertices},
-                                        {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters}});
-    r->queueDispatchSet = r->queueDispatch->bind({{VKP_WF_COUNTERS, &r->counters}});
-    r->intersectSet = r->intersect->bind({{VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
-                                          {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
-                                          {VKP_WF_SCENE_ADDRESSES, &g.addresses},
-                                          {VKP_WF_RAYS, &r->rays}, {VKP_WF_HITS, &r->hits},
-                                          {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters}});
-    r->shadeSet = r->shade->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
-                                  {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
-                                  {VKP_WF_SCENE_ADDRESSES, &g.addresses}, {VKP_WF_MATERIALS, &g.materials},
-                                  {VKP_WF_LIGHTS, &g.binding(g.lights)}, {VKP_WF_LIGHT_ALIAS, &g.binding(g.lightAlias)},
-                                  {VKP_WF_PRIMITIVE_LIGHT, &g.binding(g.primitiveLight)},
-                                  {VKP_WF_ENV_ALIAS, &g.binding(g.envAlias)},
-                                  {VKP_WF_ENV_RADIANCE, &g.binding(g.envRadiance)}, {VKP_WF_RAYS, &r->rays},
-                                  {VKP_WF_HITS, &r->hits}, {VKP_WF_THROUGHPUT, &r->throughput},
-                                  {VKP_WF_RADIANCE, &r->radiance}, {VKP_WF_VERTEX, &r->vertices},
-                                  {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters},
-                                  {VKP_WF_SHADOW_RAYS, &r->shadowRays}, {VKP_WF_SHADOW_RADIANCE, &r->shadowRadiance}});
-    r->shadowSet = r->shadow->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
-                                    {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
-                                    {VKP_WF_SCENE_ADDRESSES, &g.addresses}, {VKP_WF_RADIANCE, &r->radiance},
-                                    {VKP_WF_QUEUES, &r->queues}, {VKP_WF_COUNTERS, &r->counters},
-                                    {VKP_WF_SHADOW_RAYS, &r->shadowRays}, {VKP_WF_SHADOW_RADIANCE, &r->shadowRadiance}});
-    r->accumulateSet = r->accumulate->bind({{VKP_WF_SCENE_INFO, &r->sceneInfo}, {VKP_WF_RADIANCE, &r->radiance},
-                                            {VKP_WF_COUNTERS, &r->counters}, {VKP_WF_FILM, &r->film}});
+    std::map<uint32_t, const vk::Buffer*> buffers = {
+        {VKP_WF_SCENE_INFO, &r->sceneInfo},
+        {VKP_WF_BVH_NODES, &g.bvh.nodeBinding()},
+        {VKP_WF_BVH_PRIMITIVES, &g.bvh.primitiveBinding()},
+        {VKP_WF_MATERIALS, &g.materials},
+        {VKP_WF_LIGHTS, &g.binding(g.lights)},
+        {VKP_WF_LIGHT_ALIAS, &g.binding(g.lightAlias)},
+        {VKP_WF_PRIMITIVE_LIGHT, &g.binding(g.primitiveLight)},
+        {VKP_WF_ENV_ALIAS, &g.binding(g.envAlias)},
+        {VKP_WF_ENV_RADIANCE, &g.binding(g.envRadiance)},
+        {VKP_WF_CAMERA, &r->camera},
+        {VKP_WF_COUNTERS, &r->counters},
+        {VKP_WF_FILM, &r->film},
+        {VKP_WF_SCENE_ADDRESSES, &g.addresses},
+    };
+    m_memory = {{"scene", g.bytes()}, {"path state", 0}, {"film", r->film.size()}};
+    for (const PathBufferRow& row : PATH_BUFFERS) {
+        const uint64_t bytes = bytesPerPath(row, m_form, shadowSamples) * w;
+        if (bytes == 0) {
+            buffers[row.binding] = &r->placeholder;
+            continue;
+        }
+        auto [it, inserted] = r->pathBuffers.emplace(row.binding, vk::Buffer(context, bytes, vk::MemoryKind::DeviceLocal, row.name));
+        buffers[row.binding] = &it->second;
+        m_memory[1].bytes += bytes;
+    }
+
+    // ---- pipelines: specialised to the render's features (the on-disk pipeline
+    // cache keeps each feature set's) ------------------------------------------------
+    const auto start = Clock::now();
+    const vk::KernelOptions options{.workgroupSize = settings.workgroupSize};
+    vk::KernelOptions sceneOptions = options;
+    sceneOptions.specialization = {bvh::sceneAccessConstant(m_scene.byAddress), {VKP_SPEC_FEATURES, m_features}};
+    auto build = [&](const char* name, const vk::KernelOptions& o, vk::DescriptorSet& set) {
+        auto kernel = std::make_unique<vk::Kernel>(context, name, o);
+        set = kernel->bindDeclared(buffers);
+        ++m_pipelines;
+        return kernel;
+    };
+    const vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, settings.workgroupSize}}};
+    r->queueDispatch = build("queue_dispatch", dispatchOptions, r->queueDispatchSet);
+    r->accumulate = build("accumulate", options, r->accumulateSet);
+    if (m_form == KernelForm::Megakernel) {
+        r->megakernel = build("megakernel", sceneOptions, r->megakernelSet);
+    } else {
+        r->generate = build("generate", sceneOptions, r->generateSet);
+        r->intersect = build("intersect", sceneOptions, r->intersectSet);
+        r->shade = build("shade", sceneOptions, r->shadeSet);
+        if (r->shadowStage) r->shadow = build("shadow", sceneOptions, r->shadowSet);
+    }
+    m_pipelineMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     m_resources = std::move(r);
 }
 
-WavefrontRenderer::~WavefrontRenderer() = default;
+GpuRenderer::~GpuRenderer() = default;
 
-RenderResult WavefrontRenderer::render(const std::function<void(const RenderProgress&)>& progress) {
+uint32_t GpuRenderer::pathsInFlight() const { return m_resources->pathCount; }
+
+std::string GpuRenderer::describe() const {
+    std::string memory;
+    uint64_t total = 0;
+    for (const MemoryGroup& group : m_memory) {
+        memory += fmt::format("{}{} {:.1f} MiB", memory.empty() ? "" : ", ", group.name, group.bytes / (1024.0 * 1024.0));
+        total += group.bytes;
+    }
+    return fmt::format("kernels: {}, {} ({} pipelines in {:.0f} ms); device memory {:.1f} MiB: {} ({} paths in flight)",
+                       kernelFormName(m_form), m_settings.specialize ? "specialised to " + describeFeatures(m_features)
+                                                                     : std::string("general (--no-specialize)"),
+                       m_pipelines, m_pipelineMilliseconds, total / (1024.0 * 1024.0), memory, pathsInFlight());
+}
+
+RenderResult GpuRenderer::render(const std::function<void(const RenderProgress&)>& progress) {
     return render(SampleRange{0, m_settings.samplesPerPixel}, progress);
 }
 
-RenderResult WavefrontRenderer::render(const SampleRange& samples,
+RenderResult GpuRenderer::render(const SampleRange& samples,
                                        const std::function<void(const RenderProgress&)>& progress) {
     Resources& r = *m_resources;
     const RenderSettings& s = m_settings;
@@ -141,7 +204,7 @@ RenderResult WavefrontRenderer::render(const SampleRange& samples,
         throw std::out_of_range(fmt::format("samples [{}, {}) of {} pixels: path indices beyond 32 bits", samples.first,
                                             uint64_t(samples.first) + samples.count, pixels));
     const uint32_t bounces = s.maxDepth + 1;  // shading passes: hits at depth 0..maxDepth
-    vk::TimestampPool timestamps(m_context, 2 + 5 * bounces);
+    vk::TimestampPool timestamps(m_context, 3 + 5 * bounces);
 
     RenderResult result;
     result.pathsInFlight = r.pathCount;
@@ -166,17 +229,24 @@ RenderResult WavefrontRenderer::render(const SampleRange& samples,
                 vk::computeBarrier(cmd);
             };
             const auto p0 = pushFor(0, 0);
-            timed("generate", [&] { r.generate->record(cmd, r.generateSet, count, bytes(p0)); });
-            for (uint32_t bounce = 0; bounce < bounces; ++bounce) {
-                const auto rays = pushFor(bounce, VKP_PREPARE_RAYS);
-                const auto shadows = pushFor(bounce, VKP_PREPARE_SHADOWS);
-                timed("queue_dispatch", [&] { r.queueDispatch->record(cmd, r.queueDispatchSet, 1, bytes(rays)); });
+            if (m_form == KernelForm::Megakernel) {
+                const auto tally = pushFor(0, VKP_TALLY_RAYS);
+                timed("megakernel", [&] { r.megakernel->record(cmd, r.megakernelSet, count, bytes(p0)); });
+                timed("queue_dispatch", [&] { r.queueDispatch->record(cmd, r.queueDispatchSet, 1, bytes(tally)); });
+            } else {
+                timed("generate", [&] { r.generate->record(cmd, r.generateSet, count, bytes(p0)); });
                 const VkDeviceSize rayArgs = offsetof(shared::QueueCounters, rayDispatch);
                 const VkDeviceSize shadowArgs = offsetof(shared::QueueCounters, shadowDispatch);
-                timed("intersect", [&] { r.intersect->recordIndirect(cmd, r.intersectSet, r.counters, rayArgs, bytes(rays)); });
-                timed("shade", [&] { r.shade->recordIndirect(cmd, r.shadeSet, r.counters, rayArgs, bytes(rays)); });
-                timed("queue_dispatch", [&] { r.queueDispatch->record(cmd, r.queueDispatchSet, 1, bytes(shadows)); });
-                timed("shadow", [&] { r.shadow->recordIndirect(cmd, r.shadowSet, r.counters, shadowArgs, bytes(shadows)); });
+                for (uint32_t bounce = 0; bounce < bounces; ++bounce) {
+                    const auto rays = pushFor(bounce, VKP_PREPARE_RAYS);
+                    const auto shadows = pushFor(bounce, VKP_PREPARE_SHADOWS);
+                    timed("queue_dispatch", [&] { r.queueDispatch->record(cmd, r.queueDispatchSet, 1, bytes(rays)); });
+                    timed("intersect", [&] { r.intersect->recordIndirect(cmd, r.intersectSet, r.counters, rayArgs, bytes(rays)); });
+                    timed("shade", [&] { r.shade->recordIndirect(cmd, r.shadeSet, r.counters, rayArgs, bytes(rays)); });
+                    if (!r.shadowStage) continue;
+                    timed("queue_dispatch", [&] { r.queueDispatch->record(cmd, r.queueDispatchSet, 1, bytes(shadows)); });
+                    timed("shadow", [&] { r.shadow->recordIndirect(cmd, r.shadowSet, r.counters, shadowArgs, bytes(shadows)); });
+                }
             }
             timed("accumulate", [&] { r.accumulate->record(cmd, r.accumulateSet, uint32_t(pixels), bytes(p0)); });
         });

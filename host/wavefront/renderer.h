@@ -1,16 +1,23 @@
-// The GPU wavefront path tracer. Each wave of paths is one command buffer:
+// The GPU path tracer, in either form of shared/integrator.h's loop. Each wave
+// of paths is one command buffer:
 //
-//   generate -> for bounce 0..maxDepth:
-//                 queue_dispatch(rays) -> intersect -> shade -> queue_dispatch(shadows) -> shadow
-//            -> accumulate
+//   wavefront:  generate -> for bounce 0..maxDepth:
+//                 queue_dispatch(rays) -> intersect -> shade [-> queue_dispatch(shadows) -> shadow]
+//               -> accumulate
+//   megakernel: megakernel -> queue_dispatch(tally) -> accumulate
 //
-// Queues alternate between bounces (rayQueue[bounce & 1], as in pbrt-v4's
-// wavefront integrator) and every stage after generate is dispatched
-// indirectly from counts on the device: the host only waits between waves.
+// Wavefront queues alternate between bounces (rayQueue[bounce & 1], as in
+// pbrt-v4's wavefront integrator) and every stage after generate is
+// dispatched indirectly from counts on the device: the host only waits
+// between waves. The kernels are specialised to the render's features
+// (shared/features.h); the shadow stage is recorded only where a shadow ray
+// can be queued.
 #pragma once
 
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "scene/scene.h"
 #include "wavefront/gpu_scene.h"
@@ -18,16 +25,32 @@
 
 namespace vkpath::vk {
 class Context;
+struct DeviceInfo;
 }
 
 namespace vkpath::wavefront {
 
-class WavefrontRenderer {
+// The kernel form a device gets without --kernel (measured:
+// docs/BENCHMARKS.md, "Megakernel and wavefront").
+KernelForm defaultKernelForm(const vk::DeviceInfo& device);
+
+// Device bytes one path in flight takes in the per-path buffers of a kernel
+// form whose kernels queue `shadowRaysPerVertex` shadow rays per vertex
+// (kernel_features.h).
+uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex);
+
+// Device memory a render allocated, by group.
+struct MemoryGroup {
+    std::string name;  // "scene", "path state", "film"
+    uint64_t bytes = 0;
+};
+
+class GpuRenderer {
   public:
-    WavefrontRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings);
-    ~WavefrontRenderer();
-    WavefrontRenderer(const WavefrontRenderer&) = delete;
-    WavefrontRenderer& operator=(const WavefrontRenderer&) = delete;
+    GpuRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings);
+    ~GpuRenderer();
+    GpuRenderer(const GpuRenderer&) = delete;
+    GpuRenderer& operator=(const GpuRenderer&) = delete;
 
     // Samples [0, settings.samplesPerPixel).
     RenderResult render(const std::function<void(const RenderProgress&)>& progress = {});
@@ -38,6 +61,14 @@ class WavefrontRenderer {
     const SceneTables& tables() const { return m_tables; }
     uint64_t sceneBytes() const { return m_scene.bytes(); }
     const GpuScene& scene() const { return m_scene; }
+    KernelForm form() const { return m_form; }
+    uint32_t features() const { return m_features; }  // VKP_FEATURE_* bits of the pipelines
+    double pipelineMilliseconds() const { return m_pipelineMilliseconds; }  // creating them (cached or not)
+    const std::vector<MemoryGroup>& memory() const { return m_memory; }
+    uint32_t pathsInFlight() const;
+    // One line: the kernel form, the features the pipelines were built for and
+    // how long that took, and the device memory by group.
+    std::string describe() const;
 
   private:
     struct Resources;
@@ -45,6 +76,11 @@ class WavefrontRenderer {
     RenderSettings m_settings;
     SceneTables m_tables;
     GpuScene m_scene;
+    KernelForm m_form = KernelForm::Wavefront;
+    uint32_t m_features = 0;
+    uint32_t m_pipelines = 0;
+    double m_pipelineMilliseconds = 0;
+    std::vector<MemoryGroup> m_memory;
     std::unique_ptr<Resources> m_resources;
 };
 

@@ -12,5 +12,7 @@
 // read it through buffer device addresses instead of storage-buffer bindings:
 // for scenes whose arrays exceed maxStorageBufferRange (shared/bvh_buffers.h).
 #define VKP_SPEC_SCENE_BY_ADDRESS 2
+// uint: the VKP_FEATURE_* bits a kernel may meet (shared/features.h).
+#define VKP_SPEC_FEATURES 3
 
 #endif  // VKPATH_SHARED_BINDINGS_H

@@ -133,6 +133,34 @@ VKP_FN BsdfSample sampleDielectric(vec3 reflectance, vec3 transmittance, float i
     return s;
 }
 
+// ---- a material's BSDF: one dispatch over the kinds --------------------------------
+// Each kind's test is folded away where the kernel's features exclude it or
+// leave it the only one (materialIs, shared/features.h).
+
+// Samples wi for `material` at a surface of normal n; u uniform in [0, 1)^2.
+VKP_FN BsdfSample sampleBsdf(Material material, vec3 n, vec3 wo, vec2 u) {
+    if (materialIs(material, VKP_MATERIAL_DIFFUSE)) return sampleLambertian(material.reflectance, n, wo, u);
+    if (materialIs(material, VKP_MATERIAL_MIRROR)) return sampleMirror(material.reflectance, n, wo);
+    if (materialIs(material, VKP_MATERIAL_DIELECTRIC))
+        return sampleDielectric(material.reflectance, material.transmittance, material.ior, n, wo, u.x);
+    return invalidBsdfSample();
+}
+
+// f * |cos| of the non-delta lobes (only Lambertian has one).
+VKP_FN vec3 evalBsdf(Material material, vec3 n, vec3 wo, vec3 wi) {
+    if (!materialIs(material, VKP_MATERIAL_DIFFUSE)) return vec3(0.0f);
+    return evalLambertian(material.reflectance, n, wo, wi);
+}
+
+// The solid-angle density with which sampleBsdf picks wi (0 for delta lobes).
+VKP_FN float bsdfPdf(Material material, vec3 n, vec3 wo, vec3 wi) {
+    if (!materialIs(material, VKP_MATERIAL_DIFFUSE)) return 0.0f;
+    return lambertianPdf(n, wo, wi);
+}
+
+// Whether light sampling can reach the material (it has a non-delta lobe).
+VKP_FN bool hasNonDeltaLobe(Material material) { return materialIs(material, VKP_MATERIAL_DIFFUSE); }
+
 VKP_NAMESPACE_END
 
 #endif  // VKPATH_SHARED_BSDF_H

@@ -13,6 +13,7 @@
 #define VKPATH_SHARED_BVH_H
 
 #include "shared/compat.h"
+#include "shared/features.h"
 
 // The deepest a leaf may be (root at depth 0). Traversal pushes at most one
 // node per level, so this is also the size of its stack.
@@ -72,6 +73,14 @@ struct TracePush {
     uint count;        // number of rays
     BvhAddresses bvh;  // read only by address (VKP_SPEC_SCENE_BY_ADDRESS)
 };
+
+// Whether `primitive` is a sphere (else a triangle); known without reading it
+// when the kernel meets only one of the two (shared/features.h).
+VKP_FN bool isSphere(BvhPrimitive primitive) {
+    if (!hasFeature(VKP_FEATURE_SPHERES)) return false;
+    if (onlyFeature(VKP_FEATURES_PRIMITIVES, VKP_FEATURE_SPHERES)) return true;
+    return primitive.kind == VKP_PRIMITIVE_SPHERE;
+}
 
 VKP_NAMESPACE_END
 

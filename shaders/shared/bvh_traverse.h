@@ -94,7 +94,7 @@ VKP_FN Hit bvhTrace(Ray ray, bool anyHit) VKP_BVH_CONST {
             float t;
             vec2 barycentrics = vec2(0.0f, 0.0f);
             bool found;
-            if (primitive.kind == VKP_PRIMITIVE_SPHERE) {
+            if (isSphere(primitive)) {
                 found = intersectSphere(ray.origin, ray.direction, primitive.p0, primitive.p1.x, hit.t,
                                         t);
             } else {

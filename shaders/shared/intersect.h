@@ -266,7 +266,7 @@ VKP_FN float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
 
 VKP_FN SurfacePoint surfacePoint(BvhPrimitive primitive, Ray ray, Hit hit) {
     SurfacePoint s;
-    if (primitive.kind == VKP_PRIMITIVE_SPHERE) {
+    if (isSphere(primitive)) {
         float radius = primitive.p1.x;
         vec3 outward = normalize(ray.origin + hit.t * ray.direction - primitive.p0);
         s.position = primitive.p0 + radius * outward;  // projected back onto the sphere

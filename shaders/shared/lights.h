@@ -9,6 +9,7 @@
 
 #include "shared/compat.h"
 #include "shared/constants.h"
+#include "shared/features.h"
 #include "shared/sampling.h"
 
 #define VKP_LIGHT_TRIANGLE 0u
@@ -44,6 +45,30 @@ struct LightSample {
     bool delta;      // point, spot, directional: no MIS
 };
 
+// The light types a kernel may meet, one bit (1 << VKP_LIGHT_*) each, from
+// its features: surfaces light only where they emit.
+VKP_FN uint possibleLightTypes() {
+    uint types = 0u;
+    if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) {
+        if (hasFeature(VKP_FEATURE_TRIANGLES)) types |= 1u << VKP_LIGHT_TRIANGLE;
+        if (hasFeature(VKP_FEATURE_SPHERES)) types |= 1u << VKP_LIGHT_SPHERE;
+    }
+    if (hasFeature(VKP_FEATURE_POINT_LIGHTS)) types |= 1u << VKP_LIGHT_POINT;
+    if (hasFeature(VKP_FEATURE_SPOT_LIGHTS)) types |= 1u << VKP_LIGHT_SPOT;
+    if (hasFeature(VKP_FEATURE_DIRECTIONAL_LIGHTS)) types |= 1u << VKP_LIGHT_DIRECTIONAL;
+    if (hasFeature(VKP_FEATURES_ENVIRONMENT)) types |= 1u << VKP_LIGHT_ENVIRONMENT;
+    return types;
+}
+
+// Whether `light` is of type `type`; known without reading it when the kernel
+// meets no light of that type, or no other.
+VKP_FN bool lightIs(Light light, uint type) {
+    uint types = possibleLightTypes();
+    if ((types & (1u << type)) == 0u) return false;
+    if (types == (1u << type)) return true;
+    return light.type == type;
+}
+
 VKP_FN LightSample noLightSample() {
     LightSample s;
     s.direction = vec3(0.0f, 0.0f, 1.0f);
@@ -68,7 +93,7 @@ VKP_FN float spotFalloff(Light light, float cosAngle) {
 VKP_FN float areaLightPdf(Light light, vec3 p, vec3 x, vec3 n) {
     vec3 d = x - p;
     float dist2 = dot(d, d);
-    if (light.type == VKP_LIGHT_SPHERE) {
+    if (lightIs(light, VKP_LIGHT_SPHERE)) {
         SphereCone cone = sphereCone(light.p0, light.radius, p);
         if (!cone.inside) return sphereConePdf(cone);
         // From inside: uniform by area over the whole sphere.
@@ -101,7 +126,7 @@ VKP_FN LightSample areaLightSample(vec3 p, vec3 x, vec3 n, float area) {
 // cone's direction with the sphere.
 VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
     LightSample s = noLightSample();
-    if (light.type == VKP_LIGHT_TRIANGLE) {
+    if (lightIs(light, VKP_LIGHT_TRIANGLE)) {
         vec2 b = sampleTriangleBarycentrics(u);
         vec3 x = b.x * light.p0 + b.y * light.p1 + (1.0f - b.x - b.y) * light.p2;
         vec3 n = normalize(cross(light.p1 - light.p0, light.p2 - light.p0));
@@ -110,7 +135,7 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
         s.radiance = s.pdf > 0.0f && dot(n, s.direction) < 0.0f ? light.emission : vec3(0.0f);
         return s;
     }
-    if (light.type == VKP_LIGHT_SPHERE) {
+    if (lightIs(light, VKP_LIGHT_SPHERE)) {
         SphereCone cone = sphereCone(light.p0, light.radius, p);
         if (cone.inside) {
             vec3 n = sampleUniformSphere(u);
@@ -131,7 +156,7 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
         s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
         return s;
     }
-    if (light.type == VKP_LIGHT_POINT || light.type == VKP_LIGHT_SPOT) {
+    if (lightIs(light, VKP_LIGHT_POINT) || lightIs(light, VKP_LIGHT_SPOT)) {
         vec3 d = light.p0 - p;
         float dist2 = dot(d, d);
         if (!(dist2 > 0.0f)) return s;
@@ -141,10 +166,10 @@ VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
         s.pdf = 1.0f;
         s.delta = true;
         s.radiance = light.emission / dist2;
-        if (light.type == VKP_LIGHT_SPOT) s.radiance *= spotFalloff(light, dot(-s.direction, light.p1));
+        if (lightIs(light, VKP_LIGHT_SPOT)) s.radiance *= spotFalloff(light, dot(-s.direction, light.p1));
         return s;
     }
-    if (light.type == VKP_LIGHT_DIRECTIONAL) {
+    if (lightIs(light, VKP_LIGHT_DIRECTIONAL)) {
         s.direction = -light.p1;
         s.distance = VKP_FLOAT_MAX;
         s.pdf = 1.0f;

@@ -3,6 +3,7 @@
 #define VKPATH_SHARED_MATERIAL_H
 
 #include "shared/compat.h"
+#include "shared/features.h"
 
 // Values of Material::kind; the same numbers as scene::MaterialKind.
 #define VKP_MATERIAL_DIFFUSE 0u
@@ -18,6 +19,22 @@ struct Material {
     float ior;           // glass: index of refraction of the inside relative to the outside
     vec3 emission;       // emitted radiance, W/(m^2 sr), from the front face
 };
+
+// The feature bit of material kind `kind` (shared/features.h).
+VKP_FN uint materialFeature(uint kind) {
+    if (kind == VKP_MATERIAL_DIFFUSE) return VKP_FEATURE_DIFFUSE;
+    if (kind == VKP_MATERIAL_MIRROR) return VKP_FEATURE_MIRROR;
+    return VKP_FEATURE_GLASS;
+}
+
+// Whether `material` is of kind `kind`; known without reading it when the
+// kernel meets no material of that kind, or no other.
+VKP_FN bool materialIs(Material material, uint kind) {
+    uint feature = materialFeature(kind);
+    if (!hasFeature(feature)) return false;
+    if (onlyFeature(VKP_FEATURES_MATERIALS, feature)) return true;
+    return material.kind == kind;
+}
 
 VKP_NAMESPACE_END
 

@@ -37,11 +37,23 @@
 #define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), padding (1)
 #define VKP_DIMS_PER_LIGHT_SAMPLE 6u  // light choice (2 words), environment texel (2 words), position (2)
 
+// SceneInfo::lightSamples, a constant when the kernel's features fix it.
+VKP_FN uint lightSampleCount() VKP_SCENE_CONST { return featureLightSamples(sceneInfo().lightSamples); }
+
 VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
-    return 2u + bounce * (VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * sceneInfo().lightSamples);
+    return 2u + bounce * (VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * lightSampleCount());
 }
 
+
 // ---- the environment ---------------------------------------------------------------
+
+// Whether the environment is a map (else a constant colour); call only where
+// the scene has one.
+VKP_FN bool environmentIsMap() VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_ENVIRONMENT_MAP)) return false;
+    if (!hasFeature(VKP_FEATURE_ENVIRONMENT_COLOR)) return true;
+    return sceneInfo().environment.width != 0u;
+}
 
 VKP_FN uint environmentTexel(vec3 worldDirection) VKP_SCENE_CONST {
     EnvironmentInfo env = sceneInfo().environment;
@@ -50,8 +62,8 @@ VKP_FN uint environmentTexel(vec3 worldDirection) VKP_SCENE_CONST {
 
 VKP_FN vec3 environmentRadiance(vec3 worldDirection) VKP_SCENE_CONST {
     SceneInfo info = sceneInfo();
-    if (info.hasEnvironment == 0u) return vec3(0.0f);
-    if (info.environment.width == 0u) return info.environment.color * info.environment.strength;
+    if (!hasFeature(VKP_FEATURES_ENVIRONMENT) || info.hasEnvironment == 0u) return vec3(0.0f);
+    if (!environmentIsMap()) return info.environment.color * info.environment.strength;
     return sceneEnvRadiance(environmentTexel(worldDirection)) * info.environment.strength;
 }
 
@@ -60,7 +72,7 @@ VKP_FN vec3 environmentRadiance(vec3 worldDirection) VKP_SCENE_CONST {
 // sampled uniformly over the sphere.
 VKP_FN float environmentPdf(vec3 worldDirection) VKP_SCENE_CONST {
     EnvironmentInfo env = sceneInfo().environment;
-    if (env.width == 0u) return uniformSpherePdf();
+    if (!environmentIsMap()) return uniformSpherePdf();
     return envDirectionPdf(env, sceneEnvAlias(environmentTexel(worldDirection)).probability, worldDirection);
 }
 
@@ -69,7 +81,7 @@ VKP_FN float environmentPdf(vec3 worldDirection) VKP_SCENE_CONST {
 // The weight of emission reached by a BSDF sample of density `bsdfPdf` whose
 // light-sampling density (choice x direction) would have been `lightPdf`.
 VKP_FN float bsdfMisWeight(float bsdfPdf, float lightPdf) VKP_SCENE_CONST {
-    return powerHeuristic(bsdfPdf, float(sceneInfo().lightSamples) * lightPdf);
+    return powerHeuristic(bsdfPdf, float(lightSampleCount()) * lightPdf);
 }
 
 // What a path sees when its ray escapes. `specular`: the ray came from the
@@ -77,7 +89,7 @@ VKP_FN float bsdfMisWeight(float bsdfPdf, float lightPdf) VKP_SCENE_CONST {
 VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SCENE_CONST {
     SceneInfo info = sceneInfo();
     vec3 le = environmentRadiance(direction);
-    if (specular || info.environmentLight == VKP_NO_LIGHT || info.lightSamples == 0u) return le;
+    if (specular || lightSampleCount() == 0u || info.environmentLight == VKP_NO_LIGHT) return le;
     float lightPdf = sceneLightAlias(info.environmentLight).probability * environmentPdf(direction);
     return le * bsdfMisWeight(bsdfPdf, lightPdf);
 }
@@ -87,11 +99,11 @@ VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SC
 // `bsdfPdf`. Triangles emit from their front face only.
 VKP_FN vec3 emittedRadiance(Material material, uint primitive, SurfacePoint surface, vec3 direction, vec3 previous,
                             bool specular, float bsdfPdf) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) return vec3(0.0f);
     vec3 le = material.emission;
-    if (bvhPrimitive(primitive).kind == VKP_PRIMITIVE_TRIANGLE && dot(direction, surface.normal) >= 0.0f)
-        return vec3(0.0f);
+    if (!isSphere(bvhPrimitive(primitive)) && dot(direction, surface.normal) >= 0.0f) return vec3(0.0f);
     SceneInfo info = sceneInfo();
-    if (le == vec3(0.0f) || specular || info.lightSamples == 0u || info.lightCount == 0u) return le;
+    if (le == vec3(0.0f) || specular || lightSampleCount() == 0u || info.lightCount == 0u) return le;
     uint lightIndex = scenePrimitiveLight(primitive);
     if (lightIndex == VKP_NO_LIGHT) return le;
     Light light = sceneLight(lightIndex);
@@ -111,17 +123,6 @@ struct ShadowRequest {
     bool rejected;
 };
 
-// f * |cos| of the non-delta BSDF (only Lambertian is non-delta).
-VKP_FN vec3 evalBsdf(Material material, vec3 n, vec3 wo, vec3 wi) VKP_SCENE_CONST {
-    if (material.kind != VKP_MATERIAL_DIFFUSE) return vec3(0.0f);
-    return evalLambertian(material.reflectance, n, wo, wi);
-}
-
-VKP_FN float bsdfPdf(Material material, vec3 n, vec3 wo, vec3 wi) VKP_SCENE_CONST {
-    if (material.kind != VKP_MATERIAL_DIFFUSE) return 0.0f;
-    return lambertianPdf(n, wo, wi);
-}
-
 // Light sample `index` (of lightSamples) at a diffuse vertex.
 VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, vec3 wo, vec3 throughput,
                                        RngKey key, uint bounce, uint index) VKP_SCENE_CONST {
@@ -134,7 +135,7 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
     request.ray.tMax = 0.0f;
     request.ray.pixel = key.pixel;
     SceneInfo info = sceneInfo();
-    if (info.lightCount == 0u || material.kind != VKP_MATERIAL_DIFFUSE) return request;
+    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material)) return request;
 
     uint dim = bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
     uint bucket = aliasBucket(rngBits(key, dim), info.lightCount);
@@ -143,10 +144,10 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
     Light light = sceneLight(lightIndex);
 
     LightSample ls;
-    if (light.type == VKP_LIGHT_ENVIRONMENT) {
+    if (lightIs(light, VKP_LIGHT_ENVIRONMENT)) {
         ls = noLightSample();
         EnvironmentInfo env = info.environment;
-        if (env.width == 0u) {
+        if (!environmentIsMap()) {
             ls.direction = sampleUniformSphere(rngUniform2(key, dim + 4u));
             ls.pdf = uniformSpherePdf();
         } else {
@@ -170,7 +171,7 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
 
     vec3 f = evalBsdf(material, surface.normal, wo, ls.direction);
     if (f == vec3(0.0f)) return request;
-    float n = float(info.lightSamples);
+    float n = float(lightSampleCount());
     float lightPdf = choice * ls.pdf;
     float weight = ls.delta ? 1.0f : powerHeuristic(n * lightPdf, bsdfPdf(material, surface.normal, wo, ls.direction));
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
@@ -217,20 +218,13 @@ VKP_FN PathStep continuePath(Material material, SurfacePoint surface, vec3 wo, v
     step.ray.pixel = key.pixel;
 
     uint dim = bounceDimension(bounce);
-    vec2 u = rngUniform2(key, dim);
-    BsdfSample s;
-    if (material.kind == VKP_MATERIAL_DIFFUSE)
-        s = sampleLambertian(material.reflectance, surface.normal, wo, u);
-    else if (material.kind == VKP_MATERIAL_MIRROR)
-        s = sampleMirror(material.reflectance, surface.normal, wo);
-    else
-        s = sampleDielectric(material.reflectance, material.transmittance, material.ior, surface.normal, wo, u.x);
+    BsdfSample s = sampleBsdf(material, surface.normal, wo, rngUniform2(key, dim));
     if (!s.valid) return step;
     vec3 beta = throughput * s.weight;
 
     // Russian roulette (from rouletteDepth on): survive with probability
     // min(1, max component of the throughput), reweighted to stay unbiased.
-    if (bounce + 1u >= sceneInfo().rouletteDepth) {
+    if (hasFeature(VKP_FEATURE_ROULETTE) && bounce + 1u >= sceneInfo().rouletteDepth) {
         float survive = min(1.0f, max(max(beta.x, beta.y), beta.z));
         if (!(rngUniform(key, dim + 2u) < survive)) return step;
         beta /= survive;

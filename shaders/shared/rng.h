@@ -22,6 +22,7 @@
 #define VKPATH_SHARED_RNG_H
 
 #include "shared/compat.h"
+#include "shared/features.h"
 #include "shared/sobol.h"
 
 // RngKey::samplerKind and SceneInfo::samplerKind (wavefront::SamplerKind on the host).
@@ -68,6 +69,15 @@ VKP_FN RngKey makeRngKey(uint pixel, uint sampleIndex, uint seed, uint samplerKi
     key.seed = seed;
     key.samplerKind = samplerKind;
     return key;
+}
+
+// The sampler a kernel uses for `samplerKind` (SceneInfo::samplerKind): a
+// constant when it meets only one (shared/features.h), so the other's code
+// is compiled out of every rngBits below.
+VKP_FN uint featureSampler(uint samplerKind) {
+    if (!hasFeature(VKP_FEATURE_SAMPLER_SOBOL)) return VKP_SAMPLER_INDEPENDENT;
+    if (!hasFeature(VKP_FEATURE_SAMPLER_INDEPENDENT)) return VKP_SAMPLER_SOBOL;
+    return samplerKind;
 }
 
 // The independent sampler's key, for code that needs no stratification.

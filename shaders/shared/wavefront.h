@@ -1,7 +1,9 @@
-// The wavefront integrator's buffers: path state as structure-of-arrays over
-// the paths of one wave, two alternating ray queues and a shadow queue with
-// their counters, the indirect-dispatch arguments, and the film. Binding
-// indices are shared by all stage kernels; each declares only what it uses.
+// The GPU integrator's buffers: path state as structure-of-arrays over the
+// paths of one wave, two alternating ray queues and a shadow queue with
+// their counters (stages/lib/queues.glsl), the indirect-dispatch arguments,
+// and the film. Binding indices are shared by all stage kernels and the
+// megakernel; each declares only what it uses, and the host binds what it
+// declares (host/wavefront/renderer.cpp).
 #ifndef VKPATH_SHARED_WAVEFRONT_H
 #define VKPATH_SHARED_WAVEFRONT_H
 
@@ -48,7 +50,9 @@ struct QueueCounters {
     uint fireflies;       // path samples above SceneInfo::fireflyThreshold (before any clamping)
     uvec3 rayDispatch;    // VkDispatchIndirectCommand for intersect and shade
     uvec3 shadowDispatch; // VkDispatchIndirectCommand for shadow
-    uint shadowRayCount;  // shadow rays shade asked for in this bounce (non-zero contributions)
+    uint shadowRayCount;  // shadow rays shade asked for in this bounce (non-zero contributions), or
+                          // the megakernel traced in this wave
+    uint closestRayCount; // closest-hit rays the megakernel traced in this wave
     // Rays traced over the whole render, as 64-bit (low, high) pairs summed by
     // queue_dispatch: closest-hit rays (intersect) and shadow rays (shadow).
     uvec2 closestRays;
@@ -75,12 +79,13 @@ struct WavePush {
 
 #define VKP_PREPARE_RAYS 0u     // rayDispatch from the current ray queue; clear the next and the shadow queue
 #define VKP_PREPARE_SHADOWS 1u  // shadowDispatch from the shadow queue
+#define VKP_TALLY_RAYS 2u       // the megakernel's per-wave ray counts into the 64-bit totals
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
-static_assert(sizeof(vkpath::shared::QueueCounters) == 68);
+static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
 static_assert(sizeof(vkpath::shared::WavePush) == 16);
 #endif

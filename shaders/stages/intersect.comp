@@ -6,16 +6,14 @@
 #include "shared/ray.h"
 
 #include "stages/lib/scene_bvh.glsl"
+#include "stages/lib/queues.glsl"
 
 layout(binding = VKP_WF_RAYS, scalar) readonly buffer RayBuffer { Ray rays[]; };
 layout(binding = VKP_WF_HITS, scalar) writeonly buffer HitBuffer { Hit hits[]; };
-layout(binding = VKP_WF_QUEUES, scalar) readonly buffer QueueBuffer { uint queues[]; };
-layout(binding = VKP_WF_COUNTERS, scalar) readonly buffer CounterBuffer { QueueCounters counters; };
 
 void main() {
     uint entry = gl_GlobalInvocationID.x;
-    bool odd = (push.bounce & 1u) == 1u;
-    if (entry >= (odd ? counters.rayCount1 : counters.rayCount0)) return;
-    uint slot = queues[(odd ? push.pathCount : 0u) + entry];
+    if (entry >= rayQueueSize(push.bounce)) return;
+    uint slot = rayQueueSlot(push.bounce, entry);
     hits[slot] = bvhClosestHit(rays[slot]);
 }

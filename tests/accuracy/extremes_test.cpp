@@ -29,7 +29,7 @@ wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t max
     settings.samplesPerPixel = spp;
     settings.maxDepth = maxDepth;
     settings.seed = seed;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     return renderer.render();
 }
 
@@ -195,12 +195,12 @@ TEST(Brightness, FirefliesAreCountedAndClampedOnlyOnRequest) {
     settings.width = settings.height = 24;
     settings.samplesPerPixel = 4;
     settings.maxDepth = 4;
-    wavefront::WavefrontRenderer free(test::context(), s, settings);
+    wavefront::GpuRenderer free(test::context(), s, settings);
     const auto unclamped = free.render();
     EXPECT_GT(unclamped.fireflySamples, 0u);
     EXPECT_EQ(unclamped.nonFiniteSamples, 0u);
     settings.clampRadiance = 2.0f;
-    wavefront::WavefrontRenderer clamped(test::context(), s, settings);
+    wavefront::GpuRenderer clamped(test::context(), s, settings);
     const auto c = clamped.render();
     double sumClamped = 0, sumFree = 0;
     for (size_t i = 0; i < c.image.pixels.size(); ++i)
@@ -255,7 +255,7 @@ TEST(Brightness, SunOverADimRoom) {
     settings.width = settings.height = 24;
     settings.samplesPerPixel = 16;
     settings.maxDepth = 4;
-    wavefront::WavefrontRenderer free(test::context(), s, settings);
+    wavefront::GpuRenderer free(test::context(), s, settings);
     const auto unclamped = free.render();
     EXPECT_EQ(unclamped.nonFiniteSamples, 0u);
     EXPECT_GT(unclamped.fireflySamples, 0u);
@@ -268,7 +268,7 @@ TEST(Brightness, SunOverADimRoom) {
     constexpr float CLAMP = 4.0f;
     EXPECT_GT(largest, CLAMP) << "fireflies are not clamped unless asked";
     settings.clampRadiance = CLAMP;
-    wavefront::WavefrontRenderer clamped(test::context(), s, settings);
+    wavefront::GpuRenderer clamped(test::context(), s, settings);
     const auto c = clamped.render();
     EXPECT_GT(c.fireflySamples, 0u);
     for (const glm::vec3& p : c.image.pixels)

@@ -105,7 +105,7 @@ TEST(FilmAccumulation, RendererAtTwoToThe25SamplesIsExact) {
     settings.width = settings.height = 1;
     settings.samplesPerPixel = 1u << 25;
     settings.maxDepth = 0;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     const auto r = renderer.render();
     EXPECT_EQ(r.waves, 513u);
     EXPECT_EQ(r.samplesPerPixel, 1u << 25);

@@ -94,7 +94,7 @@ TEST_P(BvhAddressScene, RenderEqualsTheBoundPath) {
     settings.height = 24;
     settings.samplesPerPixel = 4;
     settings.seed = 5;
-    wavefront::WavefrontRenderer bound(test::context(), s, settings);
+    wavefront::GpuRenderer bound(test::context(), s, settings);
     ASSERT_FALSE(bound.scene().byAddress);
     const wavefront::RenderResult a = bound.render();
 
@@ -102,7 +102,7 @@ TEST_P(BvhAddressScene, RenderEqualsTheBoundPath) {
     const uint64_t materialBytes = bound.tables().materials.size() * sizeof(shared::Material);
     ASSERT_GT(bound.tables().bvh.primitiveBytes(), materialBytes);
     const BindingLimit lowered(materialBytes);
-    wavefront::WavefrontRenderer addressed(test::context(), s, settings);
+    wavefront::GpuRenderer addressed(test::context(), s, settings);
     ASSERT_TRUE(addressed.scene().byAddress);
     const wavefront::RenderResult b = addressed.render();
     ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
@@ -165,7 +165,7 @@ TEST(BvhAddress, LargeSceneRenders) {
     settings.height = 16;
     settings.samplesPerPixel = 16;
     settings.maxDepth = 2;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     EXPECT_GT(renderer.tables().bvh.primitiveBytes(), LAVAPIPE_RANGE);
     EXPECT_TRUE(renderer.scene().byAddress);
     RecordProperty("scene_bytes", std::to_string(renderer.sceneBytes()));

@@ -39,7 +39,7 @@ wavefront::RenderSettings smallSettings(uint32_t spp, uint32_t seed) {
 }
 
 wavefront::RenderResult renderGpu(const scene::Scene& scene, const wavefront::RenderSettings& settings) {
-    wavefront::WavefrontRenderer renderer(test::context(), scene, settings);
+    wavefront::GpuRenderer renderer(test::context(), scene, settings);
     return renderer.render();
 }
 

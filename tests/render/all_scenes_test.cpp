@@ -1,15 +1,21 @@
 // Every scene the project ships or reads (../shared/scenes/scotty3d/*.dae and
 // assets/*.gltf) renders through the wavefront path tracer at low spp with
 // no NaN or infinite sample and a finite, non-negative image, and its BVH
-// passes the integrity check.
+// passes the integrity check. On every one, the GPU's four kernel builds
+// (wavefront or megakernel, specialised or general) give the same image bit
+// for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+
+#include <fmt/format.h>
 
 #include "bvh/bvh.h"
 #include "scene/load.h"
 #include "support/test_context.h"
+#include "wavefront/kernel_features.h"
 #include "wavefront/renderer.h"
 
 namespace {
@@ -40,7 +46,7 @@ TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
     settings.samplesPerPixel = 2;
     settings.maxDepth = 4;
     settings.lightSamples = 2;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     const auto r = renderer.render();
     EXPECT_EQ(r.nonFiniteSamples, 0u);
     double sum = 0;
@@ -51,6 +57,54 @@ TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
             sum += p[c];
         }
     EXPECT_GT(sum, 0.0) << "the image is black";
+}
+
+bool sameBits(const image::Image& a, const image::Image& b) {
+    return a.pixels.size() == b.pixels.size() &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
+}
+
+// Specialisation removes only code that the scene's data never takes, and
+// the megakernel runs the wavefront stages' functions in the same order
+// (shared/integrator.h): with the same seed, the same bits. Two settings: the
+// defaults (one light sample, independent sampler, roulette from bounce 4),
+// and their opposites (three light samples, Sobol', no roulette), so that
+// every feature bit of the settings is both on and off somewhere.
+TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
+    const scene::Scene s = scene::loadScene(GetParam());
+    for (const bool defaults : {true, false}) {
+        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, sobol, no roulette");
+        wavefront::RenderSettings settings;
+        settings.width = 32;
+        settings.height = 24;
+        settings.samplesPerPixel = 2;
+        settings.maxDepth = 5;
+        if (!defaults) {
+            settings.lightSamples = 3;
+            settings.sampler = wavefront::SamplerKind::Sobol;
+            settings.rouletteDepth = 6;
+        }
+        settings.kernel = wavefront::KernelForm::Wavefront;
+        wavefront::GpuRenderer reference(test::context(), s, settings);
+        const auto expected = reference.render();
+        EXPECT_NE(reference.features(), uint32_t(VKP_FEATURES_ALL));
+        for (const auto form : {wavefront::KernelForm::Wavefront, wavefront::KernelForm::Megakernel})
+            for (const bool specialize : {true, false}) {
+                if (form == wavefront::KernelForm::Wavefront && specialize) continue;
+                SCOPED_TRACE(fmt::format("{} {}", wavefront::kernelFormName(form), specialize ? "specialised" : "general"));
+                settings.kernel = form;
+                settings.specialize = specialize;
+                wavefront::GpuRenderer renderer(test::context(), s, settings);
+                EXPECT_EQ(renderer.features(), specialize ? reference.features() : uint32_t(VKP_FEATURES_ALL));
+                const auto r = renderer.render();
+                EXPECT_TRUE(sameBits(r.image, expected.image));
+                EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
+                EXPECT_EQ(r.rays.closest, expected.rays.closest);
+                EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
+                EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
+                EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
+            }
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, AllScenes, testing::ValuesIn(sceneFiles()),

@@ -73,7 +73,7 @@ void expectMatches(const scene::Scene& s, const std::function<glm::dvec3(glm::dv
     settings.width = settings.height = SIZE;
     settings.samplesPerPixel = 64;
     settings.maxDepth = 4;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     const auto r = renderer.render();
     EXPECT_EQ(r.nonFiniteSamples, 0u);
     const auto expected = expectedImage(s, radiance);

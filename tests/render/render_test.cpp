@@ -44,7 +44,7 @@ wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t max
     settings.maxDepth = maxDepth;
     settings.seed = seed;
     settings.lightSamples = lightSamples;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     return renderer.render();
 }
 
@@ -209,10 +209,10 @@ TEST(Determinism, WaveSizeDoesNotChangeTheImage) {
     settings.width = settings.height = 24;
     settings.samplesPerPixel = 6;
     settings.seed = 3;
-    wavefront::WavefrontRenderer one(test::context(), s, settings);
+    wavefront::GpuRenderer one(test::context(), s, settings);
     const auto a = one.render();
     settings.maxPathsInFlight = 24 * 24 * 2;  // 3 waves of 2 samples
-    wavefront::WavefrontRenderer three(test::context(), s, settings);
+    wavefront::GpuRenderer three(test::context(), s, settings);
     const auto b = three.render();
     EXPECT_EQ(a.waves, 1u);
     EXPECT_EQ(b.waves, 3u);
@@ -226,7 +226,7 @@ TEST(TimeBudget, StopsWithinOneWave) {
     settings.samplesPerPixel = 100000;
     settings.maxPathsInFlight = 32 * 32;  // one sample per wave
     settings.timeBudgetSeconds = 0.5;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     const auto r = renderer.render();
     EXPECT_LT(r.samplesPerPixel, 100000u);
     EXPECT_GE(r.samplesPerPixel, 1u);

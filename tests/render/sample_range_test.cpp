@@ -56,7 +56,7 @@ void expectRangesContinueARender(Renderer& renderer) {
 
 TEST(SampleRange, ContinuesAGpuRender) {
     const scene::Scene scene = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
-    wavefront::WavefrontRenderer renderer(test::context(), scene, settings());
+    wavefront::GpuRenderer renderer(test::context(), scene, settings());
     expectRangesContinueARender(renderer);
 }
 
@@ -68,7 +68,7 @@ TEST(SampleRange, ContinuesACpuRender) {
 
 TEST(SampleRange, PathIndicesBeyond32BitsAreRefused) {
     const scene::Scene scene = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
-    wavefront::WavefrontRenderer renderer(test::context(), scene, settings());
+    wavefront::GpuRenderer renderer(test::context(), scene, settings());
     // 432 pixels: sample 2^32 / 432 + 1 starts past the 32-bit path index.
     EXPECT_THROW(renderer.render(wavefront::SampleRange{(1u << 31) / 216 + 1, 1}), std::out_of_range);
 }

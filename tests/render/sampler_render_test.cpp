@@ -65,7 +65,7 @@ wavefront::RenderResult render(const scene::Scene& s, SamplerKind sampler, uint3
     settings.seed = seed;
     settings.lightSamples = lightSamples;
     settings.sampler = sampler;
-    wavefront::WavefrontRenderer renderer(test::context(), s, settings);
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
     return renderer.render();
 }
 

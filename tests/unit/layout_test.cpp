@@ -73,6 +73,7 @@ std::vector<Expected> expectedLayouts() {
          {VKP_O(QueueCounters, rayCount0), VKP_O(QueueCounters, rayCount1), VKP_O(QueueCounters, shadowCount),
           VKP_O(QueueCounters, nonFinite), VKP_O(QueueCounters, fireflies), VKP_O(QueueCounters, rayDispatch),
           VKP_O(QueueCounters, shadowDispatch), VKP_O(QueueCounters, shadowRayCount),
+          VKP_O(QueueCounters, closestRayCount),
           VKP_O(QueueCounters, closestRays), VKP_O(QueueCounters, shadowRays),
           VKP_O(QueueCounters, rejectedLightSamples)}},
         {"FilmPixel", sizeof(FilmPixel),

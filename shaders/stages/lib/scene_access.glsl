@@ -1,6 +1,8 @@
 // The scene's buffers and the accessors shared/path_tracer.h reads them
-// through, then the path tracer itself (shade stage only).
+// through, then the path tracer itself: its per-vertex math and its loop
+// (shared/integrator.h).
 #include "shared/bsdf.h"
+#include "shared/path_state.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/rng.h"
@@ -46,3 +48,4 @@ vec3 sceneEnvRadiance(uint i) {
 }
 
 #include "shared/path_tracer.h"
+#include "shared/integrator.h"

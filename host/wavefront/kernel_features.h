@@ -1,0 +1,35 @@
+// The VKP_FEATURE_* bits (shaders/shared/features.h) a render's kernels are
+// specialised to: what its scene tables hold and what its settings ask for.
+// A feature absent here has no code in the pipelines, no stage, no queue and
+// no memory beyond the placeholder Vulkan needs to bind.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "shared/features.h"
+#include "shared/scene_data.h"
+#include "wavefront/gpu_scene.h"
+
+namespace vkpath::wavefront {
+
+// From the tables: the primitive kinds, the materials of the primitives (not
+// of every material in the file), emission, the light types in the light
+// list and the kind of environment.
+uint32_t sceneFeatures(const SceneTables& tables);
+
+// sceneFeatures plus the render's settings in `info` (renderSceneInfo): the
+// sampler, how many light samples, whether roulette can end a path.
+uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info);
+
+// Shadow rays per path vertex that a kernel with these features can queue
+// (`lightSamples`: SceneInfo::lightSamples): none unless there is something
+// to sample and a surface with a non-delta lobe to sample it from.
+uint32_t shadowRaysPerVertex(uint32_t features, uint32_t lightSamples);
+
+// The names of the set bits in declaration order, e.g. "triangles diffuse
+// emissive-surfaces independent-sampler light-samples roulette"; "general"
+// for VKP_FEATURES_ALL.
+std::string describeFeatures(uint32_t features);
+
+}  // namespace vkpath::wavefront

@@ -1,0 +1,64 @@
+// What a kernel may meet: one bit per feature of a scene and its render
+// settings. A pipeline is built with the bits of the scene it renders
+// (specialisation constant VKP_SPEC_FEATURES, host/wavefront/kernel_features),
+// and the shared code asks hasFeature() before every piece of work that a
+// feature needs, so the pipeline compiler folds the tests of absent features
+// to constants and drops their code: a diffuse-only box runs no glass, sphere,
+// environment or Sobol' code. A set bit means "may occur", never "occurs":
+// VKP_FEATURES_ALL is the general kernel (--no-specialize), and a scene
+// renders bit for bit the same with its own bits as with all of them (only
+// code that the scene's data would never take is removed;
+// tests/render/specialization_test.cpp).
+//
+// Rules for adding a feature (textures, normal maps, microfacet lobes...):
+// one bit here, one line in host/wavefront/kernel_features.cpp that sets it
+// from the scene tables or settings, and hasFeature() around its code.
+#ifndef VKPATH_SHARED_FEATURES_H
+#define VKPATH_SHARED_FEATURES_H
+
+#include "shared/bindings.h"
+#include "shared/compat.h"
+
+#define VKP_FEATURE_TRIANGLES (1u << 0)
+#define VKP_FEATURE_SPHERES (1u << 1)
+#define VKP_FEATURE_DIFFUSE (1u << 2)            // a primitive with a Lambertian material
+#define VKP_FEATURE_MIRROR (1u << 3)
+#define VKP_FEATURE_GLASS (1u << 4)
+#define VKP_FEATURE_EMISSIVE_SURFACES (1u << 5)  // a primitive with a material that emits
+#define VKP_FEATURE_POINT_LIGHTS (1u << 6)
+#define VKP_FEATURE_SPOT_LIGHTS (1u << 7)
+#define VKP_FEATURE_DIRECTIONAL_LIGHTS (1u << 8)
+#define VKP_FEATURE_ENVIRONMENT_COLOR (1u << 9)  // a constant environment
+#define VKP_FEATURE_ENVIRONMENT_MAP (1u << 10)   // an environment map
+#define VKP_FEATURE_SAMPLER_INDEPENDENT (1u << 11)
+#define VKP_FEATURE_SAMPLER_SOBOL (1u << 12)
+#define VKP_FEATURE_LIGHT_SAMPLES (1u << 13)           // SceneInfo::lightSamples > 0: next-event estimation
+#define VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES (1u << 14)  // SceneInfo::lightSamples > 1
+#define VKP_FEATURE_ROULETTE (1u << 15)                // rouletteDepth <= maxDepth: roulette can end a path
+#define VKP_FEATURE_COUNT 16u
+
+#define VKP_FEATURES_ALL 0xffffffffu
+#define VKP_FEATURES_MATERIALS (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS)
+#define VKP_FEATURES_PRIMITIVES (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES)
+#define VKP_FEATURES_ENVIRONMENT (VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_ENVIRONMENT_MAP)
+#define VKP_FEATURES_SAMPLERS (VKP_FEATURE_SAMPLER_INDEPENDENT | VKP_FEATURE_SAMPLER_SOBOL)
+
+VKP_NAMESPACE_BEGIN
+
+#ifdef __cplusplus
+// The CPU reference runs the general code: each test is a branch on data.
+constexpr uint kernelFeatures = VKP_FEATURES_ALL;
+#else
+layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeatures = VKP_FEATURES_ALL;
+#endif
+
+// Whether any of `features` may occur.
+VKP_FN bool hasFeature(uint features) { return (kernelFeatures & features) != 0u; }
+
+// Whether `feature` is the only one of `group` that may occur (so a test
+// between the members of the group is known without reading data).
+VKP_FN bool onlyFeature(uint group, uint feature) { return (kernelFeatures & group) == feature; }
+
+VKP_NAMESPACE_END
+
+#endif  // VKPATH_SHARED_FEATURES_H

@@ -1,0 +1,94 @@
+// The path tracer's one loop, and the pieces it is cut into. Three
+// executions run this code:
+//
+//   the CPU reference    tracePath, per path on CPU threads (host/reference/)
+//   the GPU megakernel   tracePath, one invocation per path (stages/megakernel.comp)
+//   the GPU wavefront    the loop cut at its stage boundaries: startPath in
+//                        generate, bvhClosestHit in intersect, shadeHit +
+//                        sampleDirectLight + scatter in shade, bvhOccluded in
+//                        shadow, with PathState kept in per-path buffers
+//                        between them (stages/*.comp)
+//
+// Each piece is the same function in all three, and the wavefront adds a
+// path's radiance in the same order as the loop (emission of bounce b, then
+// the sum of its unoccluded light samples, then bounce b + 1), so on one
+// device the two GPU forms give the same image bit for bit
+// (tests/render/kernel_forms_test.cpp).
+//
+// Needs what shared/path_tracer.h needs plus the traversal
+// (bvhClosestHit, bvhOccluded); include after it, once per scope (C++:
+// inside PathTracerView). PathState and startPath, which need no scene, are
+// in shared/path_state.h.
+
+// A hit as the rest of its bounce needs it.
+struct Shading {
+    Material material;
+    SurfacePoint surface;
+    vec3 wo;  // toward the previous vertex
+};
+
+// Stage "shade", first part: adds what the ray of bounce `bounce` sees at
+// `hit` (emission with its MIS weight, or the environment on a miss).
+// Returns whether the path scatters there (it hit something and is below
+// the maximum depth); then `shading` describes the hit.
+VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Shading) shading) VKP_SCENE_CONST {
+    if (hit.primitive == VKP_NO_HIT) {
+        if (hasFeature(VKP_FEATURES_ENVIRONMENT))
+            path.radiance += path.throughput * escapedRadiance(path.ray.direction, path.specular, path.bsdfPdf);
+        return false;
+    }
+    BvhPrimitive primitive = bvhPrimitive(hit.primitive);
+    shading.material = sceneMaterial(primitive.material);
+    shading.surface = surfacePoint(primitive, path.ray, hit);
+    shading.wo = -path.ray.direction;
+    if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
+        path.radiance += path.throughput * emittedRadiance(shading.material, hit.primitive, shading.surface,
+                                                           path.ray.direction, path.previousPosition,
+                                                           path.specular, path.bsdfPdf);
+    return bounce < sceneInfo().maxDepth;
+}
+
+// Stage "shade", last part: samples the BSDF (and roulette) for the next
+// bounce. Returns whether the path goes on; then path.ray is its next ray.
+VKP_FN bool scatter(VKP_INOUT(PathState) path, Shading shading, RngKey key, uint bounce) VKP_SCENE_CONST {
+    PathStep step = continuePath(shading.material, shading.surface, shading.wo, path.throughput, key, bounce);
+    if (!step.alive) return false;
+    path.ray = step.ray;
+    path.throughput = step.throughput;
+    path.previousPosition = shading.surface.position;
+    path.bsdfPdf = step.bsdfPdf;
+    path.specular = step.specular;
+    return true;
+}
+
+// The whole path from `path` (startPath): its radiance estimate.
+VKP_FN vec3 tracePath(PathState path, RngKey key, VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
+    for (uint bounce = 0u;; ++bounce) {
+        // ---- intersect ----------------------------------------------------------------
+        Hit hit = bvhClosestHit(path.ray);
+        tally.closestRays += 1u;
+
+        // ---- shade: what the ray sees ----------------------------------------------------
+        Shading shading;
+        if (!shadeHit(path, hit, bounce, shading)) break;
+
+        // ---- shade: next-event estimation; shadow: the unoccluded samples ----------------
+        // As the shadow stage does: the sum is added once a sample was queued.
+        vec3 unoccluded = vec3(0.0f);
+        bool queued = false;
+        for (uint j = 0u; j < lightSampleCount(); ++j) {
+            ShadowRequest request =
+                sampleDirectLight(shading.material, shading.surface, shading.wo, path.throughput, key, bounce, j);
+            if (request.rejected) tally.rejectedLightSamples += 1u;
+            queued = queued || request.valid;
+            if (!request.valid || request.contribution == vec3(0.0f)) continue;
+            tally.shadowRays += 1u;
+            if (!bvhOccluded(request.ray)) unoccluded += request.contribution;
+        }
+        if (queued) path.radiance += unoccluded;
+
+        // ---- shade: the next bounce --------------------------------------------------------
+        if (!scatter(path, shading, key, bounce)) break;
+    }
+    return path.radiance;
+}

@@ -1,0 +1,65 @@
+// A path between two of its vertices, and its start at the camera: what the
+// wavefront's per-path buffers hold (stages/lib/path_buffers.glsl) and what
+// the loop of shared/integrator.h carries. Needs no scene, so stage
+// "generate" and the loop share it.
+#ifndef VKPATH_SHARED_PATH_STATE_H
+#define VKPATH_SHARED_PATH_STATE_H
+
+#include "shared/camera.h"
+#include "shared/compat.h"
+#include "shared/dimensions.h"
+#include "shared/features.h"
+#include "shared/ray.h"
+#include "shared/rng.h"
+#include "shared/scene_data.h"
+
+VKP_NAMESPACE_BEGIN
+
+// What a path carries from one vertex to the next: the wavefront's per-path
+// buffers hold exactly this (rays, throughput, radiance, vertices).
+struct PathState {
+    Ray ray;                // the next ray to trace
+    vec3 throughput;        // product of BSDF weights (and roulette) so far
+    vec3 radiance;          // gathered so far
+    vec3 previousPosition;  // world space: the last scattering point (the camera for the first ray)
+    float bsdfPdf;          // density of the direction sampled there (MIS at the next hit)
+    bool specular;          // the camera or a delta BSDF produced the ray (no MIS)
+};
+
+// What a path's rays were, for RenderResult's counters.
+struct PathTally {
+    uint closestRays;
+    uint shadowRays;            // light samples with a non-zero contribution, traced
+    uint rejectedLightSamples;  // light samples of density 0 (ShadowRequest::rejected)
+};
+
+// The key of path `sampleIndex` of `pixel`: every random number it draws.
+VKP_FN RngKey pathRngKey(SceneInfo info, uint pixel, uint sampleIndex) {
+    return makeRngKey(pixel, sampleIndex, info.seed, featureSampler(info.samplerKind));
+}
+
+// SceneInfo::lightSamples, a constant when the kernel's features fix it
+// (none, or exactly one).
+VKP_FN uint featureLightSamples(uint lightSamples) {
+    if (!hasFeature(VKP_FEATURE_LIGHT_SAMPLES)) return 0u;
+    if (!hasFeature(VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES)) return 1u;
+    return lightSamples;
+}
+
+// Stage "generate": the camera ray through a jittered point of `pixel` (box
+// filter), throughput 1.
+VKP_FN PathState startPath(Camera camera, uint pixel, RngKey key) {
+    PathState path;
+    uvec2 xy = uvec2(pixel % camera.width, pixel / camera.width);
+    path.ray = generateCameraRay(camera, xy, rngUniform2(key, VKP_DIM_PIXEL_JITTER));
+    path.throughput = vec3(1.0f);
+    path.radiance = vec3(0.0f);
+    path.previousPosition = camera.origin;
+    path.bsdfPdf = 0.0f;
+    path.specular = true;
+    return path;
+}
+
+VKP_NAMESPACE_END
+
+#endif  // VKPATH_SHARED_PATH_STATE_H

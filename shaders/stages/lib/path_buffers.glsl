@@ -1,0 +1,32 @@
+// The wavefront's per-path state (shared/integrator.h PathState) as
+// structure-of-arrays over the wave's path slots, and its load and store.
+// The host sizes and binds the same buffers from one table
+// (host/wavefront/renderer.cpp, PATH_BUFFERS).
+layout(binding = VKP_WF_RAYS, scalar) buffer RayBuffer { Ray rays[]; };
+layout(binding = VKP_WF_THROUGHPUT, scalar) buffer ThroughputBuffer { vec3 throughput[]; };
+layout(binding = VKP_WF_RADIANCE, scalar) buffer RadianceBuffer { vec3 radiance[]; };
+layout(binding = VKP_WF_VERTEX, scalar) buffer VertexBuffer { PathVertex vertices[]; };
+
+PathState loadPath(uint slot) {
+    PathState path;
+    path.ray = rays[slot];
+    path.throughput = throughput[slot];
+    path.radiance = radiance[slot];
+    PathVertex v = vertices[slot];
+    path.previousPosition = v.position;
+    path.bsdfPdf = v.bsdfPdf;
+    path.specular = v.specular != 0u;
+    return path;
+}
+
+// Everything but the radiance (stored on its own: shade adds to it even when
+// the path ends).
+void storePathVertex(uint slot, PathState path) {
+    rays[slot] = path.ray;
+    throughput[slot] = path.throughput;
+    PathVertex v;
+    v.position = path.previousPosition;
+    v.bsdfPdf = path.bsdfPdf;
+    v.specular = path.specular ? 1u : 0u;
+    vertices[slot] = v;
+}
