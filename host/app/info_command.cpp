@@ -33,6 +33,7 @@ nlohmann::json deviceJson(const vk::DeviceInfo& d) {
         {"timestamps", d.timestamps},
         {"timestampPeriodNs", d.timestampPeriodNs},
         {"deviceLocalMemory", d.deviceLocalMemory},
+        {"advice", vk::driverAdvice(d)},
     };
 }
 
@@ -48,6 +49,8 @@ void printDevice(const vk::DeviceInfo& d) {
     std::printf("  float64 / int64   %s / %s\n", yesNo(d.shaderFloat64), yesNo(d.shaderInt64));
     std::printf("  timestamps        %s, period %g ns\n", yesNo(d.timestamps), d.timestampPeriodNs);
     std::printf("  device memory     %.0f MiB\n", d.deviceLocalMemory / 1048576.0);
+    const std::string advice = vk::driverAdvice(d);
+    if (!advice.empty()) std::printf("  note              %s\n", advice.c_str());
 }
 
 }  // namespace

@@ -36,6 +36,9 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
     cmd.add_option("--workgroup-size", o.workgroupSize, "Threads per workgroup of the stage kernels")
         ->capture_default_str();
+    cmd.add_option("--megakernel-paths", o.megakernelPaths,
+                   "--kernel megakernel: paths each invocation traces one after another (path regeneration; 1: one)")
+        ->capture_default_str();
     cmd.add_option("--paths-in-flight", o.pathsInFlight, "Upper bound on the paths of one wave")->capture_default_str();
     cmd.add_option("--kernel", o.kernel,
                    "GPU kernel form: wavefront (stages with queues between them) or megakernel (one invocation per "
@@ -99,6 +102,8 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);
     settings.specialize = !o.noSpecialize;
     settings.workgroupSize = o.workgroupSize;
+    if (o.megakernelPaths == 0) throw InputError("--megakernel-paths must be at least 1");
+    settings.megakernelPathsPerInvocation = o.megakernelPaths;
     settings.maxPathsInFlight = o.pathsInFlight;
     settings.threads = o.threads.value_or(0);
     return settings;

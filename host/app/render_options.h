@@ -34,6 +34,7 @@ struct RenderOptions {
     std::optional<float> environmentRotation;
     std::string camera;
     uint32_t workgroupSize = 64;
+    uint32_t megakernelPaths = wavefront::RenderSettings{}.megakernelPathsPerInvocation;
     uint32_t pathsInFlight = 1u << 20;
     std::string kernel;              // wavefront::parseKernelForm's names; empty: the device's default
     bool noSpecialize = false;       // general kernels instead of ones specialised to the scene

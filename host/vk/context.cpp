@@ -205,6 +205,19 @@ std::string DeviceInfo::apiVersionString() const {
                        VK_API_VERSION_PATCH(apiVersion));
 }
 
+std::string driverAdvice(const DeviceInfo& device) {
+    // lavapipe names itself "llvmpipe" and puts "Mesa X.Y.Z ..." in driverInfo.
+    if (device.driverName != "llvmpipe") return "";
+    const size_t at = device.driverInfo.find("Mesa ");
+    if (at == std::string::npos) return "";
+    const int major = std::atoi(device.driverInfo.c_str() + at + 5);
+    if (major <= 0 || major >= 25) return "";
+    return fmt::format(
+        "lavapipe from Mesa {}: Mesa 25 renders about 2.5x faster with the same image (on Debian 12, tools/install-deps "
+        "installs it from bookworm-backports; docs/BENCHMARKS.md)",
+        device.driverInfo.substr(at + 5, device.driverInfo.find(' ', at + 5) - (at + 5)));
+}
+
 std::vector<DeviceInfo> listDevices(bool validation) {
     VkInstance instance = createBareInstance(validation, nullptr);
     std::vector<DeviceInfo> result;

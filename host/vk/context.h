@@ -65,6 +65,11 @@ struct DeviceInfo {
     std::string apiVersionString() const;
 };
 
+// Advice for a device whose driver is known to be much slower than one the
+// user can install (lavapipe before Mesa 25, measured in
+// docs/BENCHMARKS.md); empty when there is none.
+std::string driverAdvice(const DeviceInfo& device);
+
 // Physical devices visible to the loader, in enumeration order, and the index
 // the default choice would take.
 std::vector<DeviceInfo> listDevices(bool validation = false);

@@ -150,10 +150,11 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
     const vk::KernelOptions options{.workgroupSize = settings.workgroupSize};
     vk::KernelOptions sceneOptions = options;
     sceneOptions.specialization = {bvh::sceneAccessConstant(m_scene.byAddress), {VKP_SPEC_FEATURES, m_features}};
+    std::vector<std::pair<const vk::Kernel*, const vk::DescriptorSet*>> built;
     auto build = [&](const char* name, const vk::KernelOptions& o, vk::DescriptorSet& set) {
         auto kernel = std::make_unique<vk::Kernel>(context, name, o);
         set = kernel->bindDeclared(buffers);
-        ++m_pipelines;
+        built.emplace_back(kernel.get(), &set);
         return kernel;
     };
     const vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, settings.workgroupSize}}};
@@ -167,6 +168,20 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
         r->shade = build("shade", sceneOptions, r->shadeSet);
         if (r->shadowStage) r->shadow = build("shadow", sceneOptions, r->shadowSet);
     }
+    // Drivers may compile a pipeline at its first dispatch (lavapipe from Mesa
+    // 25 does, for seconds): one empty dispatch of each, so that the time is
+    // counted here and not in the first wave. With no paths every kernel
+    // returns at once: the queues are empty (render() clears the counters again).
+    r->counters.clear();
+    m_context.submit([&](VkCommandBuffer cmd) {
+        const shared::WavePush empty{0, 0, 0, VKP_TALLY_RAYS};
+        const auto push = std::as_bytes(std::span(&empty, 1));
+        for (const auto& [kernel, set] : built) {
+            kernel->record(cmd, *set, 1, push);
+            vk::computeBarrier(cmd);
+        }
+    });
+    m_pipelines = uint32_t(built.size());
     m_pipelineMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     m_resources = std::move(r);
 }
@@ -231,7 +246,11 @@ RenderResult GpuRenderer::render(const SampleRange& samples,
             const auto p0 = pushFor(0, 0);
             if (m_form == KernelForm::Megakernel) {
                 const auto tally = pushFor(0, VKP_TALLY_RAYS);
-                timed("megakernel", [&] { r.megakernel->record(cmd, r.megakernelSet, count, bytes(p0)); });
+                // Each invocation traces ceil(count / invocations) paths in turn;
+                // lavapipe ends a shader loop after 65535 iterations, one bounce each.
+                const uint32_t perInvocation = std::clamp<uint32_t>(s.megakernelPathsPerInvocation, 1, 65535 / bounces);
+                const uint32_t invocations = (count + perInvocation - 1) / perInvocation;
+                timed("megakernel", [&] { r.megakernel->record(cmd, r.megakernelSet, invocations, bytes(p0)); });
                 timed("queue_dispatch", [&] { r.queueDispatch->record(cmd, r.queueDispatchSet, 1, bytes(tally)); });
             } else {
                 timed("generate", [&] { r.generate->record(cmd, r.generateSet, count, bytes(p0)); });

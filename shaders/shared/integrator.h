@@ -2,7 +2,8 @@
 // executions run this code:
 //
 //   the CPU reference    tracePath, per path on CPU threads (host/reference/)
-//   the GPU megakernel   tracePath, one invocation per path (stages/megakernel.comp)
+//   the GPU megakernel   traceBounce, each invocation taking its next path
+//                        when one ends (stages/megakernel.comp)
 //   the GPU wavefront    the loop cut at its stage boundaries: startPath in
 //                        generate, bvhClosestHit in intersect, shadeHit +
 //                        sampleDirectLight + scatter in shade, bvhOccluded in
@@ -13,7 +14,7 @@
 // path's radiance in the same order as the loop (emission of bounce b, then
 // the sum of its unoccluded light samples, then bounce b + 1), so on one
 // device the two GPU forms give the same image bit for bit
-// (tests/render/kernel_forms_test.cpp).
+// (tests/render/all_scenes_test.cpp).
 //
 // Needs what shared/path_tracer.h needs plus the traversal
 // (bvhClosestHit, bvhOccluded); include after it, once per scope (C++:
@@ -61,34 +62,40 @@ VKP_FN bool scatter(VKP_INOUT(PathState) path, Shading shading, RngKey key, uint
     return true;
 }
 
+// One bounce of the loop: traces path.ray, adds what it finds (emission or
+// the environment, then the unoccluded light samples) and samples the next
+// ray. Returns whether the path goes on to bounce + 1.
+VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce, VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
+    // ---- intersect ------------------------------------------------------------------
+    Hit hit = bvhClosestHit(path.ray);
+    tally.closestRays += 1u;
+
+    // ---- shade: what the ray sees ------------------------------------------------------
+    Shading shading;
+    if (!shadeHit(path, hit, bounce, shading)) return false;
+
+    // ---- shade: next-event estimation; shadow: the unoccluded samples ------------------
+    // As the shadow stage does: the sum is added once a sample was queued.
+    vec3 unoccluded = vec3(0.0f);
+    bool queued = false;
+    for (uint j = 0u; j < lightSampleCount(); ++j) {
+        ShadowRequest request =
+            sampleDirectLight(shading.material, shading.surface, shading.wo, path.throughput, key, bounce, j);
+        if (request.rejected) tally.rejectedLightSamples += 1u;
+        queued = queued || request.valid;
+        if (!request.valid || request.contribution == vec3(0.0f)) continue;
+        tally.shadowRays += 1u;
+        if (!bvhOccluded(request.ray)) unoccluded += request.contribution;
+    }
+    if (queued) path.radiance += unoccluded;
+
+    // ---- shade: the next bounce ----------------------------------------------------------
+    return scatter(path, shading, key, bounce);
+}
+
 // The whole path from `path` (startPath): its radiance estimate.
 VKP_FN vec3 tracePath(PathState path, RngKey key, VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
-    for (uint bounce = 0u;; ++bounce) {
-        // ---- intersect ----------------------------------------------------------------
-        Hit hit = bvhClosestHit(path.ray);
-        tally.closestRays += 1u;
-
-        // ---- shade: what the ray sees ----------------------------------------------------
-        Shading shading;
-        if (!shadeHit(path, hit, bounce, shading)) break;
-
-        // ---- shade: next-event estimation; shadow: the unoccluded samples ----------------
-        // As the shadow stage does: the sum is added once a sample was queued.
-        vec3 unoccluded = vec3(0.0f);
-        bool queued = false;
-        for (uint j = 0u; j < lightSampleCount(); ++j) {
-            ShadowRequest request =
-                sampleDirectLight(shading.material, shading.surface, shading.wo, path.throughput, key, bounce, j);
-            if (request.rejected) tally.rejectedLightSamples += 1u;
-            queued = queued || request.valid;
-            if (!request.valid || request.contribution == vec3(0.0f)) continue;
-            tally.shadowRays += 1u;
-            if (!bvhOccluded(request.ray)) unoccluded += request.contribution;
-        }
-        if (queued) path.radiance += unoccluded;
-
-        // ---- shade: the next bounce --------------------------------------------------------
-        if (!scatter(path, shading, key, bounce)) break;
-    }
+    uint bounce = 0u;
+    while (traceBounce(path, key, bounce, tally)) ++bounce;
     return path.radiance;
 }
