@@ -42,6 +42,7 @@ struct BsdfSample {
     float pdf;       // solid-angle density; for delta lobes the discrete probability
     bool delta;      // a specular lobe: no light sampling, no MIS
     bool valid;      // false: the path ends (e.g. sampled below the surface)
+    float etaSquared;  // refraction: eta'^2, the factor `weight` divided radiance by; else 1
 };
 
 VKP_FN BsdfSample invalidBsdfSample() {
@@ -51,6 +52,7 @@ VKP_FN BsdfSample invalidBsdfSample() {
     s.pdf = 0.0f;
     s.delta = false;
     s.valid = false;
+    s.etaSquared = 1.0f;
     return s;
 }
 
@@ -68,6 +70,7 @@ VKP_FN BsdfSample sampleLambertian(vec3 albedo, vec3 n, vec3 wo, vec2 u) {
     s.weight = albedo;  // (albedo / pi) * cos / (cos / pi)
     s.delta = false;
     s.valid = s.pdf > 0.0f;
+    s.etaSquared = 1.0f;
     return s;
 }
 
@@ -97,6 +100,7 @@ VKP_FN BsdfSample sampleMirror(vec3 reflectance, vec3 n, vec3 wo) {
     s.pdf = 1.0f;
     s.delta = true;
     s.valid = true;
+    s.etaSquared = 1.0f;
     return s;
 }
 
@@ -118,6 +122,7 @@ VKP_FN BsdfSample sampleDielectric(vec3 reflectance, vec3 transmittance, float i
     BsdfSample s;
     s.delta = true;
     s.valid = true;
+    s.etaSquared = 1.0f;
     if (u < fresnel) {
         s.direction = normalize(reflectAbout(wo, nf));
         s.weight = reflectance;
@@ -130,6 +135,7 @@ VKP_FN BsdfSample sampleDielectric(vec3 reflectance, vec3 transmittance, float i
     s.direction = normalize(-wo / eta + (cosI / eta - cosT) * nf);
     s.weight = transmittance / (eta * eta);
     s.pdf = 1.0f - fresnel;
+    s.etaSquared = eta * eta;
     return s;
 }
 

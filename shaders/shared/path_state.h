@@ -20,6 +20,7 @@ VKP_NAMESPACE_BEGIN
 struct PathState {
     Ray ray;                // the next ray to trace
     vec3 throughput;        // product of BSDF weights (and roulette) so far
+    float etaScale;         // product of eta'^2 over the refractions so far (Russian roulette)
     vec3 radiance;          // gathered so far
     vec3 previousPosition;  // world space: the last scattering point (the camera for the first ray)
     float bsdfPdf;          // density of the direction sampled there (MIS at the next hit)
@@ -53,6 +54,7 @@ VKP_FN PathState startPath(Camera camera, uint pixel, RngKey key) {
     uvec2 xy = uvec2(pixel % camera.width, pixel / camera.width);
     path.ray = generateCameraRay(camera, xy, rngUniform2(key, VKP_DIM_PIXEL_JITTER));
     path.throughput = vec3(1.0f);
+    path.etaScale = 1.0f;
     path.radiance = vec3(0.0f);
     path.previousPosition = camera.origin;
     path.bsdfPdf = 0.0f;

@@ -35,10 +35,13 @@
 VKP_NAMESPACE_BEGIN
 
 // What shading at the next hit needs from the previous vertex.
+// PathState's fields besides the ray, throughput and radiance, packed
+// exactly: etaScale is positive, so its sign bit carries `specular`.
 struct PathVertex {
-    vec3 position;  // world space: the last scattering point (the camera for the first ray)
-    float bsdfPdf;  // density of the direction sampled there
-    uint specular;  // 1: the camera or a delta BSDF produced the ray (no MIS)
+    vec3 position;            // world space: the last scattering point (the camera for the first ray)
+    float bsdfPdf;            // density of the direction sampled there
+    float specularEtaScale;   // PathState::etaScale, negated when the ray is specular (the camera or a
+                              // delta BSDF produced it: no MIS)
 };
 
 // Counters of the queues and the indirect-dispatch arguments computed from them.

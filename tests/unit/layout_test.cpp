@@ -68,7 +68,7 @@ std::vector<Expected> expectedLayouts() {
          {VKP_O(Light, p0), VKP_O(Light, type), VKP_O(Light, p1), VKP_O(Light, radius), VKP_O(Light, p2),
           VKP_O(Light, cosInner), VKP_O(Light, emission), VKP_O(Light, cosOuter)}},
         {"PathVertex", sizeof(PathVertex),
-         {VKP_O(PathVertex, position), VKP_O(PathVertex, bsdfPdf), VKP_O(PathVertex, specular)}},
+         {VKP_O(PathVertex, position), VKP_O(PathVertex, bsdfPdf), VKP_O(PathVertex, specularEtaScale)}},
         {"QueueCounters", sizeof(QueueCounters),
          {VKP_O(QueueCounters, rayCount0), VKP_O(QueueCounters, rayCount1), VKP_O(QueueCounters, shadowCount),
           VKP_O(QueueCounters, nonFinite), VKP_O(QueueCounters, fireflies), VKP_O(QueueCounters, rayDispatch),

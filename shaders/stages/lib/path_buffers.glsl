@@ -15,7 +15,8 @@ PathState loadPath(uint slot) {
     PathVertex v = vertices[slot];
     path.previousPosition = v.position;
     path.bsdfPdf = v.bsdfPdf;
-    path.specular = v.specular != 0u;
+    path.etaScale = abs(v.specularEtaScale);
+    path.specular = v.specularEtaScale < 0.0;
     return path;
 }
 
@@ -27,6 +28,6 @@ void storePathVertex(uint slot, PathState path) {
     PathVertex v;
     v.position = path.previousPosition;
     v.bsdfPdf = path.bsdfPdf;
-    v.specular = path.specular ? 1u : 0u;
+    v.specularEtaScale = path.specular ? -path.etaScale : path.etaScale;
     vertices[slot] = v;
 }
