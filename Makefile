@@ -42,11 +42,13 @@ fuzz-smoke: deps
 fuzz: deps
 	@tools/fuzz-smoke $(FUZZ_SECONDS)
 
-# Benchmarks (not part of `make test`): the BVH (Google Benchmark) and the
-# path tracer on CBspheres.dae. Figures and commands: docs/BENCHMARKS.md.
+# Benchmarks (not part of `make test`): the BVH (Google Benchmark), the path
+# tracer on CBspheres.dae (its kernel forms and builds side by side) and the
+# start-up time with and without caches. Figures and commands: docs/BENCHMARKS.md.
 bench: build
 	@$(BUILD)/bvh_bench
 	@tools/bench/render-bench --vkpath $(VKPATH)
+	@tools/bench/startup-bench --vkpath $(VKPATH)
 
 # vkpath side by side with Mitsuba 3 (not in CI): installs Debian's libllvm19 and a
 # venv in build-peer/ with mitsuba from PyPI, checks that the exported scenes

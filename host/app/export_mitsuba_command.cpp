@@ -37,10 +37,6 @@ int runExport(const ExportOptions& o) {
         warnings.push_back(fmt::format("-l {}: Mitsuba's path tracer takes one light sample per vertex (the same "
                                        "image in expectation, with other noise)",
                                        settings.lightSamples));
-    if (o.sampler != "independent")
-        warnings.push_back(fmt::format("--sampler {}: exported with Mitsuba's independent sampler (the same image "
-                                       "in expectation, other noise)",
-                                       o.sampler));
     if (settings.clampRadiance > 0)
         warnings.push_back("--clamp: Mitsuba's path tracer does not clamp; the exported scene renders unclamped");
     for (const std::string& warning : warnings) std::fprintf(stderr, "vkpath: warning: %s\n", warning.c_str());

@@ -26,7 +26,7 @@ struct RenderOptions {
     uint32_t lightSamples = 1;
     uint32_t rouletteDepth = wavefront::RenderSettings{}.rouletteDepth;
     uint32_t seed = 0;
-    std::string sampler = "independent";  // wavefront::parseSampler's names
+    std::string sampler = "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
     float clamp = 0;
     std::string environment;
     std::vector<float> environmentColor;

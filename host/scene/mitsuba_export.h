@@ -20,7 +20,7 @@ struct MitsubaExportSettings {
     uint32_t height = 480;
     uint32_t samplesPerPixel = 16;
     uint32_t maxDepth = 8;       // vkpath's (pbrt-v4's) bounces: 0 = emitters seen directly only
-    uint32_t rouletteDepth = 4;  // vkpath's: Russian roulette from this bounce on
+    uint32_t rouletteDepth = 5;  // vkpath's: Russian roulette from this bounce on
     uint32_t seed = 0;
 };
 

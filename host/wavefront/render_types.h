@@ -38,9 +38,12 @@ struct RenderSettings {
     uint32_t samplesPerPixel = 16;
     uint32_t maxDepth = 8;          // pbrt-v4's meaning: 0 = emitters seen directly only
     uint32_t lightSamples = 1;      // light samples per diffuse vertex (-l)
-    uint32_t rouletteDepth = 4;     // Russian roulette from this bounce on
+    // Russian roulette from this bounce on. 5 (Mitsuba 3's default, counted
+    // the same way) and the Sobol' sampler were chosen by time to error on the
+    // bundled and shared scenes: docs/TRADEOFFS.md, "The defaults".
+    uint32_t rouletteDepth = 5;
     uint32_t seed = 0;
-    SamplerKind sampler = SamplerKind::Independent;
+    SamplerKind sampler = SamplerKind::Sobol;
     // > 0: clamp each path sample's largest component to this. Biased (it
     // removes energy), off by default; fireflies are counted either way.
     float clampRadiance = 0;

@@ -14,6 +14,7 @@
 // can be queued.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -64,6 +65,9 @@ class GpuRenderer {
     KernelForm form() const { return m_form; }
     uint32_t features() const { return m_features; }  // VKP_FEATURE_* bits of the pipelines
     double pipelineMilliseconds() const { return m_pipelineMilliseconds; }  // creating them (cached or not)
+    // From the constructor's start (the scene loaded) to ready for the first
+    // wave: scene tables and BVH, upload, buffers, pipelines.
+    double setupMilliseconds() const { return m_setupMilliseconds; }
     const std::vector<MemoryGroup>& memory() const { return m_memory; }
     uint32_t pathsInFlight() const;
     // One line: the kernel form, the features the pipelines were built for and
@@ -74,12 +78,14 @@ class GpuRenderer {
     struct Resources;
     vk::Context& m_context;
     RenderSettings m_settings;
+    std::chrono::steady_clock::time_point m_constructed;
     SceneTables m_tables;
     GpuScene m_scene;
     KernelForm m_form = KernelForm::Wavefront;
     uint32_t m_features = 0;
     uint32_t m_pipelines = 0;
     double m_pipelineMilliseconds = 0;
+    double m_setupMilliseconds = 0;
     std::vector<MemoryGroup> m_memory;
     std::unique_ptr<Resources> m_resources;
 };

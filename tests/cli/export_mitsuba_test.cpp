@@ -16,6 +16,7 @@
 #include <string>
 
 #include "image/image.h"
+#include "wavefront/render_types.h"
 #include "scene/camera.h"
 #include "scene/load.h"
 #include "support/run_vkpath.h"
@@ -148,7 +149,7 @@ pugi::xml_document exportAndCheck(const fs::path& scenePath, const std::string& 
     const pugi::xml_node integrator = root.child("integrator");
     EXPECT_EQ(std::string(integrator.attribute("type").as_string()), "path");
     EXPECT_EQ(param(integrator, "integer", "max_depth"), std::to_string(maxDepth + 1));
-    EXPECT_EQ(param(integrator, "integer", "rr_depth"), "4");
+    EXPECT_EQ(param(integrator, "integer", "rr_depth"), std::to_string(vkpath::wavefront::RenderSettings{}.rouletteDepth));
 
     const pugi::xml_node sensor = root.child("sensor");
     EXPECT_EQ(param(sensor, "string", "fov_axis"), "x");

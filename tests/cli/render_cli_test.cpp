@@ -70,7 +70,7 @@ TEST(RenderCli, ScottyOutputFlagMetadataAndSummary) {
     EXPECT_EQ(m["vkpath:seed"], "11");
     EXPECT_EQ(m["vkpath:maxDepth"], "5");
     EXPECT_EQ(m["vkpath:lightSamples"], "2");
-    EXPECT_EQ(m["vkpath:sampler"], "independent");
+    EXPECT_EQ(m["vkpath:sampler"], "sobol") << "the default sampler";
     EXPECT_EQ(m["vkpath:version"], VKPATH_VERSION);
     EXPECT_EQ(m["vkpath:nonFiniteSamples"], "0");
     EXPECT_EQ(m["vkpath:clamp"], "off");

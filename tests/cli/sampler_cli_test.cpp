@@ -30,10 +30,12 @@ TEST(SamplerCli, SobolOnBothDevicesAndRecordedInTheExr) {
     };
     const std::string gpu = render("gpu.exr", "--sampler sobol");
     const std::string cpu = render("cpu.exr", "--sampler sobol --device cpu");
-    const std::string independent = render("independent.exr", "--device cpu");
+    const std::string independent = render("independent.exr", "--sampler independent --device cpu");
+    const std::string byDefault = render("default.exr", "");
     EXPECT_EQ(samplerMetadata(gpu), "sobol");
     EXPECT_EQ(samplerMetadata(cpu), "sobol");
     EXPECT_EQ(samplerMetadata(independent), "independent");
+    EXPECT_EQ(samplerMetadata(byDefault), "sobol") << "the default (docs/TRADEOFFS.md)";
     // Same paths (reference_renderer_test.cpp's bound for this scene), and not the independent ones.
     const image::Image g = image::readImage(gpu), c = image::readImage(cpu), i = image::readImage(independent);
     EXPECT_LE(image::compareImages(c, g).overall.relMse, 1e-3);
