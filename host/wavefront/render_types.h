@@ -56,8 +56,9 @@ struct RenderSettings {
     bool specialize = true;
     uint32_t workgroupSize = 64;              // GPU: threads per workgroup of the stage kernels
     // GPU megakernel: paths each invocation traces one after another (path
-    // regeneration); 1: one path per invocation.
-    uint32_t megakernelPathsPerInvocation = 16;
+    // regeneration); 1: one path per invocation, measured the faster on
+    // lavapipe (docs/BENCHMARKS.md).
+    uint32_t megakernelPathsPerInvocation = 1;
     uint32_t maxPathsInFlight = 1u << 20;     // GPU: upper bound; also limited by device memory
     uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread
 };

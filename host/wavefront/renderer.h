@@ -32,7 +32,7 @@ struct DeviceInfo;
 namespace vkpath::wavefront {
 
 // The kernel form a device gets without --kernel (measured:
-// docs/BENCHMARKS.md, "Megakernel and wavefront").
+// docs/BENCHMARKS.md, "Kernel forms and specialisation").
 KernelForm defaultKernelForm(const vk::DeviceInfo& device);
 
 // Device bytes one path in flight takes in the per-path buffers of a kernel

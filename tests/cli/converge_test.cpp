@@ -147,8 +147,9 @@ class ConvergeKnob : public testing::TestWithParam<KnobCase> {};
 TEST_P(ConvergeKnob, SweepRunsEveryValue) {
     const KnobCase& k = GetParam();
     const test::TempDir dir;
-    const auto r = test::runVkpath(fmt::format("converge {} -d 16x12 --device cpu --spp 1,2 --sweep {} --csv {}",
-                                               scene(), k.sweep, (dir / "c.csv").string()));
+    // Outputs in the test's own folder: parallel tests must not share out/converge.png.
+    const auto r = test::runVkpath(fmt::format("converge {} -d 16x12 --device cpu --spp 1,2 --sweep {} --csv {} --plot {}",
+                                               scene(), k.sweep, (dir / "c.csv").string(), (dir / "c.png").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::map<std::string, size_t> points;
     for (const Row& row : readCsv(dir / "c.csv")) points[row.value] += 1;
