@@ -49,6 +49,8 @@ TEST(SceneInfo, CBspheresSummary) {
     EXPECT_NE(field(r.out, "features").find("mirror glass"), std::string::npos) << r.out;
     EXPECT_FALSE(field(r.out, "camera").empty());
     EXPECT_FALSE(field(r.out, "bounds").empty());
+    EXPECT_NE(field(r.out, "kernels").find("mirror glass emissive-surfaces"), std::string::npos) << r.out;
+    EXPECT_NE(field(r.out, "memory").find("megakernel 12 B"), std::string::npos) << r.out;
     // The lamp is described twice; the decision is reported, once, on stderr.
     const std::string prefix =
         "vkpath: warning: " + vkpath::test::sharedScene("CBspheres.dae").string() + ": area light";
@@ -72,6 +74,13 @@ TEST(SceneInfo, JsonMatchesTheText) {
     EXPECT_FALSE(json["features"]["pointLights"].get<bool>());
     EXPECT_NEAR(json["camera"]["xfovDegrees"].get<double>(), 49.13434, 1e-4);
     EXPECT_NEAR(json["bounds"]["max"][1].get<double>(), 1.5, 1e-6);
+    // The kernels a default render builds, and what they take on the device:
+    // the same text as `render` prints.
+    EXPECT_EQ(json["kernelFeatures"].get<std::string>(),
+              "triangles spheres diffuse mirror glass emissive-surfaces sobol-sampler light-samples roulette");
+    EXPECT_EQ(json["deviceBytes"]["perPathMegakernel"].get<uint64_t>(), 12u);
+    EXPECT_GT(json["deviceBytes"]["perPathWavefront"].get<uint64_t>(), 100u);
+    EXPECT_GT(json["deviceBytes"]["scene"].get<uint64_t>(), 14u * 48u) << "at least the BVH's 14 primitives";
 }
 
 TEST(SceneInfo, MissingFileIsExitTwoAndOneLine) {

@@ -1,0 +1,94 @@
+// The feature bits a render's kernels are specialised to (shared/features.h,
+// wavefront/kernel_features.h): exactly what the scene's tables and the
+// settings contain, and what follows from them: no shadow stage and no
+// shadow-ray memory where nothing can be light-sampled, and the megakernel's
+// path state of 12 bytes a path.
+#include <gtest/gtest.h>
+
+#include "scene/scene.h"
+#include "shared/features.h"
+#include "shared/ray.h"
+#include "support/test_context.h"
+#include "wavefront/kernel_features.h"
+#include "wavefront/renderer.h"
+
+namespace {
+
+using namespace vkpath;
+
+// One sphere of `kind` under a constant sky, as in the furnace tests.
+scene::Scene sphereUnderSky(scene::MaterialKind kind) {
+    scene::Scene s;
+    scene::Material m;
+    m.kind = kind;
+    m.reflectance = glm::vec3(0.5f);
+    s.materials.push_back(m);
+    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
+    s.camera.position = {0.0f, 0.0f, 4.0f};
+    s.camera.target = {0.0f, 0.0f, 0.0f};
+    s.camera.xfovDegrees = 40.0f;
+    scene::Environment env;
+    env.color = glm::vec3(1.0f);
+    s.environment = env;
+    return s;
+}
+
+uint32_t featuresOf(const scene::Scene& s, const wavefront::RenderSettings& settings) {
+    const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
+    return wavefront::renderFeatures(tables, wavefront::renderSceneInfo(tables, settings));
+}
+
+TEST(KernelFeatures, ExactlyWhatTheSceneAndSettingsHold) {
+    wavefront::RenderSettings settings;  // Sobol', one light sample, roulette from 5 at -m 8
+    EXPECT_EQ(featuresOf(sphereUnderSky(scene::MaterialKind::Diffuse), settings),
+              uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ENVIRONMENT_COLOR |
+                       VKP_FEATURE_SAMPLER_SOBOL | VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_ROULETTE));
+
+    settings.sampler = wavefront::SamplerKind::Independent;
+    settings.lightSamples = 3;
+    settings.rouletteDepth = settings.maxDepth + 1;  // roulette can never apply
+    EXPECT_EQ(featuresOf(sphereUnderSky(scene::MaterialKind::Dielectric), settings),
+              uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_GLASS | VKP_FEATURE_ENVIRONMENT_COLOR |
+                       VKP_FEATURE_SAMPLER_INDEPENDENT | VKP_FEATURE_LIGHT_SAMPLES |
+                       VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES));
+
+    // No light at all: no light samples, whatever -l says.
+    scene::Scene dark = sphereUnderSky(scene::MaterialKind::Mirror);
+    dark.environment.reset();
+    EXPECT_EQ(featuresOf(dark, settings) & (VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES |
+                                            VKP_FEATURES_ENVIRONMENT),
+              0u);
+}
+
+TEST(KernelFeatures, NamesTheBitsAndTheGeneralKernel) {
+    EXPECT_EQ(wavefront::describeFeatures(VKP_FEATURE_TRIANGLES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ROULETTE),
+              "triangles diffuse roulette");
+    EXPECT_EQ(wavefront::describeFeatures(VKP_FEATURES_ALL), "general");
+}
+
+TEST(KernelFeatures, NoShadowStageOrMemoryWhereNothingCanBeLightSampled) {
+    wavefront::RenderSettings settings;
+    settings.width = 16;
+    settings.height = 12;
+    settings.samplesPerPixel = 1;
+    settings.kernel = wavefront::KernelForm::Wavefront;
+    auto pathState = [&](const scene::Scene& s, bool specialize) {
+        settings.specialize = specialize;
+        wavefront::GpuRenderer renderer(test::context(), s, settings);
+        EXPECT_EQ(renderer.memory().at(1).name, "path state");
+        return renderer.memory().at(1).bytes / renderer.pathsInFlight();
+    };
+    // A mirror under the sky: a light to sample but no surface to sample it
+    // from. Specialised, the shadow rays and their contributions (32 + 12
+    // bytes a path) are not allocated; the general kernels keep them.
+    const scene::Scene mirror = sphereUnderSky(scene::MaterialKind::Mirror);
+    EXPECT_EQ(pathState(mirror, true), wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0));
+    EXPECT_EQ(pathState(mirror, false), wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1));
+    EXPECT_EQ(wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1) -
+                  wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0),
+              sizeof(shared::Ray) + sizeof(glm::vec3));
+    // The megakernel keeps only each path's radiance.
+    EXPECT_EQ(wavefront::pathStateBytes(wavefront::KernelForm::Megakernel, 1), sizeof(glm::vec3));
+}
+
+}  // namespace
