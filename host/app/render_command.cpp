@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
@@ -123,6 +124,7 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
 int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     if (o.spp && *o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
     if (o.timeBudget && !(*o.timeBudget > 0)) throw InputError("--time-budget: seconds must be positive");
+    if (!std::isfinite(o.exposure)) throw InputError("--exposure: stops must be a finite number");
     const FilmSize film = parseFilmSize(o.size);
     // A budget without -s renders until the budget is spent, up to the
     // largest count whose path indices fit the kernels' 32 bits.

@@ -19,6 +19,10 @@ class App;
 
 namespace vkpath::app {
 
+// The largest -m and -l renderSettings accepts.
+constexpr uint32_t MAX_DEPTH = 1024;
+constexpr uint32_t MAX_LIGHT_SAMPLES = 1024;
+
 struct RenderOptions {
     std::string scene;
     std::string size = "640x480";

@@ -49,4 +49,18 @@ TEST(RenderOptions, BadEnvironmentFlagsAreInputErrors) {
     EXPECT_THROW(app::loadRenderScene(o), InputError);
 }
 
+// Flags that would run for hours before a sample, or write nonsense, are
+// one-line input errors (exit code 2 on the command line).
+TEST(RenderOptions, RunawayDepthAndLightSamplesAreInputErrors) {
+    app::RenderOptions o = skySpheres();
+    o.maxDepth = app::MAX_DEPTH;
+    o.lightSamples = app::MAX_LIGHT_SAMPLES;
+    EXPECT_NO_THROW(app::renderSettings(o, 1));
+    o.maxDepth = app::MAX_DEPTH + 1;
+    EXPECT_THROW(app::renderSettings(o, 1), InputError);
+    o.maxDepth = 8;
+    o.lightSamples = 100000;
+    EXPECT_THROW(app::renderSettings(o, 1), InputError);
+}
+
 }  // namespace

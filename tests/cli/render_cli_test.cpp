@@ -194,4 +194,17 @@ TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
     }
 }
 
+// Flags that would write nonsense or run for hours before a sample.
+TEST(RenderCli, RunawayOrNonsenseFlagsAreOneLineAndNothingWritten) {
+    const test::TempDir dir;
+    for (const char* flags : {"--exposure nan", "--exposure inf", "-l 100000", "-m 100000"}) {
+        SCOPED_TRACE(flags);
+        const std::string exr = (dir / "x.exr").string();
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) + " -o " + exr);
+        EXPECT_EQ(r.exitCode, 2);
+        EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(exr));
+    }
+}
+
 }  // namespace
