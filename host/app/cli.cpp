@@ -55,6 +55,7 @@ int runCli(int argc, char** argv) {
     addCompareCommand(app, global, commands);
     addSceneInfoCommand(app, global, commands);
     addExportMitsubaCommand(app, global, commands);
+    addMergeCommand(app, global, commands);
 
     try {
         app.parse(argc, argv);

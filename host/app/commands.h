@@ -35,5 +35,6 @@ void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& co
 void addCompareCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addSceneInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addExportMitsubaCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addMergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 
 }  // namespace vkpath::app

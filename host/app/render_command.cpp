@@ -30,6 +30,7 @@ struct RenderCommandOptions : RenderOptions {
     std::string output = "out/render.exr";
     std::string png;
     std::optional<uint32_t> spp;  // unset: 16, or with --time-budget as many as the budget allows
+    std::string samples;          // --samples FIRST:COUNT (instead of -s): that range of sample indices
     std::optional<double> timeBudget;
     float exposure = 0.0f;
     std::vector<std::string> aovs;
@@ -57,12 +58,12 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels, std::opt
 // lavapipe's included), which on a shared machine varies far less than the
 // wall clock.
 template <typename Renderer>
-wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& film, std::optional<double> timeBudget,
-                                           double& cpuSeconds) {
+wavefront::RenderResult renderWithProgress(Renderer& renderer, const wavefront::SampleRange& samples,
+                                           const FilmSize& film, std::optional<double> timeBudget, double& cpuSeconds) {
     const bool terminal = isatty(STDERR_FILENO);
     const uint64_t pixels = uint64_t(film.width) * film.height;
     const std::clock_t start = std::clock();
-    auto result = renderer.render([&](const wavefront::RenderProgress& p) {
+    auto result = renderer.render(samples, [&](const wavefront::RenderProgress& p) {
         if (terminal) printProgress(p, pixels, timeBudget);
     });
     cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
@@ -70,13 +71,34 @@ wavefront::RenderResult renderWithProgress(Renderer& renderer, const FilmSize& f
     return result;
 }
 
+// "FIRST:COUNT" of --samples; throws InputError naming the flag.
+wavefront::SampleRange parseSampleRange(const std::string& text) {
+    const size_t colon = text.find(':');
+    uint64_t first = 0, count = 0;
+    auto number = [&](const std::string& digits, uint64_t& value) {
+        if (digits.empty() || digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos)
+            return false;
+        value = std::stoull(digits);
+        return value <= UINT32_MAX;
+    };
+    if (colon == std::string::npos || !number(text.substr(0, colon), first) || !number(text.substr(colon + 1), count) ||
+        count == 0)
+        throw InputError(fmt::format("--samples {}: expected FIRST:COUNT, two whole numbers, COUNT at least 1", text));
+    return {uint32_t(first), uint32_t(count)};
+}
+
 // The EXR (with metadata), the AOVs beside it and the PNG preview.
-void writeOutputs(const RenderCommandOptions& o, const wavefront::RenderResult& result, const std::string& device) {
+void writeOutputs(const RenderCommandOptions& o, const wavefront::SampleRange& samples,
+                  const wavefront::RenderResult& result, const std::string& device) {
     const std::filesystem::path output(o.output);
     ensureParent(output);
+    const RenderIdentity identity = renderIdentity(o);
     const image::Metadata metadata = {
         {"vkpath:version", VKPATH_VERSION},
         {"vkpath:spp", std::to_string(result.samplesPerPixel)},
+        {"vkpath:firstSample", std::to_string(samples.first)},
+        {"vkpath:sceneHash", identity.sceneHash},
+        {"vkpath:settings", identity.settings},
         {"vkpath:seed", std::to_string(o.seed)},
         {"vkpath:sampler", o.sampler},
         {"vkpath:maxDepth", std::to_string(o.maxDepth)},
@@ -129,7 +151,14 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     // A budget without -s renders until the budget is spent, up to the
     // largest count whose path indices fit the kernels' 32 bits.
     const uint64_t pixelCount = uint64_t(film.width) * film.height;
-    const uint32_t spp = o.spp ? *o.spp : o.timeBudget ? uint32_t(((uint64_t(1) << 32) - 1) / pixelCount) : 16;
+    if (o.spp && !o.samples.empty()) throw InputError("-s and --samples: give one (--samples FIRST:COUNT includes the count)");
+    wavefront::SampleRange samples{0, o.spp ? *o.spp : o.timeBudget ? uint32_t(((uint64_t(1) << 32) - 1) / pixelCount) : 16};
+    if (!o.samples.empty()) samples = parseSampleRange(o.samples);
+    // Global path indices (sample x pixels + pixel) are 32-bit in the kernels.
+    if ((uint64_t(samples.first) + samples.count) * pixelCount > (uint64_t(1) << 32))
+        throw InputError(fmt::format("--samples {}:{} of {}x{} pixels: path indices beyond 2^32", samples.first,
+                                     samples.count, film.width, film.height));
+    const uint32_t spp = samples.count;
     wavefront::RenderSettings settings = renderSettings(o, spp);
     settings.timeBudgetSeconds = o.timeBudget;
     const scene::Scene scene = loadRenderScene(o);
@@ -138,8 +167,8 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         const reference::ReferenceRenderer renderer(scene, settings);
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, film, o.timeBudget, cpuSeconds);
-        writeOutputs(o, result, device);
+        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, cpuSeconds);
+        writeOutputs(o, samples, result, device);
         printSummary(film, result, std::nullopt, cpuSeconds, device, o.clamp > 0);
         return 0;
     }
@@ -148,8 +177,8 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, film, o.timeBudget, cpuSeconds);
-        writeOutputs(o, result, context.info().name);
+        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, cpuSeconds);
+        writeOutputs(o, samples, result, context.info().name);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
         printSummary(film, result, deviceMs, cpuSeconds, context.info().name, o.clamp > 0);
@@ -169,6 +198,9 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     addRenderOptions(*cmd, *o);
     cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
     cmd->add_option("-s,--spp", o->spp, "Samples per pixel (default 16; with --time-budget, as many as it allows)");
+    cmd->add_option("--samples", o->samples,
+                    "FIRST:COUNT: render sample indices FIRST to FIRST + COUNT - 1 of every pixel (instead of -s), a "
+                    "part for `vkpath merge`");
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
     cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->capture_default_str();
     cmd->add_option("--time-budget", o->timeBudget,

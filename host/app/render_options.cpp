@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "input_error.h"
 #include "scene/environment.h"
@@ -50,6 +51,39 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
         ->check(CLI::IsMember({"gpu", "cpu"}))
         ->capture_default_str();
     cmd.add_option("-t,--threads", o.threads, "--device cpu: worker threads (default: every hardware thread)");
+}
+
+namespace {
+
+// FNV-1a, 64 bits, over a file's bytes (a fingerprint, not a security hash).
+uint64_t hashFile(const std::string& path, uint64_t hash) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(fmt::format("{}: cannot read", path));
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0) {
+        for (std::streamsize i = 0; i < in.gcount(); ++i) {
+            hash ^= uint8_t(buffer[i]);
+            hash *= 0x100000001b3ull;
+        }
+    }
+    return hash;
+}
+
+}  // namespace
+
+RenderIdentity renderIdentity(const RenderOptions& o) {
+    uint64_t hash = hashFile(o.scene, 0xcbf29ce484222325ull);
+    if (!o.environment.empty()) hash = hashFile(o.environment, hash);
+    auto optional = [](const std::optional<float>& v) { return v ? fmt::format("{}", *v) : std::string("scene"); };
+    std::string color = "none";
+    if (!o.environmentColor.empty())
+        color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
+    return {fmt::format("{:016x}", hash),
+            fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} env={} "
+                        "env-color={} env-strength={} env-rotate={} camera={}",
+                        o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp,
+                        o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),
+                        optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera)};
 }
 
 scene::Scene loadRenderScene(const RenderOptions& o) {

@@ -68,6 +68,20 @@ void writePng(const std::filesystem::path& path, const Image& image, float expos
     writeWithOiio(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
+std::map<std::string, std::string> readVkpathMetadata(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw InputError(fmt::format("{}: no such file", path.string()));
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
+    std::map<std::string, std::string> attributes;
+    for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
+        const std::string name = p.name().string();
+        if (name.rfind("vkpath:", 0) == 0) attributes[name] = p.get_string();
+    }
+    return attributes;
+}
+
 Image readImage(const std::filesystem::path& path, uint64_t maxPixels) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))

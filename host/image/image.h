@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +38,11 @@ void writePng(const std::filesystem::path& path, const Image& image, float expos
 // Throws vkpath::InputError naming the file when it cannot be read or is
 // larger than maxPixels.
 Image readImage(const std::filesystem::path& path, uint64_t maxPixels = uint64_t(1) << 28);
+
+// The attributes of an image's header whose names start with "vkpath:" (what
+// writeExr wrote), as strings. Throws vkpath::InputError naming the file when
+// it cannot be opened.
+std::map<std::string, std::string> readVkpathMetadata(const std::filesystem::path& path);
 
 // The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
 float linearToSrgb(float linear);
