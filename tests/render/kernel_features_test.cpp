@@ -9,6 +9,7 @@
 #include "shared/features.h"
 #include "shared/ray.h"
 #include "support/test_context.h"
+#include "support/test_scenes.h"
 #include "wavefront/kernel_features.h"
 #include "wavefront/renderer.h"
 
@@ -17,21 +18,7 @@ namespace {
 using namespace vkpath;
 
 // One sphere of `kind` under a constant sky, as in the furnace tests.
-scene::Scene sphereUnderSky(scene::MaterialKind kind) {
-    scene::Scene s;
-    scene::Material m;
-    m.kind = kind;
-    m.reflectance = glm::vec3(0.5f);
-    s.materials.push_back(m);
-    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
-    s.camera.position = {0.0f, 0.0f, 4.0f};
-    s.camera.target = {0.0f, 0.0f, 0.0f};
-    s.camera.xfovDegrees = 40.0f;
-    scene::Environment env;
-    env.color = glm::vec3(1.0f);
-    s.environment = env;
-    return s;
-}
+scene::Scene sphereUnderSky(scene::MaterialKind kind) { return test::sphereInEnvironment(kind, glm::vec3(0.5f)); }
 
 uint32_t featuresOf(const scene::Scene& s, const wavefront::RenderSettings& settings) {
     const wavefront::SceneTables tables = wavefront::buildSceneTables(s);

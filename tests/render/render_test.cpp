@@ -10,6 +10,7 @@
 #include "image/statistics.h"
 #include "scene/scene.h"
 #include "support/test_context.h"
+#include "support/test_scenes.h"
 #include "wavefront/renderer.h"
 
 namespace {
@@ -18,22 +19,7 @@ using namespace vkpath;
 
 constexpr double Z_BOUND = 5.0;
 
-scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 reflectance, float ior = 1.5f) {
-    scene::Scene s;
-    scene::Material m;
-    m.kind = kind;
-    m.reflectance = reflectance;
-    m.ior = ior;
-    s.materials.push_back(m);
-    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
-    s.camera.position = {0.0f, 0.0f, 4.0f};
-    s.camera.target = {0.0f, 0.0f, 0.0f};
-    s.camera.xfovDegrees = 40.0f;
-    scene::Environment env;
-    env.color = glm::vec3(1.0f);
-    s.environment = env;
-    return s;
-}
+using test::sphereInEnvironment;
 
 wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size = 48,
                                uint32_t seed = 1, uint32_t lightSamples = 1) {

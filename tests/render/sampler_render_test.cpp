@@ -8,6 +8,7 @@
 #include "image/statistics.h"
 #include "scene/scene.h"
 #include "support/test_context.h"
+#include "support/test_scenes.h"
 #include "wavefront/renderer.h"
 
 namespace {
@@ -20,18 +21,7 @@ using wavefront::SamplerKind;
 // reflects once and its light escapes), found by MIS of environment and BSDF
 // samples.
 scene::Scene sphereInFurnace(float albedo) {
-    scene::Scene s;
-    scene::Material m;
-    m.reflectance = glm::vec3(albedo);
-    s.materials.push_back(m);
-    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
-    s.camera.position = {0.0f, 0.0f, 4.0f};
-    s.camera.target = {0.0f, 0.0f, 0.0f};
-    s.camera.xfovDegrees = 40.0f;
-    scene::Environment env;
-    env.color = glm::vec3(1.0f);
-    s.environment = env;
-    return s;
+    return test::sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(albedo));
 }
 
 // Inside a closed emissive sphere of albedo rho and emitted radiance 1: the

@@ -1,0 +1,29 @@
+// Small analytic scenes shared by the render tests.
+#pragma once
+
+#include "scene/scene.h"
+
+namespace vkpath::test {
+
+// A unit sphere of material `kind` at the origin under a constant white
+// environment, seen from (0, 0, 4) with a 40 degree field of view: the
+// furnace scenes (a white diffuse sphere is invisible, a grey one reflects its
+// albedo, a mirror shows its reflectance).
+inline scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 reflectance, float ior = 1.5f) {
+    scene::Scene s;
+    scene::Material m;
+    m.kind = kind;
+    m.reflectance = reflectance;
+    m.ior = ior;
+    s.materials.push_back(m);
+    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
+    s.camera.position = {0.0f, 0.0f, 4.0f};
+    s.camera.target = {0.0f, 0.0f, 0.0f};
+    s.camera.xfovDegrees = 40.0f;
+    scene::Environment env;
+    env.color = glm::vec3(1.0f);
+    s.environment = env;
+    return s;
+}
+
+}  // namespace vkpath::test
