@@ -148,16 +148,13 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     if (o.timeBudget && !(*o.timeBudget > 0)) throw InputError("--time-budget: seconds must be positive");
     if (!std::isfinite(o.exposure)) throw InputError("--exposure: stops must be a finite number");
     const FilmSize film = parseFilmSize(o.size);
-    // A budget without -s renders until the budget is spent, up to the
-    // largest count whose path indices fit the kernels' 32 bits.
-    const uint64_t pixelCount = uint64_t(film.width) * film.height;
+    // A budget without -s renders until the budget is spent (sample indices
+    // are 32-bit: at most 2^32 - 1 samples).
     if (o.spp && !o.samples.empty()) throw InputError("-s and --samples: give one (--samples FIRST:COUNT includes the count)");
-    wavefront::SampleRange samples{0, o.spp ? *o.spp : o.timeBudget ? uint32_t(((uint64_t(1) << 32) - 1) / pixelCount) : 16};
+    wavefront::SampleRange samples{0, o.spp ? *o.spp : o.timeBudget ? UINT32_MAX : 16};
     if (!o.samples.empty()) samples = parseSampleRange(o.samples);
-    // Global path indices (sample x pixels + pixel) are 32-bit in the kernels.
-    if ((uint64_t(samples.first) + samples.count) * pixelCount > (uint64_t(1) << 32))
-        throw InputError(fmt::format("--samples {}:{} of {}x{} pixels: path indices beyond 2^32", samples.first,
-                                     samples.count, film.width, film.height));
+    if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
+        throw InputError(fmt::format("--samples {}:{}: sample indices beyond 2^32 - 1", samples.first, samples.count));
     const uint32_t spp = samples.count;
     wavefront::RenderSettings settings = renderSettings(o, spp);
     settings.timeBudgetSeconds = o.timeBudget;

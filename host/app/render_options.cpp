@@ -113,10 +113,6 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (samplesPerPixel == 0) throw InputError("samples per pixel must be at least 1");
     if (o.threads && o.device != "cpu")
         throw InputError("-t/--threads: only the CPU reference (--device cpu) runs on threads");
-    // Global path indices (sample x pixels + pixel) are 32-bit in the kernels.
-    if (uint64_t(film.width) * film.height * samplesPerPixel >= (uint64_t(1) << 32))
-        throw InputError(fmt::format("{}x{} pixels x {} spp is more than 2^32 paths in one render", film.width,
-                                     film.height, samplesPerPixel));
     if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
     // Beyond these a render runs for hours before its first sample and buys
     // nothing: after 1024 bounces of albedo 0.99 a path keeps 3e-5 of its

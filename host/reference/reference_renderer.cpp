@@ -100,7 +100,7 @@ wavefront::RenderResult ReferenceRenderer::render(
 wavefront::RenderResult ReferenceRenderer::render(
     const wavefront::SampleRange& samples, const std::function<void(const wavefront::RenderProgress&)>& progress) const {
     const wavefront::RenderSettings& s = m_settings;
-    if (uint64_t(samples.first) + samples.count > UINT32_MAX)
+    if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
         throw std::out_of_range("sample indices beyond 32 bits");
     const uint32_t width = m_camera.width, height = m_camera.height;
     const uint64_t pixels = uint64_t(width) * height;
@@ -118,7 +118,8 @@ wavefront::RenderResult ReferenceRenderer::render(
     uint32_t done = 0;  // samples per pixel
     while (done < samples.count) {
         const uint32_t passSamples = std::min(samples.count - done, samplesPerPass);
-        const uint32_t first = samples.first + done, end = first + passSamples;
+        // 64-bit: the range may end at 2^32 itself.
+        const uint64_t first = uint64_t(samples.first) + done, end = first + passSamples;
         std::atomic<uint32_t> nextRow{0};
         auto work = [&] {
             SampleCounts counts;
@@ -127,8 +128,8 @@ wavefront::RenderResult ReferenceRenderer::render(
             for (uint32_t y = nextRow++; y < height; y = nextRow++)
                 for (uint32_t x = 0; x < width; ++x) {
                     const uint32_t pixel = y * width + x;
-                    for (uint32_t sample = first; sample < end; ++sample)
-                        accumulate(film[pixel], tracePath(pixel, sample, rays, rejected), info, counts);
+                    for (uint64_t sample = first; sample < end; ++sample)
+                        accumulate(film[pixel], tracePath(pixel, uint32_t(sample), rays, rejected), info, counts);
                 }
             rejectedLightSamples += rejected;
             nonFinite += counts.dropped;

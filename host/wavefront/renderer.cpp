@@ -179,7 +179,7 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
     // returns at once: the queues are empty (render() clears the counters again).
     r->counters.clear();
     m_context.submit([&](VkCommandBuffer cmd) {
-        const shared::WavePush empty{0, 0, 0, VKP_TALLY_RAYS};
+        const shared::WavePush empty{0, 0, 0, 0, VKP_TALLY_RAYS};
         const auto push = std::as_bytes(std::span(&empty, 1));
         for (const auto& [kernel, set] : built) {
             kernel->record(cmd, *set, 1, push);
@@ -221,11 +221,10 @@ RenderResult GpuRenderer::render(const SampleRange& samples,
     const RenderSettings& s = m_settings;
     const uint64_t pixels = uint64_t(s.width) * s.height;
     const uint64_t totalPaths = pixels * samples.count;
-    // Global path indices (sampleIndex x pixels + pixel) are 32-bit in the kernels.
-    const uint64_t firstPath = pixels * samples.first;
-    if (firstPath + totalPaths > (uint64_t(1) << 32))
-        throw std::out_of_range(fmt::format("samples [{}, {}) of {} pixels: path indices beyond 32 bits", samples.first,
-                                            uint64_t(samples.first) + samples.count, pixels));
+    // Sample indices are 32-bit (pixels and samples are separate: shared/wavefront.h WavePush).
+    if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
+        throw std::out_of_range(fmt::format("samples [{}, {}): sample indices beyond 32 bits", samples.first,
+                                            uint64_t(samples.first) + samples.count));
     const uint32_t bounces = s.maxDepth + 1;  // shading passes: hits at depth 0..maxDepth
     vk::TimestampPool timestamps(m_context, 3 + 5 * bounces);
 
@@ -238,7 +237,7 @@ RenderResult GpuRenderer::render(const SampleRange& samples,
     while (done < totalPaths) {
         const uint32_t count = uint32_t(std::min<uint64_t>(r.pathCount, totalPaths - done));
         auto pushFor = [&](uint32_t bounce, uint32_t mode) {
-            shared::WavePush p{uint32_t(firstPath + done), count, bounce, mode};
+            shared::WavePush p{uint32_t(samples.first + done / pixels), uint32_t(done % pixels), count, bounce, mode};
             return p;
         };
         auto bytes = [](const shared::WavePush& p) { return std::as_bytes(std::span(&p, 1)); };

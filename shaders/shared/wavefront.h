@@ -73,12 +73,24 @@ struct FilmPixel {
     vec3 sumSquaresCompensation;
 };
 
+// A wave is `pathCount` consecutive paths in (sample index, pixel) order,
+// starting at pixel firstPixel of sample firstSample: path slot s is pixel
+// (firstPixel + s) % pixels of sample firstSample + (firstPixel + s) / pixels
+// (wavePathOf). Pixel and sample index stay separate 32-bit numbers, so a
+// render may have any number of samples of any number of pixels.
 struct WavePush {
-    uint firstPath;  // global index of the wave's first path: path = sampleIndex * pixels + pixel
-    uint pathCount;  // paths in this wave
-    uint bounce;     // the bounce the stage works on
-    uint mode;       // queue_dispatch: what to prepare (VKP_PREPARE_*)
+    uint firstSample;  // sample index of the wave's first path
+    uint firstPixel;   // its pixel, < width x height
+    uint pathCount;    // paths in this wave
+    uint bounce;       // the bounce the stage works on
+    uint mode;         // queue_dispatch: what to prepare (VKP_PREPARE_*)
 };
+
+// (pixel, sample index) of path slot `slot` of the wave.
+VKP_FN uvec2 wavePathOf(WavePush wave, uint slot, uint pixels) {
+    uint linear = wave.firstPixel + slot;  // < pixels + pathCount: no overflow
+    return uvec2(linear % pixels, wave.firstSample + linear / pixels);
+}
 
 #define VKP_PREPARE_RAYS 0u     // rayDispatch from the current ray queue; clear the next and the shadow queue
 #define VKP_PREPARE_SHADOWS 1u  // shadowDispatch from the shadow queue
@@ -90,7 +102,7 @@ VKP_NAMESPACE_END
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
 static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
-static_assert(sizeof(vkpath::shared::WavePush) == 16);
+static_assert(sizeof(vkpath::shared::WavePush) == 20);
 #endif
 
 #endif  // VKPATH_SHARED_WAVEFRONT_H

@@ -37,16 +37,17 @@ void main() {
     uint pixel = gl_GlobalInvocationID.x;
     uint pixels = info.width * info.height;
     if (pixel >= pixels) return;
-    // The wave holds global paths [firstPath, firstPath + pathCount); this
+    // The wave holds the paths of linear positions [firstPixel, firstPixel +
+    // pathCount) from its first sample (shared/wavefront.h wavePathOf); this
     // pixel's are those congruent to it modulo the pixel count.
-    uint first = push.firstPath + (pixel + pixels - push.firstPath % pixels) % pixels;
-    uint end = push.firstPath + push.pathCount;
+    uint first = push.firstPixel + (pixel + pixels - push.firstPixel) % pixels;
+    uint end = push.firstPixel + push.pathCount;
     if (first >= end) return;
     FilmPixel f = film[pixel];
     uint dropped = 0u;
     uint fireflies = 0u;
-    for (uint path = first; path < end; path += pixels) {
-        vec3 l = radiance[path - push.firstPath];
+    for (uint linear = first; linear < end; linear += pixels) {
+        vec3 l = radiance[linear - push.firstPixel];
         if (!finiteBits(l)) {
             dropped++;
             continue;

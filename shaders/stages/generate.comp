@@ -1,6 +1,6 @@
 // Stage "generate": starts the wave's paths (shared/integrator.h startPath).
-// Path i of the wave is global path firstPath + i = sampleIndex * pixels +
-// pixel; it enters ray queue 0.
+// Path slot i of the wave is wavePathOf(push, i) (shared/wavefront.h); it
+// enters ray queue 0.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -20,10 +20,8 @@ void main() {
         counters.shadowCount = 0u;
     }
     if (slot >= push.pathCount) return;
-    uint path = push.firstPath + slot;
-    uint pixels = camera.width * camera.height;
-    uint pixel = path % pixels;
-    PathState state = startPath(camera, pixel, pathRngKey(info, pixel, path / pixels));
+    uvec2 path = wavePathOf(push, slot, camera.width * camera.height);
+    PathState state = startPath(camera, path.x, pathRngKey(info, path.x, path.y));
     storePathVertex(slot, state);
     radiance[slot] = state.radiance;
     queues[rayQueueIndex(0u, slot)] = slot;

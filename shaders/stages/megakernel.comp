@@ -20,8 +20,8 @@ layout(binding = VKP_WF_COUNTERS, scalar) buffer CounterBuffer { QueueCounters c
 uint pixels() { return camera.width * camera.height; }
 
 RngKey keyOf(uint slot) {
-    uint path = push.firstPath + slot;
-    return pathRngKey(sceneInfo(), path % pixels(), path / pixels());
+    uvec2 path = wavePathOf(push, slot, pixels());
+    return pathRngKey(sceneInfo(), path.x, path.y);
 }
 
 void main() {

@@ -21,9 +21,8 @@ void main() {
     uint slot = rayQueueSlot(push.bounce, entry);
 
     SceneInfo info = sceneInfo();
-    uint path = push.firstPath + slot;
-    uint pixels = info.width * info.height;
-    RngKey key = pathRngKey(info, path % pixels, path / pixels);
+    uvec2 path = wavePathOf(push, slot, info.width * info.height);
+    RngKey key = pathRngKey(info, path.x, path.y);
     PathState state = loadPath(slot);
 
     // ---- what the ray sees ------------------------------------------------------

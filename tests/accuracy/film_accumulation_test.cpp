@@ -45,7 +45,7 @@ Accumulated accumulate(const std::vector<glm::vec3>& waveRadiance, uint32_t wave
     context.submit([&](VkCommandBuffer cmd) {
         for (uint32_t w = 0; w < waves; ++w) {
             vk::computeBarrier(cmd);
-            const shared::WavePush push{w * count, count, 0, 0};
+            const shared::WavePush push{w * count, 0, count, 0, 0};
             kernel.record(cmd, set, 1, std::as_bytes(std::span(&push, 1)));
         }
         vk::computeBarrier(cmd);

@@ -94,7 +94,7 @@ TEST_P(Stage, IntersectGivesTheCpuClosestHitOfEveryQueuedRay) {
                        {{VKP_WF_BVH_NODES, &bvh.nodeBinding()}, {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
                         {VKP_WF_SCENE_ADDRESSES, &addresses}, {VKP_WF_RAYS, &rays}, {VKP_WF_HITS, &hits},
                         {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters}},
-                       shared::WavePush{0, SLOTS, /*bounce*/ 1, 0});
+                       shared::WavePush{0, 0, SLOTS, /*bounce*/ 1, 0});
     const std::vector<Hit> got = hits.download<Hit>();
 
     const shared::BvhView view{m_build.nodes, m_build.primitives};
@@ -161,7 +161,7 @@ TEST_P(Stage, ShadowAddsExactlyTheUnoccludedContributions) {
                      {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()}, {VKP_WF_SCENE_ADDRESSES, &addresses},
                      {VKP_WF_RADIANCE, &radiance}, {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters},
                      {VKP_WF_SHADOW_RAYS, &shadowRays}, {VKP_WF_SHADOW_RADIANCE, &contributions}},
-                    shared::WavePush{0, SLOTS, 0, 0});
+                    shared::WavePush{0, 0, SLOTS, 0, 0});
     const std::vector<glm::vec3> got = radiance.download<glm::vec3>();
 
     const shared::BvhView view{m_build.nodes, m_build.primitives};

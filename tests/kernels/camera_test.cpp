@@ -47,7 +47,7 @@ TEST(CameraStage, GpuRaysMatchCpu) {
                       {{VKP_WF_SCENE_INFO, &infoBuffer}, {VKP_WF_CAMERA, &cameraBuffer}, {VKP_WF_RAYS, &rays},
                        {VKP_WF_THROUGHPUT, &throughput}, {VKP_WF_RADIANCE, &radiance}, {VKP_WF_VERTEX, &vertices},
                        {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters}},
-                      shared::WavePush{sampleIndex * count, count, 0, 0});
+                      shared::WavePush{sampleIndex, 0, count, 0, 0});
     const auto gpu = rays.download<shared::Ray>();
     // Every path starts alive in ray queue 0 with throughput 1.
     EXPECT_EQ(counters.download<shared::QueueCounters>()[0].rayCount0, count);

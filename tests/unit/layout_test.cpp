@@ -80,7 +80,8 @@ std::vector<Expected> expectedLayouts() {
          {VKP_O(FilmPixel, sum), VKP_O(FilmPixel, sumCompensation), VKP_O(FilmPixel, sumSquares),
           VKP_O(FilmPixel, sumSquaresCompensation)}},
         {"WavePush", sizeof(WavePush),
-         {VKP_O(WavePush, firstPath), VKP_O(WavePush, pathCount), VKP_O(WavePush, bounce), VKP_O(WavePush, mode)}},
+         {VKP_O(WavePush, firstSample), VKP_O(WavePush, firstPixel), VKP_O(WavePush, pathCount),
+          VKP_O(WavePush, bounce), VKP_O(WavePush, mode)}},
     };
 }
 
