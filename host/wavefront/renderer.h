@@ -55,8 +55,9 @@ class GpuRenderer {
 
     // Samples [0, settings.samplesPerPixel).
     RenderResult render(const std::function<void(const RenderProgress&)>& progress = {});
-    // The given samples of every pixel; (first + count) x pixels must fit in
-    // 32 bits (std::out_of_range otherwise). The result holds their mean.
+    // The given samples of every pixel; sample indices are 32-bit, so first +
+    // count must be at most 2^32 (std::out_of_range otherwise). The result
+    // holds their mean.
     RenderResult render(const SampleRange& samples, const std::function<void(const RenderProgress&)>& progress = {});
 
     const SceneTables& tables() const { return m_tables; }

@@ -8,7 +8,7 @@
 // VKP_FEATURES_ALL is the general kernel (--no-specialize), and a scene
 // renders bit for bit the same with its own bits as with all of them (only
 // code that the scene's data would never take is removed;
-// tests/render/specialization_test.cpp).
+// tests/render/all_scenes_test.cpp, EveryKernelGivesTheSameImage).
 //
 // Rules for adding a feature (textures, normal maps, microfacet lobes...):
 // one bit here, one line in host/wavefront/kernel_features.cpp that sets it
@@ -41,7 +41,6 @@
 #define VKP_FEATURES_MATERIALS (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS)
 #define VKP_FEATURES_PRIMITIVES (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES)
 #define VKP_FEATURES_ENVIRONMENT (VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_ENVIRONMENT_MAP)
-#define VKP_FEATURES_SAMPLERS (VKP_FEATURE_SAMPLER_INDEPENDENT | VKP_FEATURE_SAMPLER_SOBOL)
 
 VKP_NAMESPACE_BEGIN
 
