@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <map>
 
 #include "input_error.h"
 
@@ -39,6 +42,98 @@ void writeWithOiio(const std::filesystem::path& path, const OIIO::ImageSpec& spe
     }
 }
 
+// OpenEXR 3.1 sizes some attribute buffers from what the header claims
+// before reading them (a string's declared size, each string of a
+// stringvector, a preview's width x height), and reads fixed-size types by
+// their type whatever size is declared, so a damaged 1 KiB file can ask for
+// gigabytes (found by fuzz/environment_fuzz). Walks the header(s) first:
+// every attribute's declared size must fit in what is left of the file, be
+// its type's size where that is fixed, and hold what its value claims. The
+// layout (magic, version with flags, then per part "name\0 type\0 int32
+// size, value" up to an empty name, and an empty header after the last part
+// of a multi-part file) and the types' sizes: OpenEXR's "The OpenEXR File
+// Layout" and "Standard Attributes".
+void checkExrHeader(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char start[8] = {};
+    if (!in.read(reinterpret_cast<char*>(start), 8)) return;  // too short to be an EXR: OIIO says what it is
+    if (start[0] != 0x76 || start[1] != 0x2f || start[2] != 0x31 || start[3] != 0x01) return;
+    const bool multiPart = start[5] & 0x10;  // version flags, bit 12
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    auto damaged = [&](const std::string& what) {
+        return InputError(fmt::format("{}: damaged EXR header: {}", path.string(), what));
+    };
+    auto readName = [&]() {
+        std::string name;
+        for (char c; in.get(c) && c != '\0';) {
+            if (name.size() == 255) throw damaged("a name longer than 255 bytes");
+            name.push_back(c);
+        }
+        if (!in) throw damaged("it ends inside a name");
+        return name;
+    };
+    auto read32 = [&](const std::string& attribute) {
+        unsigned char b[4];
+        if (!in.read(reinterpret_cast<char*>(b), 4)) throw damaged(fmt::format("it ends in attribute '{}'", attribute));
+        return uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+    };
+    static const std::map<std::string, int32_t> fixedSizes = {
+        {"box2i", 16}, {"box2f", 16},   {"compression", 1}, {"double", 8}, {"envmap", 1},    {"float", 4},
+        {"int", 4},    {"keycode", 28}, {"lineOrder", 1},   {"m33f", 36},  {"m44f", 64},     {"m33d", 72},
+        {"m44d", 128}, {"rational", 8}, {"tiledesc", 9},    {"timecode", 8}, {"v2i", 8},     {"v2f", 8},
+        {"v3i", 12},   {"v3f", 12},     {"v2d", 16},        {"v3d", 24},   {"deepImageState", 1},
+        {"chromaticities", 32}};
+    for (bool partStart = true;;) {
+        const std::string name = readName();
+        if (name.empty()) {
+            // The end of a part's header; a multi-part file ends its list with an empty header.
+            if (!multiPart || partStart) return;
+            partStart = true;
+            continue;
+        }
+        partStart = false;
+        const std::string type = readName();
+        const int32_t length = int32_t(read32(name));
+        const uint64_t at = uint64_t(in.tellg());
+        const uint64_t left = size - std::min(size, at);
+        if (length < 0 || uint64_t(length) > left)
+            throw damaged(fmt::format("attribute '{}' claims {} bytes, the file has {} left", name, length, left));
+        const auto fixed = fixedSizes.find(type);
+        if (fixed != fixedSizes.end() && length != fixed->second)
+            throw damaged(fmt::format("attribute '{}' of type {} is {} bytes, not {}", name, type, length, fixed->second));
+        if (type == "stringvector") {
+            for (int64_t used = 0; used < length;) {
+                const uint32_t stringLength = read32(name);
+                used += 4 + int64_t(stringLength);
+                if (stringLength > uint32_t(INT32_MAX) || used > length)
+                    throw damaged(fmt::format("a string of attribute '{}' runs past its end", name));
+                in.seekg(stringLength, std::ios::cur);
+            }
+            continue;
+        }
+        if (type == "preview") {
+            const uint64_t width = length >= 8 ? read32(name) : 0, height = length >= 8 ? read32(name) : 0;
+            if (length < 8 || 8 + 4 * width * height != uint64_t(length))
+                throw damaged(fmt::format("preview '{}' claims {}x{} pixels in {} bytes", name, width, height, length));
+            in.seekg(length - 8, std::ios::cur);
+            continue;
+        }
+        in.seekg(length, std::ios::cur);
+    }
+}
+
+// OpenImageIO's reader of `path`, after the checks above; InputError naming the file otherwise.
+std::unique_ptr<OIIO::ImageInput> openImage(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw InputError(fmt::format("{}: no such file", path.string()));
+    checkExrHeader(path);
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
+    return in;
+}
+
 }  // namespace
 
 float linearToSrgb(float linear) {
@@ -69,11 +164,7 @@ void writePng(const std::filesystem::path& path, const Image& image, float expos
 }
 
 std::map<std::string, std::string> readVkpathMetadata(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw InputError(fmt::format("{}: no such file", path.string()));
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
+    const auto in = openImage(path);
     std::map<std::string, std::string> attributes;
     for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
         const std::string name = p.name().string();
@@ -83,11 +174,7 @@ std::map<std::string, std::string> readVkpathMetadata(const std::filesystem::pat
 }
 
 Image readImage(const std::filesystem::path& path, uint64_t maxPixels) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw InputError(fmt::format("{}: no such file", path.string()));
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
+    const auto in = openImage(path);
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth != 1)
         throw InputError(fmt::format("{}: not a 2-D image", path.string()));

@@ -129,7 +129,7 @@ TEST(EnvironmentFuzzRegression, ThousandsOfChannelsDoNotMultiplyTheAllocation) {
 // header (reduced: one string attribute claiming 1.7 GB, 5 bytes of it
 // present) made OpenEXR allocate and zero 1.7 GB before failing with
 // "Unexpected end of file". Attribute sizes are now checked against the file
-// before OpenImageIO opens it.
+// before OpenImageIO opens it (image::readImage).
 TEST(EnvironmentFuzzRegression, AttributeLargerThanTheFileIsRefusedBeforeOpening) {
     TempDir dir;
     std::string capDate = std::string("capDate") + '\0' + "string" + '\0';
@@ -144,6 +144,40 @@ TEST(EnvironmentFuzzRegression, AttributeLargerThanTheFileIsRefusedBeforeOpening
         EXPECT_NE(std::string(e.what()).find("attribute 'capDate' claims 1702390128 bytes"),
                   std::string::npos)
             << e.what();
+    }
+}
+
+// environment_fuzz (2026-12-02): a 914-byte header with "chunkCount int"
+// declaring 0 bytes. OpenEXR reads an int's 4 bytes whatever the size says,
+// so its reading and the size check above walked the header differently,
+// and a later string attribute claimed 850 MB (1.8 GB resident, past the
+// fuzzer's 2 GB with its own). Fixed-size types must declare their size;
+// the strings of a stringvector and a preview's pixels must fit in theirs.
+TEST(EnvironmentFuzzRegression, AttributesOfTheWrongSizeForTheirTypeAreRefused) {
+    TempDir dir;
+    std::string chunkCount = std::string("chunkCount") + '\0' + "int" + '\0';
+    put(chunkCount, int32_t(0));
+    std::string strings = std::string("multiView") + '\0' + "stringvector" + '\0';
+    put(strings, int32_t(8));
+    put(strings, int32_t(1 << 30));  // one string of 1 GiB in 8 bytes
+    put(strings, int32_t(0));
+    std::string preview = std::string("preview") + '\0' + "preview" + '\0';
+    put(preview, int32_t(8));
+    put(preview, uint32_t(1 << 16));  // 2^32 pixels in none
+    put(preview, uint32_t(1 << 16));
+    const std::pair<std::string, std::string> cases[] = {
+        {chunkCount, "attribute 'chunkCount' of type int is 0 bytes, not 4"},
+        {strings, "a string of attribute 'multiView' runs past its end"},
+        {preview, "preview 'preview' claims 65536x65536 pixels in 8 bytes"},
+    };
+    for (const auto& [attributes, says] : cases) {
+        const fs::path path = dir.write("attribute.exr", exr(8, 4, {"B", "G", "R"}, EXR_HALF, {}, attributes));
+        try {
+            scene::loadEnvironmentMap(path);
+            ADD_FAILURE() << "a header without scanlines loaded";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+        }
     }
 }
 
