@@ -3,18 +3,24 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <optional>
 
+#include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/film_size.h"
 #include "app/render_options.h"
+#include "app/stop_signal.h"
 #include "image/image.h"
 #include "image/statistics.h"
 #include "input_error.h"
@@ -35,10 +41,26 @@ struct RenderCommandOptions : RenderOptions {
     float exposure = 0.0f;
     std::vector<std::string> aovs;
     bool timings = false;
+    std::string checkpoint;  // --checkpoint FILE
+    double checkpointEvery = 300;
+    std::string resume;      // --resume FILE
 };
 
-void ensureParent(const std::filesystem::path& path) {
-    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+// Before any rendering: `path`'s folder exists (made if need be) and a file
+// can be created in it; throws InputError naming the flag otherwise.
+void checkWritable(const std::string& flag, const std::filesystem::path& path) {
+    const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+    std::error_code ec;
+    std::filesystem::create_directories(folder, ec);
+    if (ec) throw InputError(fmt::format("{} {}: cannot create the folder {}: {}", flag, path.string(), folder.string(), ec.message()));
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(fmt::format("{} {}: is a folder", flag, path.string()));
+    const auto probe = folder / fmt::format(".vkpath-write-test-{}", static_cast<long>(getpid()));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0)
+        throw InputError(fmt::format("{} {}: cannot write in {}: {}", flag, path.string(), folder.string(), std::strerror(errno)));
+    ::close(fd);
+    ::unlink(probe.c_str());
 }
 
 // With a time budget the bar measures time, unless the sample count runs out first.
@@ -59,13 +81,15 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels, std::opt
 // wall clock.
 template <typename Renderer>
 wavefront::RenderResult renderWithProgress(Renderer& renderer, const wavefront::SampleRange& samples,
-                                           const FilmSize& film, std::optional<double> timeBudget, double& cpuSeconds) {
+                                           const FilmSize& film, std::optional<double> timeBudget,
+                                           wavefront::RenderControl control, double& cpuSeconds) {
     const bool terminal = isatty(STDERR_FILENO);
     const uint64_t pixels = uint64_t(film.width) * film.height;
     const std::clock_t start = std::clock();
-    auto result = renderer.render(samples, [&](const wavefront::RenderProgress& p) {
+    control.progress = [&](const wavefront::RenderProgress& p) {
         if (terminal) printProgress(p, pixels, timeBudget);
-    });
+    };
+    auto result = renderer.render(samples, control);
     cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
     if (terminal) std::fprintf(stderr, "\n");
     return result;
@@ -88,11 +112,9 @@ wavefront::SampleRange parseSampleRange(const std::string& text) {
 }
 
 // The EXR (with metadata), the AOVs beside it and the PNG preview.
-void writeOutputs(const RenderCommandOptions& o, const wavefront::SampleRange& samples,
+void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity, const wavefront::SampleRange& samples,
                   const wavefront::RenderResult& result, const std::string& device) {
     const std::filesystem::path output(o.output);
-    ensureParent(output);
-    const RenderIdentity identity = renderIdentity(o);
     const image::Metadata metadata = {
         {"vkpath:version", VKPATH_VERSION},
         {"vkpath:spp", std::to_string(result.samplesPerPixel)},
@@ -105,7 +127,7 @@ void writeOutputs(const RenderCommandOptions& o, const wavefront::SampleRange& s
         {"vkpath:lightSamples", std::to_string(o.lightSamples)},
         {"vkpath:rrDepth", std::to_string(o.rouletteDepth)},
         {"vkpath:device", device},
-        {"vkpath:renderSeconds", fmt::format("{:.6f}", result.seconds)},
+        {"vkpath:renderSeconds", fmt::format("{:.6f}", result.priorSeconds + result.seconds)},
         {"vkpath:nonFiniteSamples", std::to_string(result.nonFiniteSamples)},
         {"vkpath:fireflySamples", std::to_string(result.fireflySamples)},
         {"vkpath:rejectedLightSamples", std::to_string(result.rejectedLightSamples)},
@@ -119,7 +141,6 @@ void writeOutputs(const RenderCommandOptions& o, const wavefront::SampleRange& s
         std::printf("%s\n", path.string().c_str());
     }
     if (!o.png.empty()) {
-        ensureParent(o.png);
         image::writePng(o.png, result.image, o.exposure);
         std::printf("%s\n", o.png.c_str());
     }
@@ -143,10 +164,67 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
                  clamped ? " (clamped)" : "", (unsigned long long)result.rejectedLightSamples, device.c_str());
 }
 
+// The checkpoint to resume, read and matched against this render; nullopt without --resume.
+std::optional<Checkpoint> resumeCheckpoint(const RenderCommandOptions& o, const RenderIdentity& identity,
+                                           const wavefront::SampleRange& samples) {
+    if (o.resume.empty()) return std::nullopt;
+    Checkpoint checkpoint = readCheckpoint(o.resume);
+    checkCheckpointMatches(o.resume, checkpoint, identity, samples);
+    const FilmSize film = parseFilmSize(o.size);
+    wavefront::checkResumable(checkpoint.state, o.device == "cpu" ? wavefront::CPU_FILM_FORMAT : wavefront::GPU_FILM_FORMAT,
+                              film.width, film.height, samples, o.resume);
+    return checkpoint;
+}
+
+// Checkpoints while rendering (a failure there is a warning: the render goes
+// on, the file keeps its last good state) and at the end (a failure is an error).
+wavefront::RenderControl renderControl(const RenderCommandOptions& o, const RenderIdentity& identity,
+                                       const wavefront::SampleRange& samples, const std::optional<Checkpoint>& resume) {
+    wavefront::RenderControl control;
+    control.stopRequested = [] { return StopOnSignal::requested() != 0; };
+    control.resume = resume ? &resume->state : nullptr;
+    if (!o.checkpoint.empty()) {
+        control.checkpointEverySeconds = o.checkpointEvery;
+        control.checkpoint = [&o, identity, samples](const wavefront::RenderState& state) {
+            const Checkpoint checkpoint{identity, samples, state};
+            const bool last = state.samplesDone == samples.count;
+            try {
+                writeCheckpoint(o.checkpoint, checkpoint);
+            } catch (const std::runtime_error& e) {
+                if (last || StopOnSignal::requested()) throw;
+                std::fprintf(stderr, "vkpath: warning: %s\n", e.what());
+            }
+        };
+    }
+    return control;
+}
+
+// Writes what a render made and says how it went; the exit code: 0, or
+// 128 + the signal that stopped it.
+int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity, const wavefront::SampleRange& samples,
+                 const FilmSize& film, const wavefront::RenderResult& result, std::optional<double> deviceMs,
+                 double cpuSeconds, const std::string& device) {
+    const int signal = result.stopped ? StopOnSignal::requested() : 0;
+    if (result.samplesPerPixel == 0) {
+        std::fprintf(stderr, "vkpath: stopped before the first whole sample; no image written\n");
+        return 128 + signal;
+    }
+    writeOutputs(o, identity, samples, result, device);
+    printSummary(film, result, deviceMs, cpuSeconds, device, o.clamp > 0);
+    if (signal) {
+        std::fprintf(stderr, "vkpath: stopped by signal %d at %u of %u spp%s\n", signal, result.samplesPerPixel,
+                     samples.count, o.checkpoint.empty() ? "" : fmt::format("; resume with --resume {}", o.checkpoint).c_str());
+        return 128 + signal;
+    }
+    return 0;
+}
+
 int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     if (o.spp && *o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
     if (o.timeBudget && !(*o.timeBudget > 0)) throw InputError("--time-budget: seconds must be positive");
     if (!std::isfinite(o.exposure)) throw InputError("--exposure: stops must be a finite number");
+    if (!(o.checkpointEvery >= 0) || !std::isfinite(o.checkpointEvery))
+        throw InputError("--checkpoint-every: seconds must be a finite number >= 0");
     const FilmSize film = parseFilmSize(o.size);
     // A budget without -s renders until the budget is spent (sample indices
     // are 32-bit: at most 2^32 - 1 samples).
@@ -158,32 +236,38 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     const uint32_t spp = samples.count;
     wavefront::RenderSettings settings = renderSettings(o, spp);
     settings.timeBudgetSeconds = o.timeBudget;
+    // Every output can be written before any time goes into rendering.
+    checkWritable("-o", o.output);
+    for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
+    if (!o.png.empty()) checkWritable("--png", o.png);
+    if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
+    const RenderIdentity identity = renderIdentity(o);
+    const std::optional<Checkpoint> resume = resumeCheckpoint(o, identity, samples);
     const scene::Scene scene = loadRenderScene(o);
 
+    const StopOnSignal stopOnSignal;
+    const wavefront::RenderControl control = renderControl(o, identity, samples, resume);
     if (o.device == "cpu") {
         const reference::ReferenceRenderer renderer(scene, settings);
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, cpuSeconds);
-        writeOutputs(o, samples, result, device);
-        printSummary(film, result, std::nullopt, cpuSeconds, device, o.clamp > 0);
-        return 0;
+        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
+        return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device);
     }
     return withContext(global, [&](vk::Context& context) {
         wavefront::GpuRenderer renderer(context, scene, settings);
         std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, cpuSeconds);
-        writeOutputs(o, samples, result, context.info().name);
+        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
-        printSummary(film, result, deviceMs, cpuSeconds, context.info().name, o.clamp > 0);
+        const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds, context.info().name);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
                 std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms, deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
         }
-        return 0;
+        return code;
     });
 }
 
@@ -206,6 +290,16 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     cmd->add_option("--aov", o->aovs, "Extra outputs beside the EXR: variance (of each pixel's mean)")
         ->check(CLI::IsMember({"variance"}));
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
+    auto* checkpoint = cmd->add_option("--checkpoint", o->checkpoint,
+                    "Keep the running film in this file (written atomically at whole samples, every "
+                    "--checkpoint-every seconds, on a stop and at the end), for --resume");
+    cmd->add_option("--checkpoint-every", o->checkpointEvery,
+                    "Seconds of rendering between checkpoints (0: after every whole sample)")
+        ->capture_default_str()
+        ->needs(checkpoint);
+    cmd->add_option("--resume", o->resume,
+                    "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "
+                    "the image equals the uninterrupted render's bit for bit");
     cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
 }
 

@@ -1,15 +1,19 @@
 #include "reference/reference_renderer.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cfloat>
 #include <chrono>
 #include <cstdint>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
+#include "input_error.h"
 #include "scene/camera.h"
 #include "shared/rng.h"
 
@@ -99,6 +103,11 @@ wavefront::RenderResult ReferenceRenderer::render(
 
 wavefront::RenderResult ReferenceRenderer::render(
     const wavefront::SampleRange& samples, const std::function<void(const wavefront::RenderProgress&)>& progress) const {
+    return render(samples, wavefront::RenderControl{.progress = progress});
+}
+
+wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& samples,
+                                                  const wavefront::RenderControl& control) const {
     const wavefront::RenderSettings& s = m_settings;
     if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
         throw std::out_of_range("sample indices beyond 32 bits");
@@ -110,12 +119,42 @@ wavefront::RenderResult ReferenceRenderer::render(
 
     const shared::SceneInfo& info = m_tables.info;
     std::vector<PixelSums> film(pixels);
+    wavefront::RenderState before;  // what the state resumed from holds (its film copied into `film`)
+    if (control.resume) {
+        wavefront::checkResumable(*control.resume, wavefront::CPU_FILM_FORMAT, width, height, samples,
+                                  "the state to resume");
+        if (control.resume->film.size() != film.size() * sizeof(PixelSums))
+            throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
+                                         control.resume->film.size(), film.size() * sizeof(PixelSums)));
+        std::memcpy(film.data(), control.resume->film.data(), control.resume->film.size());
+        before = *control.resume;
+        before.film.clear();
+    }
     std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0}, rejectedLightSamples{0};
 
     wavefront::RenderResult result;
     result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
+    result.priorSeconds = before.seconds;
+    auto state = [&](uint32_t done, double seconds) {
+        wavefront::RenderState now = before;
+        now.filmFormat = wavefront::CPU_FILM_FORMAT;
+        now.width = width;
+        now.height = height;
+        now.samplesDone = done;
+        now.film.resize(film.size() * sizeof(PixelSums));
+        std::memcpy(now.film.data(), film.data(), now.film.size());
+        now.nonFiniteSamples += nonFinite;
+        now.fireflySamples += fireflies;
+        now.rejectedLightSamples += rejectedLightSamples;
+        now.rays.closest += closestRays;
+        now.rays.shadow += shadowRays;
+        now.waves += result.waves;
+        now.seconds += seconds;
+        return now;
+    };
     const auto start = Clock::now();
-    uint32_t done = 0;  // samples per pixel
+    auto lastCheckpoint = start;
+    uint32_t done = before.samplesDone;  // samples per pixel
     while (done < samples.count) {
         const uint32_t passSamples = std::min(samples.count - done, samplesPerPass);
         // 64-bit: the range may end at 2^32 itself.
@@ -145,16 +184,27 @@ wavefront::RenderResult ReferenceRenderer::render(
         done += passSamples;
         ++result.waves;
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        if (progress) progress({done, samples.count, seconds});
+        if (control.progress) control.progress({done, samples.count, seconds});
+        if (control.stopRequested && control.stopRequested()) {
+            result.stopped = done < samples.count;
+            break;
+        }
         if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds) break;
+        if (control.checkpoint && done < samples.count &&
+            std::chrono::duration<double>(Clock::now() - lastCheckpoint).count() >= control.checkpointEverySeconds) {
+            control.checkpoint(state(done, seconds));
+            lastCheckpoint = Clock::now();
+        }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    result.samplesPerPixel = done;
-    result.paths = pixels * done;
-    result.nonFiniteSamples = nonFinite;
-    result.fireflySamples = fireflies;
-    result.rejectedLightSamples = rejectedLightSamples;
+    result.paths = pixels * (done - before.samplesDone);
     result.rays = {closestRays, shadowRays};
+    const wavefront::RenderState end = state(done, result.seconds);
+    result.samplesPerPixel = end.samplesDone;
+    result.nonFiniteSamples = end.nonFiniteSamples;
+    result.fireflySamples = end.fireflySamples;
+    result.rejectedLightSamples = end.rejectedLightSamples;
+    if (control.checkpoint) control.checkpoint(end);
 
     result.image = image::Image(width, height);
     result.varianceOfMean = image::Image(width, height);

@@ -46,6 +46,9 @@ class ReferenceRenderer {
     // The given samples of every pixel (the time budget as above); the result holds their mean.
     wavefront::RenderResult render(const wavefront::SampleRange& samples,
                                    const std::function<void(const wavefront::RenderProgress&)>& progress = {}) const;
+    // The same with stops, checkpoints and resuming (wavefront::RenderControl);
+    // throws InputError for a state it cannot continue.
+    wavefront::RenderResult render(const wavefront::SampleRange& samples, const wavefront::RenderControl& control) const;
 
     // The radiance one path brings to its pixel: path `sampleIndex` of pixel
     // y * width + x, exactly what the wavefront renderer accumulates for it.

@@ -1,6 +1,10 @@
 #include "wavefront/render_types.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+
+#include "input_error.h"
 
 namespace vkpath::wavefront {
 
@@ -31,6 +35,22 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     // A firefly: one sample that alone adds more than 1 (display white) to its pixel's mean.
     info.fireflyThreshold = float(settings.samplesPerPixel);
     return info;
+}
+
+void checkResumable(const RenderState& state, const char* format, uint32_t width, uint32_t height,
+                    const SampleRange& samples, const std::string& what) {
+    auto writer = [](const std::string& f) {
+        return f == GPU_FILM_FORMAT ? "the GPU renderer" : f == CPU_FILM_FORMAT ? "the CPU reference (--device cpu)" : "?";
+    };
+    if (state.filmFormat != format)
+        throw InputError(fmt::format("{}: written by {}; this render runs on {}", what, writer(state.filmFormat),
+                                     writer(format)));
+    if (state.width != width || state.height != height)
+        throw InputError(fmt::format("{}: a {}x{} film; this render is {}x{}", what, state.width, state.height, width,
+                                     height));
+    if (state.samplesDone > samples.count)
+        throw InputError(fmt::format("{}: holds {} samples per pixel, more than the {} asked", what,
+                                     state.samplesDone, samples.count));
 }
 
 PixelEstimate estimatePixel(double sum, double sumSquares, double samples) {

@@ -5,9 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "shared/rng.h"
@@ -86,18 +88,63 @@ struct RayCounts {
     uint64_t total() const { return closest + shadow; }
 };
 
+// A render's running state at a whole-sample boundary: the film's sums as
+// the renderer keeps them, its counters and how far it got: enough to go on
+// exactly where it stopped (app/checkpoint.h keeps it in a file). A pixel's
+// samples are added in sample order whatever the waves were, so a render
+// continued from this state equals the uninterrupted one bit for bit.
+struct RenderState {
+    // Whose sums `film` holds: the GPU's Kahan-compensated floats
+    // (shared::FilmPixel) or the CPU reference's doubles.
+    std::string filmFormat;
+    uint32_t width = 0;
+    uint32_t height = 0;
+    uint32_t samplesDone = 0;  // whole samples per pixel, from the range's first
+    std::vector<std::byte> film;
+    uint64_t nonFiniteSamples = 0;
+    uint64_t fireflySamples = 0;
+    uint64_t rejectedLightSamples = 0;
+    RayCounts rays;
+    uint32_t waves = 0;
+    double seconds = 0;  // rendering, over every run that made this state
+};
+
+// What a caller does to a render while it runs. Stops and checkpoints come at
+// whole samples: where one sample of the film spans several waves (more
+// pixels than paths in flight), the rest of it is rendered first.
+struct RenderControl {
+    std::function<void(const RenderProgress&)> progress;  // after every wave (pass)
+    std::function<bool()> stopRequested;                  // true: stop at the next whole sample
+    const RenderState* resume = nullptr;                  // go on from this state (same film format and size)
+    // Called with the state every `checkpointEverySeconds` of rendering and
+    // once at the end (done, stopped or out of time budget).
+    std::function<void(const RenderState&)> checkpoint;
+    double checkpointEverySeconds = 0;
+};
+
+// The film format names of RenderState.
+inline constexpr const char* GPU_FILM_FORMAT = "gpu-f32-kahan";
+inline constexpr const char* CPU_FILM_FORMAT = "cpu-f64";
+
+// Throws InputError unless `state` can continue a render of `format` sums,
+// `width` x `height` pixels and `samples` (`what` names the state's file).
+void checkResumable(const RenderState& state, const char* format, uint32_t width, uint32_t height,
+                    const SampleRange& samples, const std::string& what);
+
 struct RenderResult {
     image::Image image;          // mean radiance per pixel
     image::Image varianceOfMean; // per channel: sample variance / samples (the variance AOV)
-    uint32_t samplesPerPixel = 0;  // reached (less than asked when the time budget ran out)
+    uint32_t samplesPerPixel = 0;  // reached (less than asked when the time budget ran out or a stop came)
+    bool stopped = false;          // RenderControl::stopRequested ended it early
     uint64_t nonFiniteSamples = 0;
     uint64_t fireflySamples = 0;  // samples that alone add more than 1 to their pixel's mean (> spp)
     uint64_t rejectedLightSamples = 0;  // light samples skipped because their pdf was 0 (shared/path_tracer.h)
-    uint64_t paths = 0;
-    RayCounts rays;
+    uint64_t paths = 0;          // traced in this run (not those of a resumed state)
+    RayCounts rays;              // this run's
     uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image
     uint32_t pathsInFlight = 0;  // paths per wave (pass)
-    double seconds = 0;                         // wall clock of the waves
+    double seconds = 0;                         // wall clock of this run's waves
+    double priorSeconds = 0;                    // rendering before it, by the runs a resumed state came from
     std::map<std::string, double> stageMilliseconds;  // GPU: device time per stage (empty on the CPU)
 };
 

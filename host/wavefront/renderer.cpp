@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 
+#include "input_error.h"
 #include "scene/camera.h"
 #include "shared/bvh.h"
 #include "shared/camera.h"
@@ -22,6 +24,8 @@ namespace vkpath::wavefront {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+uint64_t join64(glm::uvec2 lowHigh) { return uint64_t(lowHigh.x) | uint64_t(lowHigh.y) << 32; }
 
 // The per-path buffers of a wave, one row each: this table alone decides
 // their sizes (and so how many paths a wave holds), allocates them and binds
@@ -216,7 +220,11 @@ RenderResult GpuRenderer::render(const std::function<void(const RenderProgress&)
 }
 
 RenderResult GpuRenderer::render(const SampleRange& samples,
-                                       const std::function<void(const RenderProgress&)>& progress) {
+                                 const std::function<void(const RenderProgress&)>& progress) {
+    return render(samples, RenderControl{.progress = progress});
+}
+
+RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl& control) {
     Resources& r = *m_resources;
     const RenderSettings& s = m_settings;
     const uint64_t pixels = uint64_t(s.width) * s.height;
@@ -230,10 +238,48 @@ RenderResult GpuRenderer::render(const SampleRange& samples,
 
     RenderResult result;
     result.pathsInFlight = r.pathCount;
-    r.film.clear();
+    RenderState before;  // what the state resumed from holds (its film goes to the device)
+    if (control.resume) {
+        checkResumable(*control.resume, GPU_FILM_FORMAT, s.width, s.height, samples, "the state to resume");
+        if (control.resume->film.size() != r.film.size())
+            throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
+                                         control.resume->film.size(), r.film.size()));
+        r.film.upload(control.resume->film);
+        before = *control.resume;
+        before.film.clear();
+    } else {
+        r.film.clear();
+    }
     r.counters.clear();
+    result.priorSeconds = before.seconds;
+
+    // The state now: the device's film and counters on top of what came before.
+    auto state = [&](std::vector<std::byte> film, const shared::QueueCounters& counters, uint64_t done,
+                     double seconds) {
+        RenderState now = before;
+        now.filmFormat = GPU_FILM_FORMAT;
+        now.width = s.width;
+        now.height = s.height;
+        now.samplesDone = uint32_t(done / pixels);
+        now.film = std::move(film);
+        now.nonFiniteSamples += counters.nonFinite;
+        now.fireflySamples += counters.fireflies;
+        now.rejectedLightSamples += counters.rejectedLightSamples;
+        now.rays.closest += join64(counters.closestRays);
+        now.rays.shadow += join64(counters.shadowRays);
+        now.waves += result.waves;
+        now.seconds += seconds;
+        return now;
+    };
+    auto filmBytes = [&] {
+        std::vector<std::byte> film(r.film.size());
+        r.film.download(film);
+        return film;
+    };
+
     const auto start = Clock::now();
-    uint64_t done = 0;
+    auto lastCheckpoint = start;
+    uint64_t done = uint64_t(before.samplesDone) * pixels;
     while (done < totalPaths) {
         const uint32_t count = uint32_t(std::min<uint64_t>(r.pathCount, totalPaths - done));
         auto pushFor = [&](uint32_t bounce, uint32_t mode) {
@@ -281,21 +327,33 @@ RenderResult GpuRenderer::render(const SampleRange& samples,
         ++result.waves;
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
         const uint32_t samplesDone = uint32_t(done / pixels);
-        if (progress) progress({samplesDone, samples.count, seconds});
-        // Stop on a whole sample once the budget is spent.
-        if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds && done % pixels == 0) break;
+        if (control.progress) control.progress({samplesDone, samples.count, seconds});
+        // Stops, the time budget and checkpoints: at whole samples only.
+        if (done % pixels != 0) continue;
+        if (control.stopRequested && control.stopRequested()) {
+            result.stopped = done < totalPaths;
+            break;
+        }
+        if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds) break;
+        if (control.checkpoint && done < totalPaths &&
+            std::chrono::duration<double>(Clock::now() - lastCheckpoint).count() >= control.checkpointEverySeconds) {
+            control.checkpoint(state(filmBytes(), r.counters.download<shared::QueueCounters>().at(0), done, seconds));
+            lastCheckpoint = Clock::now();
+        }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    result.paths = done;
-    result.samplesPerPixel = uint32_t(done / pixels);
+    result.paths = done - uint64_t(before.samplesDone) * pixels;
 
-    const auto counters = r.counters.download<shared::QueueCounters>();
-    result.nonFiniteSamples = counters.at(0).nonFinite;
-    result.fireflySamples = counters.at(0).fireflies;
-    result.rejectedLightSamples = counters.at(0).rejectedLightSamples;
-    auto join64 = [](glm::uvec2 lowHigh) { return uint64_t(lowHigh.x) | uint64_t(lowHigh.y) << 32; };
-    result.rays = {join64(counters.at(0).closestRays), join64(counters.at(0).shadowRays)};
-    const auto film = r.film.download<shared::FilmPixel>();
+    const shared::QueueCounters counters = r.counters.download<shared::QueueCounters>().at(0);
+    result.rays = {join64(counters.closestRays), join64(counters.shadowRays)};
+    RenderState end = state(filmBytes(), counters, done, result.seconds);
+    result.samplesPerPixel = end.samplesDone;
+    result.nonFiniteSamples = end.nonFiniteSamples;
+    result.fireflySamples = end.fireflySamples;
+    result.rejectedLightSamples = end.rejectedLightSamples;
+    std::vector<shared::FilmPixel> film(pixels);
+    std::memcpy(film.data(), end.film.data(), end.film.size());
+    if (control.checkpoint) control.checkpoint(end);
     result.image = image::Image(s.width, s.height);
     result.varianceOfMean = image::Image(s.width, s.height);
     const double n = result.samplesPerPixel;

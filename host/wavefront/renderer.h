@@ -59,6 +59,9 @@ class GpuRenderer {
     // count must be at most 2^32 (std::out_of_range otherwise). The result
     // holds their mean.
     RenderResult render(const SampleRange& samples, const std::function<void(const RenderProgress&)>& progress = {});
+    // The same with stops, checkpoints and resuming (RenderControl); throws
+    // InputError for a state this renderer cannot continue.
+    RenderResult render(const SampleRange& samples, const RenderControl& control);
 
     const SceneTables& tables() const { return m_tables; }
     uint64_t sceneBytes() const { return m_scene.bytes(); }

@@ -14,6 +14,24 @@ struct CommandResult {
 // `args` is appended to the vkpath path as-is (shell syntax).
 CommandResult runVkpath(const std::string& args);
 
+// vkpath started in the background (for tests that signal it while it runs).
+class RunningVkpath {
+  public:
+    explicit RunningVkpath(const std::string& args);
+    ~RunningVkpath();  // kills it if still running
+    RunningVkpath(const RunningVkpath&) = delete;
+    RunningVkpath& operator=(const RunningVkpath&) = delete;
+
+    void signal(int signal) const;
+    std::string err() const;  // stderr so far
+    // Waits for the exit (128 + the signal if a signal ended it).
+    CommandResult wait();
+
+  private:
+    std::string m_dir;
+    int m_pid = -1;
+};
+
 // The number of lines in `text` (a last line without '\n' counts).
 int lineCount(const std::string& text);
 

@@ -1,0 +1,41 @@
+// `vkpath render --checkpoint FILE` and `--resume FILE`: a render's running
+// state (wavefront::RenderState) in a file, with the render's identity (the
+// scene hash and the settings string of app/render_options.h) and the sample
+// range it was asked for, so that resuming can refuse a state from another
+// scene or other settings and say what differs.
+//
+// The file: the line "vkpath checkpoint 1", then "key value" lines, an empty
+// line, the film's bytes, and an FNV-1a 64 hash of everything before it
+// (8 bytes, little-endian) that catches a truncated or damaged file. It is
+// written beside its final path, flushed to the disk (fsync) and renamed over
+// it, so a crash or a full disk leaves the previous checkpoint whole.
+#pragma once
+
+#include <filesystem>
+
+#include "app/render_options.h"
+#include "wavefront/render_types.h"
+
+namespace vkpath::app {
+
+struct Checkpoint {
+    RenderIdentity identity;
+    wavefront::SampleRange samples;  // the range the render was asked for
+    wavefront::RenderState state;
+};
+
+// Throws std::runtime_error (naming the file and the system's reason) when
+// it cannot be written; an earlier file at `path` is then left as it was.
+void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
+
+// Throws InputError (one line, naming the file) for a file that is missing,
+// not a checkpoint, or damaged.
+Checkpoint readCheckpoint(const std::filesystem::path& path);
+
+// Throws InputError unless `checkpoint` (read from `path`) continues a render
+// of `identity` and `samples`: the same scene bytes, every pixel-changing
+// setting equal (the first that differs is named), the same first sample.
+void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint& checkpoint,
+                            const RenderIdentity& identity, const wavefront::SampleRange& samples);
+
+}  // namespace vkpath::app
