@@ -51,8 +51,8 @@ void writeWithOiio(const std::filesystem::path& path, const OIIO::ImageSpec& spe
 // its type's size where that is fixed, and hold what its value claims. The
 // layout (magic, version with flags, then per part "name\0 type\0 int32
 // size, value" up to an empty name, and an empty header after the last part
-// of a multi-part file) and the types' sizes: OpenEXR's "The OpenEXR File
-// Layout" and "Standard Attributes".
+// of a multi-part file), the types' sizes and the channel list's entries:
+// OpenEXR's "The OpenEXR File Layout" and "Standard Attributes".
 void checkExrHeader(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     unsigned char start[8] = {};
@@ -110,6 +110,26 @@ void checkExrHeader(const std::filesystem::path& path) {
                     throw damaged(fmt::format("a string of attribute '{}' runs past its end", name));
                 in.seekg(stringLength, std::ios::cur);
             }
+            continue;
+        }
+        if (type == "chlist") {
+            // Per channel: name\0, int32 pixel type, pLinear, 3 reserved bytes,
+            // int32 x and y sampling; an empty name ends the list. OpenImageIO
+            // 2.4 aborts (an assertion) on a pixel type other than UINT, HALF
+            // and FLOAT (found by fuzz/environment_fuzz).
+            const uint64_t end = at + uint64_t(length);
+            for (std::string channel = readName(); !channel.empty(); channel = readName()) {
+                const uint32_t pixelType = read32(name);
+                in.seekg(4, std::ios::cur);
+                const int32_t xSampling = int32_t(read32(name)), ySampling = int32_t(read32(name));
+                if (uint64_t(in.tellg()) > end) throw damaged(fmt::format("channel list '{}' runs past its end", name));
+                if (pixelType > 2)
+                    throw damaged(fmt::format("channel '{}' has pixel type {}, not 0 (uint), 1 (half) or 2 (float)",
+                                              channel, pixelType));
+                if (xSampling < 1 || ySampling < 1)
+                    throw damaged(fmt::format("channel '{}' has sampling {}x{}", channel, xSampling, ySampling));
+            }
+            in.seekg(std::streamoff(end));
             continue;
         }
         if (type == "preview") {

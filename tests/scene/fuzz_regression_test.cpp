@@ -165,7 +165,18 @@ TEST(EnvironmentFuzzRegression, AttributesOfTheWrongSizeForTheirTypeAreRefused) 
     put(preview, int32_t(8));
     put(preview, uint32_t(1 << 16));  // 2^32 pixels in none
     put(preview, uint32_t(1 << 16));
+    // environment_fuzz (2026-12-02): OpenImageIO aborts on a channel of pixel type 3.
+    std::string channels = std::string("channels") + '\0' + "chlist" + '\0';
+    std::string list = std::string("R") + '\0';
+    put(list, int32_t(3));
+    put(list, int32_t(0));
+    put(list, int32_t(1));
+    put(list, int32_t(1));
+    list += '\0';
+    put(channels, int32_t(list.size()));
+    channels += list;
     const std::pair<std::string, std::string> cases[] = {
+        {channels, "channel 'R' has pixel type 3"},
         {chunkCount, "attribute 'chunkCount' of type int is 0 bytes, not 4"},
         {strings, "a string of attribute 'multiView' runs past its end"},
         {preview, "preview 'preview' claims 65536x65536 pixels in 8 bytes"},
