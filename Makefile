@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps configure build demo test test-long bench bench-peer fuzz fuzz-smoke clean
+.PHONY: all deps configure build demo test test-long bench bench-peer bench-ray fuzz fuzz-smoke clean
 
 all: build
 
@@ -57,6 +57,14 @@ bench: build
 PEER_ARGS ?=
 bench-peer: build
 	@tools/bench/peer-bench --vkpath $(VKPATH) $(PEER_ARGS)
+
+# The Ray driver's overhead (not in CI: tens of minutes on two cores): the
+# 1024-spp CBspheres 800x600 render in 8, 16 and 32 chunks against one process.
+# Makes a venv in build/ray-venv with ray from PyPI. RAY_ARGS=--spp 256 etc.;
+# figures and commands: docs/BENCHMARKS.md.
+RAY_ARGS ?=
+bench-ray: build
+	@tools/bench/ray-bench --vkpath $(VKPATH) $(RAY_ARGS)
 
 clean:
 	rm -rf $(BUILD) build-fuzz out

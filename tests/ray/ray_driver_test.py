@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""The Ray driver (tools/ray/vkpath_ray.py) on a local two-CPU cluster.
+
+    ray_driver_test.py --vkpath BUILD/vkpath --venv BUILD/ray-venv --scene CBspheres.dae
+
+CBspheres in 4 chunks, CPU tasks on lavapipe, must equal the one-process
+render: relMSE (vkpath compare) at most 1e-12. The parts are the same samples
+by construction and the merge adds their float means in double, so each pixel
+is within 8 float ulps of the single render (2^-20 relative, the bound of
+tests/cli/merge_test.cpp); a squared relative error of (2^-20)^2 = 9.1e-13 per
+pixel bounds the mean, while two renders of different seeds differ by about
+1e-2. Then the same with one task's Ray worker killed (SIGKILL) while its
+vkpath runs: the driver must say it retries and the image must still be equal.
+
+Ray comes from PyPI into --venv (made once, kept in the build folder). Exit
+code 77 (CTest's skip) only when PyPI cannot be reached; any other failure is
+a failure.
+"""
+import argparse
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DRIVER = os.path.join(HERE, "..", "..", "tools", "ray", "vkpath_ray.py")
+RELMSE_BOUND = 1e-12
+SIZE = ["-d", "80x60"]
+SPP = "16"
+
+
+def fail(message):
+    print(f"FAIL: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def pypi_reachable():
+    try:
+        socket.create_connection(("pypi.org", 443), timeout=10).close()
+        return True
+    except OSError:
+        return False
+
+
+def ensure_venv(venv):
+    python = os.path.join(venv, "bin", "python")
+    if os.path.exists(python) and subprocess.run([python, "-c", "import ray"], capture_output=True).returncode == 0:
+        return python
+    if not os.path.exists(python):
+        subprocess.run([sys.executable, "-m", "venv", venv], check=True)
+    pip = subprocess.run([python, "-m", "pip", "install", "-q", "ray>=2.10"], capture_output=True, text=True)
+    if pip.returncode != 0:
+        if not pypi_reachable():
+            print("SKIPPED: PyPI cannot be reached, so the Ray package cannot be installed "
+                  f"(pip: {pip.stderr.strip().splitlines()[-1] if pip.stderr.strip() else pip.returncode})")
+            sys.exit(77)
+        fail(f"pip install ray failed although PyPI answers:\n{pip.stderr}")
+    return python
+
+
+def relmse(vkpath, a, b):
+    r = subprocess.run([vkpath, "compare", a, b, "--json"], capture_output=True, text=True)
+    if r.returncode != 0:
+        fail(f"vkpath compare {a} {b}: {r.stderr}")
+    return json.loads(r.stdout)["overall"]["relMse"]
+
+
+def chunk_processes():
+    """(pid, parent pid) of each running vkpath of a driver task (its -o is in a vkpath-chunk- folder)."""
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            args = open(f"/proc/{pid}/cmdline", "rb").read().split(b"\0")
+            if len(args) > 1 and args[1] == b"render" and any(b"/vkpath-chunk-" in a for a in args):
+                stat = open(f"/proc/{pid}/stat").read()
+                found.append((int(pid), int(stat.rsplit(")", 1)[1].split()[1])))
+        except OSError:
+            continue
+    return found
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("--vkpath", required=True)
+    p.add_argument("--venv", required=True)
+    p.add_argument("--scene", required=True)
+    args = p.parse_args()
+    python = ensure_venv(args.venv)
+    work = tempfile.mkdtemp(prefix="vkpath-ray-test-")
+    try:
+        run_tests(args, python, work)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def run_tests(args, python, work):
+    whole = os.path.join(work, "whole.exr")
+    r = subprocess.run([args.vkpath, "render", args.scene, *SIZE, "-s", SPP, "-o", whole], capture_output=True, text=True)
+    if r.returncode != 0:
+        fail(f"the one-process render: {r.stderr}")
+    driver = [python, DRIVER, args.scene, "-s", SPP, "--chunks", "4", "--num-cpus", "2", "--vkpath", args.vkpath]
+
+    merged = os.path.join(work, "merged.exr")
+    started = time.monotonic()
+    r = subprocess.run(driver + ["-o", merged, "--", *SIZE], capture_output=True, text=True, timeout=300)
+    if r.returncode != 0:
+        fail(f"the driver exited with {r.returncode}:\n{r.stderr}")
+    error = relmse(args.vkpath, merged, whole)
+    print(f"4 chunks: relMSE {error:.3g} against the one-process render ({time.monotonic() - started:.1f} s)")
+    if not error <= RELMSE_BOUND:
+        fail(f"4 chunks merged: relMSE {error} > {RELMSE_BOUND}")
+
+    # One worker killed while its chunk renders.
+    retried = os.path.join(work, "retried.exr")
+    log = open(os.path.join(work, "driver.log"), "w+")
+    run = subprocess.Popen(driver + ["-o", retried, "--", *SIZE], stdout=subprocess.DEVNULL, stderr=log)
+    killed = None
+    deadline = time.monotonic() + 120
+    while killed is None and run.poll() is None and time.monotonic() < deadline:
+        for pid, worker in chunk_processes():
+            os.kill(worker, signal.SIGKILL)  # the Ray worker running the task, not vkpath itself
+            killed = worker
+            break
+        time.sleep(0.01)
+    try:
+        code = run.wait(timeout=300)
+    except subprocess.TimeoutExpired:
+        run.kill()
+        fail("the driver did not finish within 300 s after a worker was killed")
+    log.seek(0)
+    text = log.read()
+    if killed is None:
+        fail(f"no chunk's vkpath was seen running to kill its worker:\n{text}")
+    if code != 0:
+        fail(f"the driver exited with {code} after worker {killed} was killed:\n{text}")
+    if "retrying" not in text:
+        fail(f"worker {killed} was killed but the driver did not say it retried:\n{text}")
+    print(text, end="")
+    error = relmse(args.vkpath, retried, whole)
+    print(f"a worker killed, its chunk retried: relMSE {error:.3g}")
+    if not error <= RELMSE_BOUND:
+        fail(f"with a retried chunk: relMSE {error} > {RELMSE_BOUND}")
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main()
