@@ -211,4 +211,10 @@ void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint&
                                      checkpoint.samples.first, samples.first));
 }
 
+vk::VulkanError withLastCheckpoint(const vk::VulkanError& error, const std::filesystem::path& path,
+                                   uint32_t samplesDone) {
+    return vk::VulkanError(error.result(), fmt::format("{}; the last checkpoint, {} spp, is in {}: resume with --resume {}",
+                                                       error.what(), samplesDone, path.string(), path.string()));
+}
+
 }  // namespace vkpath::app

@@ -14,6 +14,7 @@
 #include <filesystem>
 
 #include "app/render_options.h"
+#include "vk/check.h"
 #include "wavefront/render_types.h"
 
 namespace vkpath::app {
@@ -37,5 +38,12 @@ Checkpoint readCheckpoint(const std::filesystem::path& path);
 // setting equal (the first that differs is named), the same first sample.
 void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint& checkpoint,
                             const RenderIdentity& identity, const wavefront::SampleRange& samples);
+
+// A Vulkan error that ended a render (the device lost, out of memory) after
+// `path` got its last checkpoint, of `samplesDone` whole samples: the same
+// error (and VkResult), its one line ending with where that checkpoint is and
+// how to go on. Checkpoints are only ever renamed over whole, so it is intact.
+vk::VulkanError withLastCheckpoint(const vk::VulkanError& error, const std::filesystem::path& path,
+                                   uint32_t samplesDone);
 
 }  // namespace vkpath::app

@@ -25,6 +25,7 @@
 #include "image/statistics.h"
 #include "input_error.h"
 #include "reference/reference_renderer.h"
+#include "vk/check.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
 
@@ -89,7 +90,13 @@ wavefront::RenderResult renderWithProgress(Renderer& renderer, const wavefront::
     control.progress = [&](const wavefront::RenderProgress& p) {
         if (terminal) printProgress(p, pixels, timeBudget);
     };
-    auto result = renderer.render(samples, control);
+    wavefront::RenderResult result;
+    try {
+        result = renderer.render(samples, control);
+    } catch (...) {
+        if (terminal) std::fprintf(stderr, "\n");  // the error's line after the bar, not on it
+        throw;
+    }
     cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
     if (terminal) std::fprintf(stderr, "\n");
     return result;
@@ -176,20 +183,31 @@ std::optional<Checkpoint> resumeCheckpoint(const RenderCommandOptions& o, const 
     return checkpoint;
 }
 
+// The checkpoint a render that fails leaves to resume from: the last one it
+// wrote, or the one it resumed from.
+struct SavedCheckpoint {
+    std::string path;
+    uint32_t samplesDone = 0;
+};
+
 // Checkpoints while rendering (a failure there is a warning: the render goes
-// on, the file keeps its last good state) and at the end (a failure is an error).
+// on, the file keeps its last good state) and at the end (a failure is an
+// error); each one written becomes `saved`.
 wavefront::RenderControl renderControl(const RenderCommandOptions& o, const RenderIdentity& identity,
-                                       const wavefront::SampleRange& samples, const std::optional<Checkpoint>& resume) {
+                                       const wavefront::SampleRange& samples, const std::optional<Checkpoint>& resume,
+                                       std::optional<SavedCheckpoint>& saved) {
     wavefront::RenderControl control;
     control.stopRequested = [] { return StopOnSignal::requested() != 0; };
     control.resume = resume ? &resume->state : nullptr;
+    if (resume) saved = SavedCheckpoint{o.resume, resume->state.samplesDone};
     if (!o.checkpoint.empty()) {
         control.checkpointEverySeconds = o.checkpointEvery;
-        control.checkpoint = [&o, identity, samples](const wavefront::RenderState& state) {
+        control.checkpoint = [&o, identity, samples, &saved](const wavefront::RenderState& state) {
             const Checkpoint checkpoint{identity, samples, state};
             const bool last = state.samplesDone == samples.count;
             try {
                 writeCheckpoint(o.checkpoint, checkpoint);
+                saved = SavedCheckpoint{o.checkpoint, state.samplesDone};
             } catch (const std::runtime_error& e) {
                 if (last || StopOnSignal::requested()) throw;
                 std::fprintf(stderr, "vkpath: warning: %s\n", e.what());
@@ -246,7 +264,8 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     const scene::Scene scene = loadRenderScene(o);
 
     const StopOnSignal stopOnSignal;
-    const wavefront::RenderControl control = renderControl(o, identity, samples, resume);
+    std::optional<SavedCheckpoint> saved;
+    const wavefront::RenderControl control = renderControl(o, identity, samples, resume, saved);
     if (o.device == "cpu") {
         const reference::ReferenceRenderer renderer(scene, settings);
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
@@ -259,7 +278,19 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
+        // A device lost (or out of memory) mid-render ends it with one line
+        // that says which checkpoint survives it.
+        const auto result = [&] {
+            try {
+                return renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
+            } catch (const vk::VulkanError& e) {
+                if (!saved) throw;
+                throw withLastCheckpoint(e, saved->path, saved->samplesDone);
+            }
+        }();
+        if (result.cappedWavePaths)
+            std::fprintf(stderr, "vkpath: waves capped at %g ms: %u paths per wave at the end (of %u in flight)\n",
+                         *settings.maxWaveMilliseconds, result.cappedWavePaths, result.pathsInFlight);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
         const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds, context.info().name);

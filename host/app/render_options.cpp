@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -41,6 +42,12 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "--kernel megakernel: paths each invocation traces one after another (path regeneration; 1: one)")
         ->capture_default_str();
     cmd.add_option("--paths-in-flight", o.pathsInFlight, "Upper bound on the paths of one wave")->capture_default_str();
+    cmd.add_option("--max-wave-ms", o.maxWaveMs,
+                   "GPU: size the waves to take at most this many milliseconds each, for drivers whose watchdog "
+                   "ends long submissions (the image is the same)");
+    cmd.add_option("--max-device-memory", o.maxDeviceMemoryMiB,
+                   "GPU: MiB of device memory the scene, film and paths in flight may take, for a device shared "
+                   "with other work (fewer paths in flight; the image is the same)");
     cmd.add_option("--kernel", o.kernel,
                    "GPU kernel form: wavefront (stages with queues between them) or megakernel (one invocation per "
                    "path); default: the faster on the device's type")
@@ -141,6 +148,15 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (o.megakernelPaths == 0) throw InputError("--megakernel-paths must be at least 1");
     settings.megakernelPathsPerInvocation = o.megakernelPaths;
     settings.maxPathsInFlight = o.pathsInFlight;
+    if (o.maxWaveMs && !(*o.maxWaveMs > 0 && std::isfinite(*o.maxWaveMs)))
+        throw InputError(fmt::format("--max-wave-ms {}: milliseconds must be a finite number > 0", *o.maxWaveMs));
+    settings.maxWaveMilliseconds = o.maxWaveMs;
+    if (o.maxDeviceMemoryMiB) {
+        if (!(*o.maxDeviceMemoryMiB > 0) || !std::isfinite(*o.maxDeviceMemoryMiB))
+            throw InputError(fmt::format("--max-device-memory {}: MiB must be a finite number > 0", *o.maxDeviceMemoryMiB));
+        // 10^12 MiB (an exabyte) bounds no device, and keeps the bytes in 64 bits.
+        settings.maxDeviceMemoryBytes = uint64_t(std::min(*o.maxDeviceMemoryMiB, 1e12) * 1024 * 1024);
+    }
     settings.threads = o.threads.value_or(0);
     return settings;
 }

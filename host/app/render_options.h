@@ -40,6 +40,8 @@ struct RenderOptions {
     uint32_t workgroupSize = 64;
     uint32_t megakernelPaths = wavefront::RenderSettings{}.megakernelPathsPerInvocation;
     uint32_t pathsInFlight = 1u << 20;
+    std::optional<double> maxWaveMs;           // GPU: RenderSettings::maxWaveMilliseconds
+    std::optional<double> maxDeviceMemoryMiB;  // GPU: RenderSettings::maxDeviceMemoryBytes, in MiB
     std::string kernel;              // wavefront::parseKernelForm's names; empty: the device's default
     bool noSpecialize = false;       // general kernels instead of ones specialised to the scene
     std::string device = "gpu";      // gpu: the Vulkan renderer; cpu: the reference

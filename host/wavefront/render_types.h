@@ -62,6 +62,14 @@ struct RenderSettings {
     // lavapipe (docs/BENCHMARKS.md).
     uint32_t megakernelPathsPerInvocation = 1;
     uint32_t maxPathsInFlight = 1u << 20;     // GPU: upper bound; also limited by device memory
+    // GPU: the most device memory the render's scene, film and path state may
+    // take (bytes); the paths in flight get what the scene and film leave.
+    std::optional<uint64_t> maxDeviceMemoryBytes;
+    // GPU: waves sized to take at most this long (wall clock, ms; one that
+    // takes longer makes the next ones smaller), for desktop GPUs whose
+    // watchdog ends long submissions; unset: every wave holds all the paths
+    // in flight. The image is the same either way.
+    std::optional<double> maxWaveMilliseconds;
     uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread
 };
 
@@ -143,6 +151,9 @@ struct RenderResult {
     RayCounts rays;              // this run's
     uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image
     uint32_t pathsInFlight = 0;  // paths per wave (pass)
+    // GPU, RenderSettings::maxWaveMilliseconds: the wave size the cap held
+    // the waves to at the end; 0 when it let them hold every path in flight.
+    uint32_t cappedWavePaths = 0;
     double seconds = 0;                         // wall clock of this run's waves
     double priorSeconds = 0;                    // rendering before it, by the runs a resumed state came from
     std::map<std::string, double> stageMilliseconds;  // GPU: device time per stage (empty on the CPU)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 #include "shared/camera.h"
 #include "shared/wavefront.h"
 #include "vk/buffer.h"
+#include "vk/check.h"
 #include "vk/context.h"
 #include "vk/kernel.h"
 #include "vk/timestamps.h"
@@ -57,16 +59,18 @@ uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadow
     return row.perLightSample ? row.bytes * shadowSamples : row.bytes;
 }
 
-// How many paths a wave holds: as many as memory allows up to the setting,
-// rounded so that a wave holds whole samples of every pixel (or, for images
-// larger than a wave, a whole sample is split into equal waves).
+// How many paths a wave holds: as many as memory (and `pathStateBudget`
+// bytes of path state) allows up to the setting, rounded so that a wave holds
+// whole samples of every pixel (or, for images larger than a wave, a whole
+// sample is split into equal waves).
 uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowSamples, const vk::DeviceInfo& device,
-                      uint64_t pixels) {
+                      uint64_t pixels, uint64_t pathStateBudget) {
     const uint64_t total = pathStateBytes(form, shadowSamples);
     uint64_t largest = 1;
     for (const PathBufferRow& row : PATH_BUFFERS) largest = std::max(largest, bytesPerPath(row, form, shadowSamples));
     uint64_t limit = s.maxPathsInFlight;
     limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / total);
+    limit = std::min<uint64_t>(limit, pathStateBudget / total);
     // The largest per-path array must fit one storage-buffer binding.
     limit = std::min<uint64_t>(limit, device.maxStorageBufferRange / largest);
     limit = std::max<uint64_t>(limit, 1);
@@ -118,7 +122,20 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
     // Light samples traced per vertex: none where no stage could queue one.
     const uint32_t shadowSamples = shadowRaysPerVertex(m_features, info.lightSamples);
     r->shadowStage = m_form == KernelForm::Wavefront && shadowSamples > 0;
-    const uint32_t w = r->pathCount = pathsPerWave(settings, m_form, shadowSamples, context.info(), pixels);
+    // maxDeviceMemoryBytes: the path state gets what the scene and the film leave.
+    uint64_t pathStateBudget = UINT64_MAX;
+    if (settings.maxDeviceMemoryBytes) {
+        const uint64_t taken = m_scene.bytes() + pixels * sizeof(shared::FilmPixel);
+        const uint64_t left = *settings.maxDeviceMemoryBytes - std::min(taken, *settings.maxDeviceMemoryBytes);
+        const uint64_t fewest = std::min<uint64_t>(settings.workgroupSize, pixels * settings.samplesPerPixel);
+        if (left / pathStateBytes(m_form, shadowSamples) < fewest)
+            throw InputError(fmt::format(
+                "--max-device-memory {:.3g} MiB: the scene and the film take {:.3g} MiB, leaving room for fewer "
+                "than {} paths in flight",
+                *settings.maxDeviceMemoryBytes / (1024.0 * 1024.0), taken / (1024.0 * 1024.0), fewest));
+        pathStateBudget = left;
+    }
+    uint32_t w = pathsPerWave(settings, m_form, shadowSamples, context.info(), pixels, pathStateBudget);
     r->sceneInfo = vk::Buffer::fromSpan(context, std::span(&info, 1), "sceneInfo");
     r->camera = vk::Buffer::fromSpan(context, std::span(&camera, 1), "camera");
     r->counters = vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
@@ -142,16 +159,46 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
         {VKP_WF_SCENE_ADDRESSES, &g.addresses},
     };
     m_memory = {{"scene", g.bytes()}, {"path state", 0}, {"film", r->film.size()}};
-    for (const PathBufferRow& row : PATH_BUFFERS) {
-        const uint64_t bytes = bytesPerPath(row, m_form, shadowSamples) * w;
-        if (bytes == 0) {
-            buffers[row.binding] = &r->placeholder;
-            continue;
+    // The heap a device reports is shared with other programs and its
+    // driver, so a wave that should fit may not: out of memory, the paths in
+    // flight are halved (and rounded as pathsPerWave rounds them) until the
+    // buffers fit, down to one workgroup's worth. The image does not depend
+    // on the wave size. (lavapipe never runs out here: its device memory is
+    // one file, grown and mapped on demand, so an address-space limit makes
+    // it crash later rather than fail an allocation. maxDeviceMemoryBytes
+    // bounds a render up front instead.)
+    const uint32_t asked = w;
+    for (;;) {
+        try {
+            for (const PathBufferRow& row : PATH_BUFFERS) {
+                const uint64_t bytes = bytesPerPath(row, m_form, shadowSamples) * w;
+                if (bytes == 0) {
+                    buffers[row.binding] = &r->placeholder;
+                    continue;
+                }
+                auto [it, inserted] = r->pathBuffers.emplace(
+                    row.binding, vk::Buffer(context, bytes, vk::MemoryKind::DeviceLocal, row.name));
+                buffers[row.binding] = &it->second;
+                m_memory[1].bytes += bytes;
+            }
+            break;
+        } catch (const vk::VulkanError& e) {
+            if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY && e.result() != VK_ERROR_OUT_OF_HOST_MEMORY) throw;
+            r->pathBuffers.clear();
+            m_memory[1].bytes = 0;
+            RenderSettings fewer = settings;
+            fewer.maxPathsInFlight = w / 2;
+            const uint32_t next = pathsPerWave(fewer, m_form, shadowSamples, context.info(), pixels, pathStateBudget);
+            if (next < std::min(settings.workgroupSize, asked) || next >= w)
+                throw vk::VulkanError(e.result(), fmt::format("out of device memory for the path state of {} paths in "
+                                                              "flight ({} asked): {}",
+                                                              w, asked, e.what()));
+            w = next;
         }
-        auto [it, inserted] = r->pathBuffers.emplace(row.binding, vk::Buffer(context, bytes, vk::MemoryKind::DeviceLocal, row.name));
-        buffers[row.binding] = &it->second;
-        m_memory[1].bytes += bytes;
     }
+    if (w < asked)
+        std::fprintf(stderr, "vkpath: warning: out of device memory for %u paths in flight: %u instead\n", asked, w);
+    r->pathCount = w;
 
     // ---- pipelines: specialised to the render's features (the on-disk pipeline
     // cache keeps each feature set's) ------------------------------------------------
@@ -280,8 +327,30 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     const auto start = Clock::now();
     auto lastCheckpoint = start;
     uint64_t done = uint64_t(before.samplesDone) * pixels;
+    // maxWaveMilliseconds: the next wave's size from the paths per
+    // millisecond the last one managed, aimed at 3/4 of the cap (room for
+    // waves that vary). Over the cap the waves shrink in proportion, never
+    // below one workgroup's worth; under half of it they grow, up to the
+    // paths in flight. The first is one workgroup's worth: a whole one might
+    // already run over (and a watchdog end it).
+    const uint32_t fewest = std::min(s.workgroupSize, r.pathCount);
+    uint32_t wave = s.maxWaveMilliseconds ? fewest : r.pathCount;  // the most paths the next wave may hold
+    auto nextWave = [&](uint32_t count, double milliseconds) {
+        const double cap = *s.maxWaveMilliseconds;
+        const double aimed = count * (0.75 * cap / std::max(milliseconds, 1e-3));
+        if (milliseconds > cap) return uint32_t(std::clamp<double>(aimed, fewest, wave));
+        if (milliseconds < cap / 2) return uint32_t(std::clamp<double>(aimed, wave, r.pathCount));
+        return wave;
+    };
     while (done < totalPaths) {
-        const uint32_t count = uint32_t(std::min<uint64_t>(r.pathCount, totalPaths - done));
+        // A wave holds whole samples of every pixel, or stays within one
+        // sample, so that each whole sample ends a wave (stops, the time
+        // budget and checkpoints come there) whatever the wave sizes.
+        const uint64_t intoSample = done % pixels;
+        const uint64_t fits = intoSample == 0 && wave >= pixels ? wave / pixels * pixels
+                                                                : std::min<uint64_t>(wave, pixels - intoSample);
+        const uint32_t count = uint32_t(std::min<uint64_t>(fits, totalPaths - done));
+        const auto waveStart = Clock::now();
         auto pushFor = [&](uint32_t bounce, uint32_t mode) {
             shared::WavePush p{uint32_t(samples.first + done / pixels), uint32_t(done % pixels), count, bounce, mode};
             return p;
@@ -322,6 +391,8 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
             }
             timed("accumulate", [&] { r.accumulate->record(cmd, r.accumulateSet, uint32_t(pixels), bytes(p0)); });
         });
+        if (s.maxWaveMilliseconds)
+            wave = nextWave(count, std::chrono::duration<double, std::milli>(Clock::now() - waveStart).count());
         for (const vk::TimedInterval& t : timestamps.results()) result.stageMilliseconds[t.name] += t.milliseconds;
         done += count;
         ++result.waves;
@@ -343,6 +414,7 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     result.paths = done - uint64_t(before.samplesDone) * pixels;
+    if (wave < r.pathCount) result.cappedWavePaths = wave;
 
     const shared::QueueCounters counters = r.counters.download<shared::QueueCounters>().at(0);
     result.rays = {join64(counters.closestRays), join64(counters.shadowRays)};

@@ -48,6 +48,8 @@ struct MemoryGroup {
 
 class GpuRenderer {
   public:
+    // Where the device is out of memory for the per-path buffers, fewer paths
+    // are in flight (pathsInFlight(); a warning on stderr says so).
     GpuRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings);
     ~GpuRenderer();
     GpuRenderer(const GpuRenderer&) = delete;

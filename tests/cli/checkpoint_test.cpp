@@ -3,7 +3,8 @@
 // uninterrupted one bit for bit (pixels and variance), a signal leaves a
 // valid EXR of whole samples and a checkpoint that resumes, and a checkpoint
 // of another scene, other settings or another renderer is refused with one
-// line and exit code 2, writing nothing.
+// line and exit code 2, writing nothing; a Vulkan error after a checkpoint
+// names it.
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -19,6 +20,7 @@
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
+#include "vk/check.h"
 
 namespace {
 
@@ -176,6 +178,27 @@ TEST(RenderOutputs, UnwritableOutputsAreRefusedBeforeRendering) {
         // Before the device: nothing about kernels was said.
         EXPECT_EQ(r.err.find("kernels:"), std::string::npos) << r.err;
         EXPECT_FALSE(std::filesystem::exists(dir / "ok.exr")) << f;
+    }
+}
+
+// A Vulkan error that ends a render after a checkpoint (the device lost: it
+// cannot be provoked on lavapipe, so the error is made as VK_CHECK makes it)
+// stays one line, keeps its VkResult, and says where the checkpoint is and
+// how to go on.
+TEST(Checkpoint, VulkanErrorAfterACheckpointIsOneLineSayingWhereItIs) {
+    try {
+        vk::throwVulkanError(VK_ERROR_DEVICE_LOST, "vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX)",
+                             "host/vk/context.cpp", 470);
+    } catch (const vk::VulkanError& lost) {
+        const vk::VulkanError e = app::withLastCheckpoint(lost, "renders/box.ckpt", 96);
+        EXPECT_EQ(e.result(), VK_ERROR_DEVICE_LOST);
+        const std::string line = e.what();
+        EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+        EXPECT_EQ(line.rfind(lost.what(), 0), 0u) << line;
+        EXPECT_NE(line.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << line;
+        EXPECT_NE(line.find("; the last checkpoint, 96 spp, is in renders/box.ckpt: resume with --resume renders/box.ckpt"),
+                  std::string::npos)
+            << line;
     }
 }
 

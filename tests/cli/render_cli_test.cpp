@@ -1,6 +1,7 @@
 // `vkpath render` as a user meets it: Scotty3D's -w, the EXR's metadata, the
 // PNG preview and its exposure, the summary line and the progress bar,
-// bit-identical reruns and --time-budget.
+// bit-identical reruns, --time-budget, and waves made smaller by
+// --max-wave-ms and --max-device-memory.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -8,11 +9,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "image/image.h"
@@ -204,6 +207,81 @@ TEST(RenderCli, RunawayOrNonsenseFlagsAreOneLineAndNothingWritten) {
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(exr));
+    }
+}
+
+// --max-wave-ms: waves sized to the cap (the first is one workgroup's worth,
+// and a 24576-path wave takes ~70 ms here, far over 1 ms) give the same
+// pixels bit for bit as one wave of every path, in either kernel form.
+TEST(RenderCli, MaxWaveMsKeepsThePixelsBitForBitInMoreWaves) {
+    const test::TempDir dir;
+    static const std::regex wavesOf(R"((\d+) waves of \d+ paths)");
+    for (const char* kernel : {"wavefront", "megakernel"}) {
+        SCOPED_TRACE(kernel);
+        auto render = [&](const std::string& name, const std::string& flags, uint32_t& waves) {
+            const std::string path = (dir / name).string();
+            const auto r = test::runVkpath("render " + cornellBox() + " -d 64x48 -s 8 --kernel " + kernel + " -o " +
+                                           path + " " + flags);
+            EXPECT_EQ(r.exitCode, 0) << r.err;
+            std::smatch m;
+            EXPECT_TRUE(std::regex_search(r.err, m, wavesOf)) << r.err;
+            waves = m.empty() ? 0 : uint32_t(std::stoul(m[1]));
+            return std::make_pair(path, r.err);
+        };
+        uint32_t whole = 0, capped = 0;
+        const auto [a, aErr] = render(std::string(kernel) + ".exr", "", whole);
+        const auto [b, bErr] = render(std::string(kernel) + "-capped.exr", "--max-wave-ms 1", capped);
+        EXPECT_EQ(whole, 1u);
+        EXPECT_GT(capped, whole);
+        EXPECT_NE(bErr.find("waves capped at 1 ms: "), std::string::npos) << bErr;
+        EXPECT_EQ(aErr.find("waves capped"), std::string::npos) << aErr;
+        const auto pa = storedPixels(a, OIIO::TypeDesc::FLOAT);
+        ASSERT_FALSE(pa.empty());
+        EXPECT_EQ(pa, storedPixels(b, OIIO::TypeDesc::FLOAT));
+    }
+}
+
+// A bound on device memory makes the waves smaller, not the image different;
+// one that leaves no room for paths is refused before rendering.
+TEST(RenderCli, MaxDeviceMemoryMakesWavesSmallerNotTheImage) {
+    const test::TempDir dir;
+    const std::string a = (dir / "a.exr").string(), b = (dir / "b.exr").string();
+    const std::string common = "render " + cornellBox() + " -d 64x48 -s 8 --kernel wavefront ";
+    const auto whole = test::runVkpath(common + "-o " + a);
+    ASSERT_EQ(whole.exitCode, 0) << whole.err;
+    EXPECT_NE(whole.err.find("1 waves of 24576 paths"), std::string::npos) << whole.err;
+    // The path state of 24576 paths is 3.5 MiB; 1 MiB holds one sample's 3072.
+    const auto bounded = test::runVkpath(common + "--max-device-memory 1 -o " + b);
+    ASSERT_EQ(bounded.exitCode, 0) << bounded.err;
+    EXPECT_NE(bounded.err.find("8 waves of 3072 paths"), std::string::npos) << bounded.err;
+    static const std::regex memory(R"(device memory ([0-9.]+) MiB)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(bounded.err, m, memory)) << bounded.err;
+    EXPECT_LE(std::stod(m[1]), 1.0);
+    const auto pa = storedPixels(a, OIIO::TypeDesc::FLOAT);
+    ASSERT_FALSE(pa.empty());
+    EXPECT_EQ(pa, storedPixels(b, OIIO::TypeDesc::FLOAT));
+
+    const std::string c = (dir / "c.exr").string();
+    const auto tiny = test::runVkpath(common + "--max-device-memory 0.1 -o " + c);
+    EXPECT_EQ(tiny.exitCode, 2) << tiny.err;
+    EXPECT_EQ(test::lineCount(tiny.err), 1) << tiny.err;
+    EXPECT_NE(tiny.err.find("the scene and the film take"), std::string::npos) << tiny.err;
+    EXPECT_FALSE(std::filesystem::exists(c));
+}
+
+TEST(RenderCli, BadMaxWaveMsOrMaxDeviceMemoryIsOneLineAndNothingWritten) {
+    const test::TempDir dir;
+    for (const char* flag : {"--max-wave-ms", "--max-device-memory"}) {
+        for (const char* value : {"0", "-1", "nan", "inf"}) {
+            SCOPED_TRACE(std::string(flag) + " " + value);
+            const std::string exr = (dir / "x.exr").string();
+            const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + flag + " " + value + " -o " + exr);
+            EXPECT_EQ(r.exitCode, 2);
+            EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+            EXPECT_NE(r.err.find(flag), std::string::npos) << r.err;
+            EXPECT_FALSE(std::filesystem::exists(exr));
+        }
     }
 }
 

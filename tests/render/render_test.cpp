@@ -1,13 +1,17 @@
 // The wavefront path tracer against scenes whose answer is known exactly
-// (furnaces, mirrors, invisible glass), plus determinism and no NaN/Inf.
+// (furnaces, mirrors, invisible glass), plus determinism and no NaN/Inf, also
+// when waves are cut smaller (a time cap per wave, a device-memory bound).
 // Tolerances are z-tests with the standard error measured by the render's own
 // variance AOV: a bound of 5 standard errors has a false-alarm rate of
 // 6e-7 per check, so a failure means a bias, not bad luck.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 #include "image/statistics.h"
+#include "input_error.h"
 #include "scene/scene.h"
 #include "support/test_context.h"
 #include "support/test_scenes.h"
@@ -219,6 +223,65 @@ TEST(TimeBudget, StopsWithinOneWave) {
     const double perWave = r.seconds / r.waves;
     EXPECT_GE(r.seconds, 0.5);
     EXPECT_LE(r.seconds, 0.5 + perWave * 1.5 + 0.05) << r.waves << " waves";
+}
+
+// Waves capped in time (here so tightly that every wave is one workgroup of
+// 64 paths, which does not divide the 600 pixels) still end at every whole
+// sample, so a checkpoint comes after each; and the image is the uncapped one.
+TEST(MaxWaveMs, WavesStillEndAtEveryWholeSampleAndKeepTheImage) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    wavefront::RenderSettings settings;
+    settings.width = 30;
+    settings.height = 20;
+    settings.samplesPerPixel = 6;
+    wavefront::GpuRenderer whole(test::context(), s, settings);
+    const auto a = whole.render();
+    settings.maxWaveMilliseconds = 1e-6;
+    wavefront::GpuRenderer capped(test::context(), s, settings);
+    std::vector<uint32_t> checkpoints;
+    wavefront::RenderControl control;
+    control.checkpoint = [&](const wavefront::RenderState& state) { checkpoints.push_back(state.samplesDone); };
+    const auto b = capped.render(wavefront::SampleRange{0, 6}, control);
+    EXPECT_EQ(a.waves, 1u);
+    EXPECT_EQ(b.waves, 6u * 10u) << "600 pixels: nine waves of 64 paths and one of 24 per sample";
+    EXPECT_EQ(b.cappedWavePaths, 64u);
+    EXPECT_EQ(checkpoints, (std::vector<uint32_t>{1, 2, 3, 4, 5, 6}));
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(a.varianceOfMean.pixels.data(), b.varianceOfMean.pixels.data(),
+                          a.varianceOfMean.pixels.size() * sizeof(glm::vec3)),
+              0);
+}
+
+// Out of device memory the paths in flight shrink (wavefront/renderer.cpp);
+// lavapipe never runs out for a buffer, so this takes the bound a user sets
+// with --max-device-memory: the scene, film and path state stay under it,
+// with fewer paths per wave and the same image.
+TEST(DeviceMemory, BoundMakesWavesSmallerNotTheImage) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    wavefront::RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.samplesPerPixel = 8;
+    settings.kernel = wavefront::KernelForm::Wavefront;
+    wavefront::GpuRenderer whole(test::context(), s, settings);
+    const auto a = whole.render();
+    auto total = [](const wavefront::GpuRenderer& r) {
+        uint64_t bytes = 0;
+        for (const wavefront::MemoryGroup& g : r.memory()) bytes += g.bytes;
+        return bytes;
+    };
+    // Room for a third of the path state: two samples per wave.
+    const uint64_t pathState = whole.memory().at(1).bytes;
+    settings.maxDeviceMemoryBytes = total(whole) - pathState + pathState / 3;
+    wavefront::GpuRenderer bounded(test::context(), s, settings);
+    EXPECT_EQ(bounded.pathsInFlight(), 32u * 32u * 2u);
+    EXPECT_LE(total(bounded), *settings.maxDeviceMemoryBytes);
+    const auto b = bounded.render();
+    EXPECT_EQ(a.waves, 1u);
+    EXPECT_EQ(b.waves, 4u);
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    // No room for one workgroup of paths: refused, naming the flag.
+    settings.maxDeviceMemoryBytes = total(whole) - pathState;
+    EXPECT_THROW(wavefront::GpuRenderer(test::context(), s, settings), InputError);
 }
 
 }  // namespace
