@@ -70,6 +70,10 @@ struct RenderSettings {
     // watchdog ends long submissions; unset: every wave holds all the paths
     // in flight. The image is the same either way.
     std::optional<double> maxWaveMilliseconds;
+    // GPU: at most this many pixels per film window (0: what the device
+    // allows, shared/wavefront.h WavePush.filmFirstPixel); smaller only to
+    // test windows on small films.
+    uint32_t filmWindowPixels = 0;
     uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread
 };
 

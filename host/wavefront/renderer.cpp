@@ -83,6 +83,16 @@ uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowS
     return uint32_t((pixels + wavesPerSample - 1) / wavesPerSample);
 }
 
+// Pixels per film window: as many as one storage-buffer binding holds
+// (maxStorageBufferRange) and one dispatch of accumulate reaches (the
+// device's workgroup count), or settings.filmWindowPixels if smaller.
+uint32_t filmWindowPixels(const RenderSettings& s, const vk::DeviceInfo& device) {
+    uint64_t limit = device.maxStorageBufferRange / sizeof(shared::FilmPixel);
+    limit = std::min<uint64_t>(limit, uint64_t(device.maxWorkgroupCount[0]) * s.workgroupSize);
+    if (s.filmWindowPixels) limit = std::min<uint64_t>(limit, s.filmWindowPixels);
+    return uint32_t(std::clamp<uint64_t>(limit, 1, UINT32_MAX));
+}
+
 }  // namespace
 
 uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex) {
@@ -101,10 +111,22 @@ KernelForm defaultKernelForm(const vk::DeviceInfo& device) {
 struct GpuRenderer::Resources {
     uint32_t pathCount = 0;  // paths in flight (the wave size)
     bool shadowStage = false;
-    vk::Buffer sceneInfo, camera, counters, film, placeholder;
+    vk::Buffer sceneInfo, camera, counters, placeholder;
+    // The film in windows of consecutive pixels, each within one storage
+    // binding and one dispatch (shared/wavefront.h WavePush.filmFirstPixel),
+    // with accumulate's descriptor set for each.
+    uint32_t filmWindowPixels = 0;
+    std::vector<vk::Buffer> film;
+    std::vector<vk::DescriptorSet> accumulateSets;
     std::map<uint32_t, vk::Buffer> pathBuffers;  // by binding, the rows of PATH_BUFFERS in use
     std::unique_ptr<vk::Kernel> generate, queueDispatch, intersect, shade, shadow, megakernel, accumulate;
-    vk::DescriptorSet generateSet, queueDispatchSet, intersectSet, shadeSet, shadowSet, megakernelSet, accumulateSet;
+    vk::DescriptorSet generateSet, queueDispatchSet, intersectSet, shadeSet, shadowSet, megakernelSet;
+
+    uint64_t filmBytes() const {
+        uint64_t bytes = 0;
+        for (const vk::Buffer& window : film) bytes += window.size();
+        return bytes;
+    }
 };
 
 GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings)
@@ -139,7 +161,11 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
     r->sceneInfo = vk::Buffer::fromSpan(context, std::span(&info, 1), "sceneInfo");
     r->camera = vk::Buffer::fromSpan(context, std::span(&camera, 1), "camera");
     r->counters = vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
-    r->film = vk::Buffer(context, pixels * sizeof(shared::FilmPixel), vk::MemoryKind::DeviceLocal, "film");
+    r->filmWindowPixels = filmWindowPixels(settings, context.info());
+    for (uint64_t first = 0; first < pixels; first += r->filmWindowPixels) {
+        const uint64_t windowPixels = std::min<uint64_t>(r->filmWindowPixels, pixels - first);
+        r->film.emplace_back(context, windowPixels * sizeof(shared::FilmPixel), vk::MemoryKind::DeviceLocal, "film");
+    }
     r->placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
 
     const GpuScene& g = m_scene;
@@ -155,10 +181,10 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
         {VKP_WF_ENV_RADIANCE, &g.binding(g.envRadiance)},
         {VKP_WF_CAMERA, &r->camera},
         {VKP_WF_COUNTERS, &r->counters},
-        {VKP_WF_FILM, &r->film},
+        {VKP_WF_FILM, &r->film.front()},
         {VKP_WF_SCENE_ADDRESSES, &g.addresses},
     };
-    m_memory = {{"scene", g.bytes()}, {"path state", 0}, {"film", r->film.size()}};
+    m_memory = {{"scene", g.bytes()}, {"path state", 0}, {"film", r->filmBytes()}};
     // The heap a device reports is shared with other programs and its
     // driver, so a wave that should fit may not: out of memory, the paths in
     // flight are halved (and rounded as pathsPerWave rounds them) until the
@@ -215,7 +241,13 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
     };
     const vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, settings.workgroupSize}}};
     r->queueDispatch = build("queue_dispatch", dispatchOptions, r->queueDispatchSet);
-    r->accumulate = build("accumulate", options, r->accumulateSet);
+    r->accumulate = std::make_unique<vk::Kernel>(context, "accumulate", options);
+    for (const vk::Buffer& window : r->film) {
+        buffers[VKP_WF_FILM] = &window;
+        r->accumulateSets.push_back(r->accumulate->bindDeclared(buffers));
+    }
+    buffers[VKP_WF_FILM] = &r->film.front();
+    built.emplace_back(r->accumulate.get(), &r->accumulateSets.front());
     if (m_form == KernelForm::Megakernel) {
         r->megakernel = build("megakernel", sceneOptions, r->megakernelSet);
     } else {
@@ -288,14 +320,18 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     RenderState before;  // what the state resumed from holds (its film goes to the device)
     if (control.resume) {
         checkResumable(*control.resume, GPU_FILM_FORMAT, s.width, s.height, samples, "the state to resume");
-        if (control.resume->film.size() != r.film.size())
+        if (control.resume->film.size() != r.filmBytes())
             throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
-                                         control.resume->film.size(), r.film.size()));
-        r.film.upload(control.resume->film);
+                                         control.resume->film.size(), r.filmBytes()));
+        size_t offset = 0;
+        for (vk::Buffer& window : r.film) {
+            window.upload(std::span(control.resume->film).subspan(offset, window.size()));
+            offset += window.size();
+        }
         before = *control.resume;
         before.film.clear();
     } else {
-        r.film.clear();
+        for (vk::Buffer& window : r.film) window.clear();
     }
     r.counters.clear();
     result.priorSeconds = before.seconds;
@@ -318,9 +354,13 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         now.seconds += seconds;
         return now;
     };
-    auto filmBytes = [&] {
-        std::vector<std::byte> film(r.film.size());
-        r.film.download(film);
+    auto filmBytes = [&] {  // the windows, one after another: the film in pixel order
+        std::vector<std::byte> film(r.filmBytes());
+        size_t offset = 0;
+        for (const vk::Buffer& window : r.film) {
+            window.download(std::span(film).subspan(offset, window.size()));
+            offset += window.size();
+        }
         return film;
     };
 
@@ -389,7 +429,14 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
                     timed("shadow", [&] { r.shadow->recordIndirect(cmd, r.shadowSet, r.counters, shadowArgs, bytes(shadows)); });
                 }
             }
-            timed("accumulate", [&] { r.accumulate->record(cmd, r.accumulateSet, uint32_t(pixels), bytes(p0)); });
+            timed("accumulate", [&] {
+                for (size_t i = 0; i < r.film.size(); ++i) {
+                    shared::WavePush window = p0;
+                    window.filmFirstPixel = uint32_t(i * r.filmWindowPixels);
+                    const uint32_t windowPixels = uint32_t(r.film[i].size() / sizeof(shared::FilmPixel));
+                    r.accumulate->record(cmd, r.accumulateSets[i], windowPixels, bytes(window));
+                }
+            });
         });
         if (s.maxWaveMilliseconds)
             wave = nextWave(count, std::chrono::duration<double, std::milli>(Clock::now() - waveStart).count());
@@ -423,17 +470,17 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     result.nonFiniteSamples = end.nonFiniteSamples;
     result.fireflySamples = end.fireflySamples;
     result.rejectedLightSamples = end.rejectedLightSamples;
-    std::vector<shared::FilmPixel> film(pixels);
-    std::memcpy(film.data(), end.film.data(), end.film.size());
     if (control.checkpoint) control.checkpoint(end);
     result.image = image::Image(s.width, s.height);
     result.varianceOfMean = image::Image(s.width, s.height);
     const double n = result.samplesPerPixel;
-    for (size_t i = 0; i < film.size(); ++i) {
+    for (size_t i = 0; i < pixels; ++i) {
+        shared::FilmPixel f;  // read in place: a copy of a large film would double its host memory
+        std::memcpy(&f, end.film.data() + i * sizeof(f), sizeof(f));
         for (int c = 0; c < 3; ++c) {
             // Kahan: the true sum is sum - compensation.
-            const double sum = double(film[i].sum[c]) - double(film[i].sumCompensation[c]);
-            const double sumSquares = double(film[i].sumSquares[c]) - double(film[i].sumSquaresCompensation[c]);
+            const double sum = double(f.sum[c]) - double(f.sumCompensation[c]);
+            const double sumSquares = double(f.sumSquares[c]) - double(f.sumSquaresCompensation[c]);
             const PixelEstimate e = estimatePixel(sum, sumSquares, n);
             result.image.pixels[i][c] = float(e.mean);
             result.varianceOfMean.pixels[i][c] = float(e.varianceOfMean);

@@ -84,6 +84,11 @@ struct WavePush {
     uint pathCount;    // paths in this wave
     uint bounce;       // the bounce the stage works on
     uint mode;         // queue_dispatch: what to prepare (VKP_PREPARE_*)
+    // accumulate: the first pixel of the film window bound. A film larger
+    // than one storage-buffer binding (maxStorageBufferRange; 128 MiB on
+    // lavapipe, 2.8 M pixels) or one dispatch (65535 workgroups) is kept in
+    // windows, one buffer and one dispatch each.
+    uint filmFirstPixel;
 };
 
 // (pixel, sample index) of path slot `slot` of the wave.
@@ -102,7 +107,7 @@ VKP_NAMESPACE_END
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
 static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
-static_assert(sizeof(vkpath::shared::WavePush) == 20);
+static_assert(sizeof(vkpath::shared::WavePush) == 24);
 #endif
 
 #endif  // VKPATH_SHARED_WAVEFRONT_H

@@ -1,5 +1,6 @@
 // Stage "accumulate": adds each path's radiance to its pixel with
-// compensated (Kahan) sums, one thread per pixel looping over the wave's
+// compensated (Kahan) sums, one thread per pixel of the film window bound
+// (shared/wavefront.h WavePush.filmFirstPixel) looping over the wave's
 // samples of that pixel in order (deterministic). A sample whose radiance is
 // NaN or infinite, or that would overflow the sums, is dropped and counted,
 // never added. Samples above the
@@ -34,7 +35,10 @@ void kahanAdd(inout vec3 sum, inout vec3 compensation, vec3 value) {
 }
 
 void main() {
-    uint pixel = gl_GlobalInvocationID.x;
+    // The film buffer bound is the window of pixels from push.filmFirstPixel.
+    uint slot = gl_GlobalInvocationID.x;
+    if (slot >= film.length()) return;
+    uint pixel = push.filmFirstPixel + slot;
     uint pixels = info.width * info.height;
     if (pixel >= pixels) return;
     // The wave holds the paths of linear positions [firstPixel, firstPixel +
@@ -43,7 +47,7 @@ void main() {
     uint first = push.firstPixel + (pixel + pixels - push.firstPixel) % pixels;
     uint end = push.firstPixel + push.pathCount;
     if (first >= end) return;
-    FilmPixel f = film[pixel];
+    FilmPixel f = film[slot];
     uint dropped = 0u;
     uint fireflies = 0u;
     for (uint linear = first; linear < end; linear += pixels) {
@@ -68,7 +72,7 @@ void main() {
         }
         f = next;
     }
-    film[pixel] = f;
+    film[slot] = f;
     if (dropped > 0u) atomicAdd(counters.nonFinite, dropped);
     if (fireflies > 0u) atomicAdd(counters.fireflies, fireflies);
 }

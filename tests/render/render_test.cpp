@@ -1,6 +1,7 @@
 // The wavefront path tracer against scenes whose answer is known exactly
 // (furnaces, mirrors, invisible glass), plus determinism and no NaN/Inf, also
-// when waves are cut smaller (a time cap per wave, a device-memory bound).
+// when waves are cut smaller (a time cap per wave, a device-memory bound) or
+// the film is kept in windows.
 // Tolerances are z-tests with the standard error measured by the render's own
 // variance AOV: a bound of 5 standard errors has a false-alarm rate of
 // 6e-7 per check, so a failure means a bias, not bad luck.
@@ -282,6 +283,71 @@ TEST(DeviceMemory, BoundMakesWavesSmallerNotTheImage) {
     // No room for one workgroup of paths: refused, naming the flag.
     settings.maxDeviceMemoryBytes = total(whole) - pathState;
     EXPECT_THROW(wavefront::GpuRenderer(test::context(), s, settings), InputError);
+}
+
+// A film larger than one storage binding or one dispatch is kept in windows
+// (wavefront/renderer.cpp filmWindowPixels): 1200 pixels in windows of 7, the
+// last one short, give the one-window image and variance bit for bit, and a
+// checkpoint's film bytes are the same pixel-order bytes.
+TEST(FilmWindows, ManyWindowsGiveTheSameImageAndState) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    wavefront::RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = 3;
+    auto renderWith = [&](uint32_t windowPixels, wavefront::RenderState& state) {
+        settings.filmWindowPixels = windowPixels;
+        wavefront::GpuRenderer renderer(test::context(), s, settings);
+        wavefront::RenderControl control;
+        control.checkpoint = [&](const wavefront::RenderState& st) { state = st; };
+        return renderer.render(wavefront::SampleRange{0, 3}, control);
+    };
+    wavefront::RenderState oneState, manyState;
+    const auto one = renderWith(0, oneState);
+    const auto many = renderWith(7, manyState);
+    EXPECT_EQ(std::memcmp(one.image.pixels.data(), many.image.pixels.data(), one.image.pixels.size() * sizeof(glm::vec3)),
+              0);
+    EXPECT_EQ(std::memcmp(one.varianceOfMean.pixels.data(), many.varianceOfMean.pixels.data(),
+                          one.varianceOfMean.pixels.size() * sizeof(glm::vec3)),
+              0);
+    EXPECT_EQ(oneState.film, manyState.film);
+    // Resuming a windowed render from the one-window state continues it exactly.
+    settings.samplesPerPixel = 5;
+    settings.filmWindowPixels = 7;
+    wavefront::GpuRenderer resumed(test::context(), s, settings);
+    wavefront::RenderControl control;
+    control.resume = &oneState;
+    const auto r = resumed.render(wavefront::SampleRange{0, 5}, control);
+    settings.filmWindowPixels = 0;
+    wavefront::GpuRenderer whole(test::context(), s, settings);
+    const auto w = whole.render();
+    EXPECT_EQ(std::memcmp(r.image.pixels.data(), w.image.pixels.data(), w.image.pixels.size() * sizeof(glm::vec3)), 0);
+}
+
+// On the device's own limits: lavapipe binds at most 128 MiB (2796202 film
+// pixels of 48 bytes) and accumulate's one thread per pixel reaches 65535 x 64
+// = 4194240 pixels in one dispatch, so 2048 x 2100 pixels (4.3 M) need two
+// windows for either reason. Emission only (-m 0, 1 spp) of a black sphere in
+// a white environment: the left and right columns see only the environment
+// (exactly 1) in every row, the middle the sphere (exactly 0); a window left
+// unaccumulated would read 0 everywhere.
+TEST(FilmWindows, AFilmLargerThanOneBindingAndOneDispatchRenders) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    wavefront::RenderSettings settings;
+    settings.width = 2048;
+    settings.height = 2100;
+    settings.samplesPerPixel = 1;
+    settings.maxDepth = 0;
+    wavefront::GpuRenderer renderer(test::context(), s, settings);
+    const auto r = renderer.render();
+    const image::Image& img = r.image;
+    uint32_t wrong = 0;
+    for (uint32_t y = 0; y < img.height; ++y)
+        wrong += img.at(0, y) != glm::vec3(1.0f) || img.at(img.width - 1, y) != glm::vec3(1.0f);
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(img.at(img.width / 2, img.height / 2), glm::vec3(0.0f));
+    EXPECT_EQ(img.at(img.width / 2, img.height * 3 / 4), glm::vec3(0.0f)) << "in the second window";
+    EXPECT_EQ(r.nonFiniteSamples, 0u);
 }
 
 }  // namespace
