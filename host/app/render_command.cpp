@@ -259,9 +259,9 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
     if (!o.png.empty()) checkWritable("--png", o.png);
     if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
-    const RenderIdentity identity = renderIdentity(o);
-    const std::optional<Checkpoint> resume = resumeCheckpoint(o, identity, samples);
     const scene::Scene scene = loadRenderScene(o);
+    const RenderIdentity identity = renderIdentity(o, scene);
+    const std::optional<Checkpoint> resume = resumeCheckpoint(o, identity, samples);
 
     const StopOnSignal stopOnSignal;
     std::optional<SavedCheckpoint> saved;

@@ -78,8 +78,9 @@ uint64_t hashFile(const std::string& path, uint64_t hash) {
 
 }  // namespace
 
-RenderIdentity renderIdentity(const RenderOptions& o) {
+RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
     uint64_t hash = hashFile(o.scene, 0xcbf29ce484222325ull);
+    for (const std::filesystem::path& file : scene.referencedFiles) hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
     auto optional = [](const std::optional<float>& v) { return v ? fmt::format("{}", *v) : std::string("scene"); };
     std::string color = "none";

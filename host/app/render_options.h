@@ -56,15 +56,16 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o);
 scene::Scene loadRenderScene(const RenderOptions& o);
 
 // What makes renders samples of one image, written into each EXR so that
-// `vkpath merge` can refuse parts of different images: a hash of the scene
-// file's and the environment map's bytes (not of files the scene refers to),
-// and every flag that changes pixels (not outputs, devices or kernels: the
-// CPU and GPU render the same samples).
+// `vkpath merge` and `--resume` can refuse parts of different images: a
+// hash of the bytes of the scene file, of the files it refers to that its
+// loader read (`scene.referencedFiles`) and of the -e environment map, and
+// every flag that changes pixels (not outputs, devices or kernels: the CPU
+// and GPU render the same samples).
 struct RenderIdentity {
     std::string sceneHash;  // 16 hex digits, FNV-1a 64
     std::string settings;   // "size=640x480 max-depth=8 ...": each key once, in a fixed order
 };
-RenderIdentity renderIdentity(const RenderOptions& o);
+RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene);
 
 // The settings for `samplesPerPixel` samples of the film `o.size`. Throws
 // InputError on out-of-range flags.

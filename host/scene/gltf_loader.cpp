@@ -299,6 +299,7 @@ void checkUris(const Json& root, const fs::path& folder, bool binary, bool hasBi
 // scene's folder (symbolic links resolved), never writes.
 struct FolderGuard {
     fs::path canonicalFolder;
+    std::vector<fs::path> read;  // what guardedReadWholeFile read, in order
 
     bool allows(const std::string& name) const {
         std::error_code ec;
@@ -324,6 +325,7 @@ bool guardedReadWholeFile(std::vector<unsigned char>* out, std::string* err,
     std::string error;
     *out = readWholeFile(name, MAX_FILE_BYTES, error);
     if (!error.empty() && err) *err += name + ": " + error + "\n";
+    if (error.empty()) static_cast<FolderGuard*>(user)->read.push_back(name);
     return error.empty();
 }
 
@@ -534,7 +536,9 @@ class Importer {
             if (!uri.IsString()) fail("{}: uri is not a string", what);
             const std::string problem = uriProblem(uri.Get<std::string>(), m_folder);
             if (!problem.empty()) fail("{}: uri '{}' {}", what, uri.Get<std::string>(), problem);
-            env.map = loadEnvironmentMap(m_folder / decodeUri(uri.Get<std::string>()));
+            const fs::path mapPath = m_folder / decodeUri(uri.Get<std::string>());
+            env.map = loadEnvironmentMap(mapPath);
+            m_scene.referencedFiles.push_back(mapPath);
         } else {
             const tinygltf::Value& color = ext.Get("color");
             if (!color.IsArray() || color.ArrayLen() != 3) fail("{}: color is not an array of 3 numbers", what);
@@ -1294,7 +1298,9 @@ Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options) {
             fmt::format("{}: {}", file, err.empty() ? "tinygltf cannot load it" : oneLine(err)));
 
     // Phase 4.
-    return Importer(file, folder, model, options).run();
+    Scene scene = Importer(file, folder, model, options).run();
+    scene.referencedFiles.insert(scene.referencedFiles.begin(), guard.read.begin(), guard.read.end());
+    return scene;
 }
 
 }  // namespace vkpath::scene

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -110,6 +111,10 @@ struct Scene {
     std::vector<DirectionalLight> directionalLights;
     std::optional<Environment> environment;
     Camera camera;
+    // The files the scene file refers to that its loader read (glTF buffers,
+    // images, an environment map), in the order read: with the scene file,
+    // what a render's identity hashes (app::renderIdentity).
+    std::vector<std::filesystem::path> referencedFiles;
 
     FeatureSummary features() const;
     size_t triangleCount() const;

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #pragma GCC diagnostic pop
 
+#include "app/render_options.h"
 #include "support/temp_dir.h"
 #include "image/image.h"
 #include "input_error.h"
@@ -539,6 +540,28 @@ TEST(GltfLayouts, ExternalBufferFile) {
     g.node({{"mesh", g.triangle()}});
     const Loaded loaded = load(g.writeGltf(dir / "external.gltf", GltfBuilder::Buffer::External));
     EXPECT_EQ(loaded.scene.triangleCount(), 1u);
+}
+
+// The files a scene refers to are part of its identity (app::renderIdentity):
+// a checkpoint or a merge part of the scene before its .bin changed is
+// another scene's.
+TEST(GltfLayouts, ReferencedFilesAreListedAndHashed) {
+    TempDir dir;
+    GltfBuilder g;
+    g.node({{"mesh", g.triangle()}});
+    g.camera();
+    const fs::path path = g.writeGltf(dir / "external.gltf", GltfBuilder::Buffer::External);
+    const scene::Scene scene = load(path).scene;
+    ASSERT_EQ(scene.referencedFiles.size(), 1u);
+    EXPECT_TRUE(fs::equivalent(scene.referencedFiles[0], dir / "external.bin"));
+    app::RenderOptions options;
+    options.scene = path.string();
+    const std::string before = app::renderIdentity(options, scene).sceneHash;
+    std::vector<uint8_t> bin(fs::file_size(dir / "external.bin"));
+    std::ifstream(dir / "external.bin", std::ios::binary).read(reinterpret_cast<char*>(bin.data()), std::streamsize(bin.size()));
+    bin[0] ^= 1;  // one bit of a vertex position
+    std::ofstream(dir / "external.bin", std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+    EXPECT_NE(app::renderIdentity(options, load(path).scene).sceneHash, before);
 }
 
 TEST(GltfLayouts, GlbRoundTripEqualsGltf) {
