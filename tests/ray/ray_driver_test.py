@@ -11,6 +11,8 @@ tests/cli/merge_test.cpp); a squared relative error of (2^-20)^2 = 9.1e-13 per
 pixel bounds the mean, while two renders of different seeds differ by about
 1e-2. Then the same with one task's Ray worker killed (SIGKILL) while its
 vkpath runs: the driver must say it retries and the image must still be equal.
+Last, the driver joins a cluster that `ray start --head` started apart from it
+(`--address`, as on several machines): equal again.
 
 Ray comes from PyPI into --venv (made once, kept in the build folder). Exit
 code 77 (CTest's skip) only when PyPI cannot be reached; any other failure is
@@ -141,6 +143,30 @@ def run_tests(args, python, work):
     if "retrying" not in text:
         fail(f"worker {killed} was killed but the driver did not say it retried:\n{text}")
     print(text, end="")
+
+    # The same driver joining a cluster started apart from it, as on several
+    # machines (`ray start --head` here, `--address` for the driver).
+    ray = os.path.join(os.path.dirname(python), "ray")
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    start = subprocess.run([ray, "start", "--head", "--num-cpus", "2", f"--port={port}", "--include-dashboard=false",
+                            "--disable-usage-stats"], capture_output=True, text=True)
+    if start.returncode != 0:
+        fail(f"ray start --head: {start.stderr}")
+    try:
+        joined = os.path.join(work, "joined.exr")
+        r = subprocess.run([python, DRIVER, args.scene, "-s", SPP, "--chunks", "4", "--address", f"127.0.0.1:{port}",
+                            "--vkpath", args.vkpath, "-o", joined, "--", *SIZE], capture_output=True, text=True,
+                           timeout=300)
+    finally:
+        subprocess.run([ray, "stop", "--force"], capture_output=True)
+    if r.returncode != 0:
+        fail(f"the driver with --address exited with {r.returncode}:\n{r.stderr}")
+    error = relmse(args.vkpath, joined, whole)
+    print(f"on a cluster started by ray start, joined with --address: relMSE {error:.3g}")
+    if not error <= RELMSE_BOUND:
+        fail(f"with --address: relMSE {error} > {RELMSE_BOUND}")
     error = relmse(args.vkpath, retried, whole)
     print(f"a worker killed, its chunk retried: relMSE {error:.3g}")
     if not error <= RELMSE_BOUND:

@@ -21,8 +21,10 @@ equals the one-process render up to the rounding of the parts' float means
 
 Without --address, Ray starts on this machine (ray.init()); with one, the
 driver joins that cluster (`ray start --head` on one node, `ray start
---address HEAD:6379` on the others). The scene (and what it refers to) and
-the vkpath executable must be at the same paths on every node. Exit codes:
+--address HEAD:6379` on the others; Ray 2.59 and later make a token for
+that, ~/.ray/auth_token, which the other nodes and this driver need too).
+The scene (and what it refers to) and the vkpath executable must be at the
+same paths on every node. Exit codes:
 0; 2 for bad input (ours or vkpath's); 1 when a chunk still fails after its
 retries or Ray cannot start.
 """
@@ -151,6 +153,14 @@ def parse(argv):
 
 def main(argv):
     args = parse(argv)
+    # Ray 2.59 and later start clusters (`ray start --head`) with token
+    # authentication, and a driver that joins one must present the token; one
+    # without authentication accepts it as well (measured with Ray 2.60). Ray
+    # reads the mode when it is imported.
+    token = os.environ.get("RAY_AUTH_TOKEN") or os.environ.get("RAY_AUTH_TOKEN_PATH") or os.path.exists(
+        os.path.expanduser("~/.ray/auth_token"))
+    if args.address and token:
+        os.environ.setdefault("RAY_AUTH_MODE", "token")
     try:
         import ray
     except ImportError:
