@@ -81,7 +81,7 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(FilmPixel, sumSquaresCompensation)}},
         {"WavePush", sizeof(WavePush),
          {VKP_O(WavePush, firstSample), VKP_O(WavePush, firstPixel), VKP_O(WavePush, pathCount),
-          VKP_O(WavePush, bounce), VKP_O(WavePush, mode)}},
+          VKP_O(WavePush, bounce), VKP_O(WavePush, mode), VKP_O(WavePush, filmFirstPixel)}},
     };
 }
 
