@@ -372,6 +372,23 @@ const char* modeName(int mode) {
     }
 }
 
+// The vertex indices of `mode`'s primitives (in drawing order) as a
+// triangle list: glTF 2.0, 3.7.2.1 "Topology Types". A strip's triangle i is
+// (v_i, v_{i+1+i%2}, v_{i+2-i%2}), which keeps every second triangle's
+// winding counter-clockwise; a fan's is (v_{i+1}, v_{i+2}, v_0). Strips and
+// fans of fewer than three vertices draw nothing.
+std::vector<uint32_t> triangleList(int mode, std::vector<uint32_t> vertices) {
+    if (mode == TINYGLTF_MODE_TRIANGLES) return vertices;
+    std::vector<uint32_t> list;
+    for (size_t i = 0; i + 2 < vertices.size(); ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+            list.insert(list.end(), {vertices[i], vertices[i + 1 + i % 2], vertices[i + 2 - i % 2]});
+        else
+            list.insert(list.end(), {vertices[i + 1], vertices[i + 2], vertices[0]});
+    }
+    return list;
+}
+
 const char* typeName(int type) {
     switch (type) {
         case TINYGLTF_TYPE_SCALAR:
@@ -485,9 +502,6 @@ class Importer {
     // ---- extensions --------------------------------------------------------
 
     void checkExtensions() {
-        for (const std::string& name : m_model.extensionsRequired)
-            if (!SUPPORTED_EXTENSIONS.contains(name))
-                fail("requires extension '{}', which vkpath does not support", name);
         std::set<std::string> used(m_model.extensionsUsed.begin(), m_model.extensionsUsed.end());
         auto collect = [&](const tinygltf::ExtensionMap& map) {
             for (const auto& entry : map) used.insert(entry.first);
@@ -953,9 +967,11 @@ class Importer {
             Mesh out;
             out.name = mesh.primitives.size() == 1 ? baseName : fmt::format("{}#{}", baseName, p);
             const std::string what = fmt::format("mesh '{}'", out.name);
-            if (primitive.mode != TINYGLTF_MODE_TRIANGLES)
-                fail("{}: primitive mode {} ({}) is not supported; only TRIANGLES (4) is", what,
-                     primitive.mode, modeName(primitive.mode));
+            if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+                primitive.mode != TINYGLTF_MODE_TRIANGLE_FAN)
+                fail("{}: primitive mode {} ({}) is not supported; only the triangle modes TRIANGLES (4), "
+                     "TRIANGLE_STRIP (5) and TRIANGLE_FAN (6) are",
+                     what, primitive.mode, modeName(primitive.mode));
             const auto position = primitive.attributes.find("POSITION");
             if (position == primitive.attributes.end()) fail("{}: primitive has no POSITION", what);
             for (const auto& [attribute, accessor] : primitive.attributes) {
@@ -1003,9 +1019,10 @@ class Importer {
                 indices.resize(local.size());
                 for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
             }
-            if (indices.size() % 3 != 0)
+            if (primitive.mode == TINYGLTF_MODE_TRIANGLES && indices.size() % 3 != 0)
                 fail("{}: {} {} is not a multiple of 3", what,
                      primitive.indices >= 0 ? "index count" : "vertex count", indices.size());
+            indices = triangleList(primitive.mode, std::move(indices));
             size_t degenerate = 0;
             for (size_t t = 0; t < indices.size(); t += 3) {
                 glm::uvec3 tri(indices[t], indices[t + 1], indices[t + 2]);
@@ -1272,6 +1289,14 @@ Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options) {
     if (version.rfind("2.", 0) != 0)
         throw InputError(
             fmt::format("{}: glTF version {} is not supported (only 2.x)", file, version));
+    // Before tinygltf: a required extension it cannot read either (Draco's
+    // compressed buffers) makes it fail on the accessors, naming a bufferView
+    // rather than the extension.
+    if (const auto required = root.find("extensionsRequired"); required != root.end() && required->is_array())
+        for (const Json& name : *required)
+            if (name.is_string() && !SUPPORTED_EXTENSIONS.contains(name.get<std::string>()))
+                throw InputError(fmt::format("{}: requires extension '{}', which vkpath does not support", file,
+                                             name.get<std::string>()));
     fs::path folder = path.parent_path();
     if (folder.empty()) folder = ".";
     checkUris(root, folder, binary, chunks.hasBin, file);

@@ -1046,6 +1046,13 @@ TEST(GltfWarnings, RequiredUnsupportedExtensionIsAnError) {
     g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
     g.node({{"mesh", g.triangle()}});
     EXPECT_CONTAINS(loadError(g.writeGltf(dir / "draco.gltf")), "KHR_draco_mesh_compression");
+    // As Draco files are: accessors without a bufferView (the data is in the
+    // compressed extension's own buffer), which tinygltf itself refuses, so
+    // the extension must be named before tinygltf reads the file.
+    for (auto& accessor : g.doc["accessors"]) accessor.erase("bufferView");
+    const std::string error = loadError(g.writeGltf(dir / "draco.gltf"));
+    EXPECT_CONTAINS(error, "requires extension 'KHR_draco_mesh_compression'");
+    EXPECT_EQ(error.find("bufferView"), std::string::npos) << error;
 }
 
 // ---------------------------------------------------------------------------
@@ -1234,6 +1241,41 @@ TEST(GltfBadInput, ModeNotTriangles) {
     GltfBuilder g;
     g.node({{"mesh", g.mesh(g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), -1, -1, -1, 1)}});
     EXPECT_CONTAINS(loadError(g.writeGltf(dir / "lines.gltf")), "mode 1 (LINES) is not supported");
+}
+
+// TRIANGLE_STRIP (5) and TRIANGLE_FAN (6) become the triangles glTF 2.0
+// 3.7.2.1 defines, with every triangle's winding kept counter-clockwise (all
+// face +Z here), indexed or not.
+TEST(GltfLayouts, TriangleStripsAndFansBecomeTriangles) {
+    TempDir dir;
+    struct Case {
+        int mode;
+        std::vector<glm::vec3> positions;
+        std::vector<glm::uvec3> triangles;
+    };
+    const Case cases[] = {
+        // A strip along x, zig-zagging between y = 1 (even vertices) and y = 0 (odd).
+        {5, {{0, 1, 0}, {0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {2, 1, 0}, {2, 0, 0}}, {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}, {3, 5, 4}}},
+        // A fan around the origin.
+        {6, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}}, {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}},
+    };
+    for (const Case& c : cases) {
+        for (const bool indexed : {false, true}) {
+            GltfBuilder g;
+            std::vector<uint32_t> order(c.positions.size());
+            for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
+            const int positions = g.vec3s(c.positions);
+            g.node({{"mesh", g.mesh(positions, indexed ? g.indices(order, U16) : -1, -1, -1, c.mode)}});
+            const scene::Scene s = load(g.writeGltf(dir / "strip.gltf")).scene;
+            ASSERT_EQ(s.meshes.size(), 1u) << c.mode;
+            EXPECT_EQ(s.meshes[0].triangles, c.triangles) << "mode " << c.mode << (indexed ? " indexed" : "");
+            for (const glm::uvec3& t : s.meshes[0].triangles) {
+                const glm::vec3 n = glm::cross(s.meshes[0].positions[t.y] - s.meshes[0].positions[t.x],
+                                               s.meshes[0].positions[t.z] - s.meshes[0].positions[t.x]);
+                EXPECT_GT(n.z, 0.0f) << "mode " << c.mode << ": a triangle faces away";
+            }
+        }
+    }
 }
 
 TEST(GltfBadInput, NoGeometry) {
