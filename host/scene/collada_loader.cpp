@@ -390,8 +390,19 @@ glm::dmat4 ColladaLoader::rootTransform() {
     }
     if (const pugi::xml_attribute meter = asset.child("unit").attribute("meter")) {
         double scale = 0;
-        if (!parseNumber(meter.as_string(), scale) || !std::isfinite(scale) || scale <= 0)
-            fail(fmt::format("<unit meter=\"{}\"> is not a positive number", meter.as_string()));
+        std::string text = meter.as_string();
+        // Some exporters write the decimal comma of their locale ("0,01");
+        // read it as a point, as Assimp and Blender do, and say so.
+        if (!parseNumber(text, scale) && text.find(',') != std::string::npos &&
+            text.find(',') == text.rfind(',') && text.find('.') == std::string::npos) {
+            std::string pointed = text;
+            pointed[pointed.find(',')] = '.';
+            if (parseNumber(pointed, scale))
+                m_warnings.add("unit comma", fmt::format("<unit meter=\"{}\"> has a decimal comma; read as {}", text,
+                                                         pointed));
+        }
+        if (!(scale > 0) || !std::isfinite(scale))
+            fail(fmt::format("<unit meter=\"{}\"> is not a positive number", text));
         if (scale != 1.0) root = root * glm::scale(glm::dmat4(1.0), glm::dvec3(scale));
     }
     return root;
@@ -470,9 +481,16 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
         } else if (kind == "instance_geometry") {
             addGeometryInstance(child, world, nodeName);
         } else if (kind == "instance_camera") {
-            m_cameras.push_back(
-                {nodeName, resolve(child.attribute("url").as_string(nullptr), "camera", context),
-                 world});
+            // A camera that cannot be found is a warning, as in Scotty3D, which
+            // places its camera from the scene's bounds.
+            try {
+                m_cameras.push_back(
+                    {nodeName, resolve(child.attribute("url").as_string(nullptr), "camera", context), world});
+            } catch (const InputError& e) {
+                std::string reason = e.what();
+                if (reason.rfind(m_file + ": ", 0) == 0) reason.erase(0, m_file.size() + 2);
+                m_warnings.add("camera instance", fmt::format("{}; ignored", reason));
+            }
         } else if (kind == "instance_light") {
             addLightInstance(child, world, nodeName);
         } else if (kind == "instance_controller") {
@@ -1293,37 +1311,50 @@ void ColladaLoader::frameCamera(const glm::vec3& boundsMin, const glm::vec3& bou
         }
         const std::string what = fmt::format("camera '{}'", nameOf(chosen->camera));
         camera.name = chosen->nodeName;
-        const pugi::xml_node optics = chosen->camera.child("optics").child("technique_common");
-        const pugi::xml_node perspective = optics.child("perspective");
-        if (!perspective) {
-            if (!optics.child("orthographic")) fail(what + " has no <perspective>");
-            m_warnings.add("orthographic",
-                           what + ": orthographic camera approximated by a 50 degree perspective");
-            camera.xfovDegrees = 50.0f;
-        } else {
-            double aspect = 0;
-            if (perspective.child("aspect_ratio")) {
-                aspect = scalar(perspective.child("aspect_ratio"), what + " <aspect_ratio>");
-                if (!(aspect > 0))
-                    fail(fmt::format("{}: aspect_ratio {} is not positive", what, aspect));
-            }
-            double xfov = 0;
-            if (perspective.child("xfov")) {
-                xfov = scalar(perspective.child("xfov"), what + " <xfov>");
-            } else if (perspective.child("yfov")) {
-                const double yfov = scalar(perspective.child("yfov"), what + " <yfov>");
-                if (!(yfov > 0 && yfov < 180))
-                    fail(fmt::format("{}: yfov {} is not in (0, 180) degrees", what, yfov));
-                // SOURCE.md: yfov = 2 atan(tan(xfov / 2) / aspect), inverted.
-                xfov = glm::degrees(2.0 * std::atan(std::tan(glm::radians(yfov) / 2) *
-                                                    (aspect > 0 ? aspect : 1.0)));
+        // Scotty3D frames the scene itself and reads little of the camera
+        // (SOURCE.md), so a camera it would render from is not refused for
+        // malformed optics: a warning, and Scotty3D's 50 degree hFov.
+        try {
+            const pugi::xml_node optics = chosen->camera.child("optics").child("technique_common");
+            const pugi::xml_node perspective = optics.child("perspective");
+            if (!perspective) {
+                if (!optics.child("orthographic")) fail(what + " has no <perspective>");
+                m_warnings.add("orthographic",
+                               what + ": orthographic camera approximated by a 50 degree perspective");
+                camera.xfovDegrees = 50.0f;
             } else {
-                fail(what + " has neither <xfov> nor <yfov>");
+                double aspect = 0;
+                if (perspective.child("aspect_ratio")) {
+                    aspect = scalar(perspective.child("aspect_ratio"), what + " <aspect_ratio>");
+                    if (!(aspect > 0))
+                        fail(fmt::format("{}: aspect_ratio {} is not positive", what, aspect));
+                }
+                double xfov = 0;
+                if (perspective.child("xfov")) {
+                    xfov = scalar(perspective.child("xfov"), what + " <xfov>");
+                } else if (perspective.child("yfov")) {
+                    const double yfov = scalar(perspective.child("yfov"), what + " <yfov>");
+                    if (!(yfov > 0 && yfov < 180))
+                        fail(fmt::format("{}: yfov {} is not in (0, 180) degrees", what, yfov));
+                    // SOURCE.md: yfov = 2 atan(tan(xfov / 2) / aspect), inverted.
+                    xfov = glm::degrees(2.0 * std::atan(std::tan(glm::radians(yfov) / 2) *
+                                                        (aspect > 0 ? aspect : 1.0)));
+                } else {
+                    fail(what + " has neither <xfov> nor <yfov>");
+                }
+                if (!(xfov > 0 && xfov < 180))
+                    fail(fmt::format("{}: xfov {} is not in (0, 180) degrees", what, xfov));
+                camera.xfovDegrees = static_cast<float>(xfov);
+                camera.aspect = static_cast<float>(aspect);
             }
-            if (!(xfov > 0 && xfov < 180))
-                fail(fmt::format("{}: xfov {} is not in (0, 180) degrees", what, xfov));
-            camera.xfovDegrees = static_cast<float>(xfov);
-            camera.aspect = static_cast<float>(aspect);
+        } catch (const InputError& e) {
+            std::string reason = e.what();
+            if (reason.rfind(m_file + ": ", 0) == 0) reason.erase(0, m_file.size() + 2);
+            m_warnings.add("camera optics", fmt::format("{}; the camera keeps its direction with Scotty3D's 50 degree "
+                                                        "field of view",
+                                                        reason));
+            camera.xfovDegrees = 50.0f;
+            camera.aspect = 0.0f;
         }
         // Step 2: the view direction transformed as a point, translation
         // included (M already holds step 1's Z_UP turn).

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -35,6 +36,7 @@ namespace fs = std::filesystem;
 // diffuse material, a camera. Tests swap pieces to make it bad or add to it.
 struct Doc {
     std::string upAxis = "Y_UP";
+    std::string unitMeter = "1";
     std::string positions = "0 0 0  1 0 0  0 1 0";
     std::string normals;  // per-corner NORMAL source (x y z per corner) when not empty
     std::string vcount = "3";
@@ -79,7 +81,7 @@ std::string xml(const Doc& d) {
     const bool hasNormals = !d.normals.empty();
     std::string s = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset><unit name="meter" meter="1"/><up_axis>)" + d.upAxis + R"(</up_axis></asset>
+  <asset><unit name="meter" meter=")" + d.unitMeter + R"("/><up_axis>)" + d.upAxis + R"(</up_axis></asset>
   <library_cameras><camera id="cam" name="cam"><optics><technique_common><perspective>
     <xfov>)" + d.xfov + R"(</xfov><aspect_ratio>1.5</aspect_ratio>
   </perspective></technique_common></optics></camera></library_cameras>
@@ -519,6 +521,20 @@ TEST(ColladaTransforms, ZUpTurnsToYUpAndPolygonsAreFans) {
     for (size_t t = 0; t < 3; ++t) expectNear(faceNormal(s.meshes[0], t), {0, 1, 0}, 1e-6f);
 }
 
+// Some exporters write <unit meter> with their locale's decimal comma: read
+// as a point with one warning, as Assimp and Blender read it.
+TEST(ColladaTransforms, UnitWithADecimalCommaIsReadWithAWarning) {
+    TempDir dir;
+    Doc d;
+    d.unitMeter = "0,01";
+    std::vector<std::string> warnings;
+    const scene::Scene s = loadQuiet(dir.write("comma.dae", xml(d)), &warnings);
+    expectNear(s.meshes[0].positions[1], {0.01f, 0, 0}, 1e-9f);
+    EXPECT_TRUE(anyContains(warnings, "<unit meter=\"0,01\"> has a decimal comma; read as 0.01"));
+    d.unitMeter = "0,0,1";  // not a number in either form
+    EXPECT_THROW(loadQuiet(dir.write("bad.dae", xml(d))), InputError);
+}
+
 // ---------------------------------------------------------------------------
 // Bad input: one InputError, one line, naming the file
 // ---------------------------------------------------------------------------
@@ -598,11 +614,29 @@ TEST(ColladaBadInput, InfinitePosition) {
     expectInputError(dir.write("inf.dae", xml(d)), "not finite");
 }
 
-TEST(ColladaBadInput, ZeroFov) {
+// Scotty3D renders a scene whatever its camera's optics say (it frames the
+// scene from its bounds), so vkpath does too: a warning and a 50 degree
+// hFov, the camera's direction kept. Likewise a camera that cannot be found.
+TEST(ColladaLeniency, MalformedCameraIsAWarningAndScotty3dsFieldOfView) {
     TempDir dir;
+    for (const std::string xfov : {"0", "abc", "200"}) {
+        Doc d;
+        d.xfov = xfov;
+        std::vector<std::string> warnings;
+        const scene::Scene s = loadQuiet(dir.write("fov.dae", xml(d)), &warnings);
+        EXPECT_EQ(s.camera.xfovDegrees, 50.0f) << xfov;
+        EXPECT_TRUE(anyContains(warnings, "xfov")) << xfov;
+        EXPECT_TRUE(anyContains(warnings, "Scotty3D's 50 degree field of view")) << xfov;
+    }
     Doc d;
-    d.xfov = "0";
-    expectInputError(dir.write("fov.dae", xml(d)), "xfov");
+    std::string text = xml(d);
+    text.replace(text.find("<instance_camera url=\"#cam\"/>"), std::strlen("<instance_camera url=\"#cam\"/>"),
+                 "<instance_camera url=\"#nowhere\"/>");
+    std::vector<std::string> warnings;
+    const scene::Scene s = loadQuiet(dir.write("nocam.dae", text), &warnings);
+    EXPECT_TRUE(anyContains(warnings, "nowhere")) << (warnings.empty() ? "" : warnings[0]);
+    EXPECT_TRUE(anyContains(warnings, "no camera"));
+    EXPECT_EQ(s.triangleCount(), 1u);
 }
 
 TEST(ColladaBadInput, NoGeometry) {
