@@ -131,7 +131,6 @@ std::vector<BadCase> badCases() {
         {"missing_geometry_id", triangleScene(good, "0 1 2", "#nope", "50", true)},
         {"index_out_of_range", triangleScene(good, "0 1 7", "#tri", "50", true)},
         {"nan_position", triangleScene("0 0 0 nan 0 0 0 1 0", "0 1 2", "#tri", "50", true)},
-        {"zero_fov", triangleScene(good, "0 1 2", "#tri", "0", true)},
         {"no_geometry", triangleScene(good, "0 1 2", "#tri", "50", false)},
     };
 }
