@@ -72,6 +72,14 @@ def relmse(vkpath, a, b):
     return json.loads(r.stdout)["overall"]["relMse"]
 
 
+def expect_equal(vkpath, image, whole, what):
+    """Fails unless `image` is within RELMSE_BOUND of the one-process render."""
+    error = relmse(vkpath, image, whole)
+    print(f"{what}: relMSE {error:.3g} against the one-process render")
+    if not error <= RELMSE_BOUND:
+        fail(f"{what}: relMSE {error} > {RELMSE_BOUND}")
+
+
 def chunk_processes():
     """(pid, parent pid) of each running vkpath of a driver task (its -o is in a vkpath-chunk- folder)."""
     found = []
@@ -112,10 +120,7 @@ def run_tests(args, python, work):
     r = subprocess.run(driver + ["-o", merged, "--", *SIZE], capture_output=True, text=True, timeout=300)
     if r.returncode != 0:
         fail(f"the driver exited with {r.returncode}:\n{r.stderr}")
-    error = relmse(args.vkpath, merged, whole)
-    print(f"4 chunks: relMSE {error:.3g} against the one-process render ({time.monotonic() - started:.1f} s)")
-    if not error <= RELMSE_BOUND:
-        fail(f"4 chunks merged: relMSE {error} > {RELMSE_BOUND}")
+    expect_equal(args.vkpath, merged, whole, f"4 chunks ({time.monotonic() - started:.1f} s)")
 
     # One worker killed while its chunk renders.
     retried = os.path.join(work, "retried.exr")
@@ -143,6 +148,7 @@ def run_tests(args, python, work):
     if "retrying" not in text:
         fail(f"worker {killed} was killed but the driver did not say it retried:\n{text}")
     print(text, end="")
+    expect_equal(args.vkpath, retried, whole, "a worker killed, its chunk retried")
 
     # The same driver joining a cluster started apart from it, as on several
     # machines (`ray start --head` here, `--address` for the driver).
@@ -163,14 +169,7 @@ def run_tests(args, python, work):
         subprocess.run([ray, "stop", "--force"], capture_output=True)
     if r.returncode != 0:
         fail(f"the driver with --address exited with {r.returncode}:\n{r.stderr}")
-    error = relmse(args.vkpath, joined, whole)
-    print(f"on a cluster started by ray start, joined with --address: relMSE {error:.3g}")
-    if not error <= RELMSE_BOUND:
-        fail(f"with --address: relMSE {error} > {RELMSE_BOUND}")
-    error = relmse(args.vkpath, retried, whole)
-    print(f"a worker killed, its chunk retried: relMSE {error:.3g}")
-    if not error <= RELMSE_BOUND:
-        fail(f"with a retried chunk: relMSE {error} > {RELMSE_BOUND}")
+    expect_equal(args.vkpath, joined, whole, "on a cluster started by ray start, joined with --address")
     print("PASS")
 
 
