@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/fnv1a.h"
 #include "input_error.h"
 
 namespace vkpath::app {
@@ -19,10 +20,8 @@ namespace {
 
 constexpr const char* MAGIC = "vkpath checkpoint 1\n";
 
-uint64_t fnv1a(const std::string& bytes) {
-    uint64_t hash = 0xcbf29ce484222325ull;
-    for (unsigned char c : bytes) hash = (hash ^ c) * 0x100000001b3ull;
-    return hash;
+uint64_t hashText(const std::string& text, uint64_t hash = FNV1A_OFFSET) {
+    return fnv1a(std::as_bytes(std::span(text.data(), text.size())), hash);
 }
 
 // Values are one line each: newlines and backslashes escaped.
@@ -110,8 +109,7 @@ T number(const std::map<std::string, std::string>& fields, const char* key, cons
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {
     const std::string text = header(checkpoint);
     const auto* film = reinterpret_cast<const char*>(checkpoint.state.film.data());
-    uint64_t hash = fnv1a(text);
-    for (size_t i = 0; i < checkpoint.state.film.size(); ++i) hash = (hash ^ uint8_t(film[i])) * 0x100000001b3ull;
+    const uint64_t hash = fnv1a(checkpoint.state.film, hashText(text));
     unsigned char hashBytes[8];
     for (int i = 0; i < 8; ++i) hashBytes[i] = uint8_t(hash >> (8 * i));
 
@@ -185,7 +183,7 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
                                      filmStart + filmBytes + 8));
     uint64_t stored = 0;
     for (int i = 0; i < 8; ++i) stored |= uint64_t(uint8_t(bytes[filmStart + filmBytes + i])) << (8 * i);
-    if (fnv1a(bytes.substr(0, filmStart + filmBytes)) != stored)
+    if (fnv1a(std::as_bytes(std::span(bytes.data(), filmStart + filmBytes))) != stored)
         throw InputError(fmt::format("{}: damaged checkpoint: its hash does not match its contents", file));
     s.film.resize(filmBytes);
     std::memcpy(s.film.data(), bytes.data() + filmStart, filmBytes);

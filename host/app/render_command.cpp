@@ -173,11 +173,10 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result, s
 
 // The checkpoint to resume, read and matched against this render; nullopt without --resume.
 std::optional<Checkpoint> resumeCheckpoint(const RenderCommandOptions& o, const RenderIdentity& identity,
-                                           const wavefront::SampleRange& samples) {
+                                           const wavefront::SampleRange& samples, const FilmSize& film) {
     if (o.resume.empty()) return std::nullopt;
     Checkpoint checkpoint = readCheckpoint(o.resume);
     checkCheckpointMatches(o.resume, checkpoint, identity, samples);
-    const FilmSize film = parseFilmSize(o.size);
     wavefront::checkResumable(checkpoint.state, o.device == "cpu" ? wavefront::CPU_FILM_FORMAT : wavefront::GPU_FILM_FORMAT,
                               film.width, film.height, samples, o.resume);
     return checkpoint;
@@ -261,7 +260,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
     const scene::Scene scene = loadRenderScene(o);
     const RenderIdentity identity = renderIdentity(o, scene);
-    const std::optional<Checkpoint> resume = resumeCheckpoint(o, identity, samples);
+    const std::optional<Checkpoint> resume = resumeCheckpoint(o, identity, samples, film);
 
     const StopOnSignal stopOnSignal;
     std::optional<SavedCheckpoint> saved;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "app/fnv1a.h"
 #include "input_error.h"
 #include "scene/environment.h"
 #include "scene/load.h"
@@ -62,24 +63,20 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
 
 namespace {
 
-// FNV-1a, 64 bits, over a file's bytes (a fingerprint, not a security hash).
+// `hash` continued over a file's bytes.
 uint64_t hashFile(const std::string& path, uint64_t hash) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(fmt::format("{}: cannot read", path));
     char buffer[1 << 16];
-    while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0) {
-        for (std::streamsize i = 0; i < in.gcount(); ++i) {
-            hash ^= uint8_t(buffer[i]);
-            hash *= 0x100000001b3ull;
-        }
-    }
+    while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0)
+        hash = fnv1a(std::as_bytes(std::span(buffer, size_t(in.gcount()))), hash);
     return hash;
 }
 
 }  // namespace
 
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
-    uint64_t hash = hashFile(o.scene, 0xcbf29ce484222325ull);
+    uint64_t hash = hashFile(o.scene, FNV1A_OFFSET);
     for (const std::filesystem::path& file : scene.referencedFiles) hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
     auto optional = [](const std::optional<float>& v) { return v ? fmt::format("{}", *v) : std::string("scene"); };

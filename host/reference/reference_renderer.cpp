@@ -119,41 +119,23 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
 
     const shared::SceneInfo& info = m_tables.info;
     std::vector<PixelSums> film(pixels);
-    wavefront::RenderState before;  // what the state resumed from holds (its film copied into `film`)
-    if (control.resume) {
-        wavefront::checkResumable(*control.resume, wavefront::CPU_FILM_FORMAT, width, height, samples,
-                                  "the state to resume");
-        if (control.resume->film.size() != film.size() * sizeof(PixelSums))
-            throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
-                                         control.resume->film.size(), film.size() * sizeof(PixelSums)));
-        std::memcpy(film.data(), control.resume->film.data(), control.resume->film.size());
-        before = *control.resume;
-        before.film.clear();
-    }
+    const wavefront::RenderState before = wavefront::resumedState(control, wavefront::CPU_FILM_FORMAT, width, height,
+                                                                  samples, film.size() * sizeof(PixelSums));
+    if (control.resume) std::memcpy(film.data(), control.resume->film.data(), control.resume->film.size());
     std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0}, rejectedLightSamples{0};
 
     wavefront::RenderResult result;
     result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
     result.priorSeconds = before.seconds;
     auto state = [&](uint32_t done, double seconds) {
-        wavefront::RenderState now = before;
-        now.filmFormat = wavefront::CPU_FILM_FORMAT;
-        now.width = width;
-        now.height = height;
-        now.samplesDone = done;
-        now.film.resize(film.size() * sizeof(PixelSums));
-        std::memcpy(now.film.data(), film.data(), now.film.size());
-        now.nonFiniteSamples += nonFinite;
-        now.fireflySamples += fireflies;
-        now.rejectedLightSamples += rejectedLightSamples;
-        now.rays.closest += closestRays;
-        now.rays.shadow += shadowRays;
-        now.waves += result.waves;
-        now.seconds += seconds;
-        return now;
+        std::vector<std::byte> bytes(film.size() * sizeof(PixelSums));
+        std::memcpy(bytes.data(), film.data(), bytes.size());
+        const wavefront::RunTally run{nonFinite, fireflies, rejectedLightSamples, {closestRays, shadowRays},
+                                      result.waves, seconds};
+        return wavefront::continuedState(before, done, std::move(bytes), run);
     };
     const auto start = Clock::now();
-    auto lastCheckpoint = start;
+    wavefront::WholeSampleGate gate(control, s.timeBudgetSeconds);
     uint32_t done = before.samplesDone;  // samples per pixel
     while (done < samples.count) {
         const uint32_t passSamples = std::min(samples.count - done, samplesPerPass);
@@ -185,25 +167,17 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
         ++result.waves;
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
         if (control.progress) control.progress({done, samples.count, seconds});
-        if (control.stopRequested && control.stopRequested()) {
-            result.stopped = done < samples.count;
-            break;
-        }
-        if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds) break;
-        if (control.checkpoint && done < samples.count &&
-            std::chrono::duration<double>(Clock::now() - lastCheckpoint).count() >= control.checkpointEverySeconds) {
+        if (gate.ends(done, samples.count, seconds, result.stopped)) break;
+        if (gate.checkpointDue(done, samples.count)) {
             control.checkpoint(state(done, seconds));
-            lastCheckpoint = Clock::now();
+            gate.checkpointed();
         }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     result.paths = pixels * (done - before.samplesDone);
     result.rays = {closestRays, shadowRays};
     const wavefront::RenderState end = state(done, result.seconds);
-    result.samplesPerPixel = end.samplesDone;
-    result.nonFiniteSamples = end.nonFiniteSamples;
-    result.fireflySamples = end.fireflySamples;
-    result.rejectedLightSamples = end.rejectedLightSamples;
+    result.takeTotals(end);
     if (control.checkpoint) control.checkpoint(end);
 
     result.image = image::Image(width, height);

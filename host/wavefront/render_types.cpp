@@ -53,6 +53,62 @@ void checkResumable(const RenderState& state, const char* format, uint32_t width
                                      state.samplesDone, samples.count));
 }
 
+RenderState resumedState(const RenderControl& control, const char* format, uint32_t width, uint32_t height,
+                         const SampleRange& samples, size_t filmBytes) {
+    RenderState before;
+    if (control.resume) {
+        checkResumable(*control.resume, format, width, height, samples, "the state to resume");
+        if (control.resume->film.size() != filmBytes)
+            throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
+                                         control.resume->film.size(), filmBytes));
+        before.samplesDone = control.resume->samplesDone;
+        before.nonFiniteSamples = control.resume->nonFiniteSamples;
+        before.fireflySamples = control.resume->fireflySamples;
+        before.rejectedLightSamples = control.resume->rejectedLightSamples;
+        before.rays = control.resume->rays;
+        before.waves = control.resume->waves;
+        before.seconds = control.resume->seconds;
+    }
+    before.filmFormat = format;
+    before.width = width;
+    before.height = height;
+    return before;
+}
+
+RenderState continuedState(const RenderState& before, uint32_t samplesDone, std::vector<std::byte> film,
+                           const RunTally& run) {
+    RenderState now = before;
+    now.samplesDone = samplesDone;
+    now.film = std::move(film);
+    now.nonFiniteSamples += run.nonFiniteSamples;
+    now.fireflySamples += run.fireflySamples;
+    now.rejectedLightSamples += run.rejectedLightSamples;
+    now.rays.closest += run.rays.closest;
+    now.rays.shadow += run.rays.shadow;
+    now.waves += run.waves;
+    now.seconds += run.seconds;
+    return now;
+}
+
+WholeSampleGate::WholeSampleGate(const RenderControl& control, std::optional<double> timeBudgetSeconds)
+    : m_control(control), m_timeBudget(timeBudgetSeconds), m_lastCheckpoint(std::chrono::steady_clock::now()) {}
+
+bool WholeSampleGate::ends(uint32_t done, uint32_t total, double seconds, bool& stopped) const {
+    if (m_control.stopRequested && m_control.stopRequested()) {
+        stopped = done < total;
+        return true;
+    }
+    return m_timeBudget && seconds >= *m_timeBudget;
+}
+
+bool WholeSampleGate::checkpointDue(uint32_t done, uint32_t total) const {
+    return m_control.checkpoint && done < total &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - m_lastCheckpoint).count() >=
+               m_control.checkpointEverySeconds;
+}
+
+void WholeSampleGate::checkpointed() { m_lastCheckpoint = std::chrono::steady_clock::now(); }
+
 PixelEstimate estimatePixel(double sum, double sumSquares, double samples) {
     PixelEstimate e;
     if (!(samples > 0)) return e;

@@ -4,6 +4,7 @@
 // turn per-pixel sums into the same mean and variance-of-mean images.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -143,6 +144,44 @@ inline constexpr const char* CPU_FILM_FORMAT = "cpu-f64";
 void checkResumable(const RenderState& state, const char* format, uint32_t width, uint32_t height,
                     const SampleRange& samples, const std::string& what);
 
+// What a render of `format` sums (`filmBytes` of them) starts from:
+// control.resume, checked (checkResumable, the film's size) and copied
+// without its film, or an empty state of that format and size.
+RenderState resumedState(const RenderControl& control, const char* format, uint32_t width, uint32_t height,
+                         const SampleRange& samples, size_t filmBytes);
+
+// What one run of a renderer added to the state it started from.
+struct RunTally {
+    uint64_t nonFiniteSamples = 0;
+    uint64_t fireflySamples = 0;
+    uint64_t rejectedLightSamples = 0;
+    RayCounts rays;
+    uint32_t waves = 0;
+    double seconds = 0;
+};
+
+// `before` with `film` (the sums now) and `run` added, `samplesDone` whole samples in.
+RenderState continuedState(const RenderState& before, uint32_t samplesDone, std::vector<std::byte> film,
+                           const RunTally& run);
+
+// The decisions both renderers take at each whole sample: end there (a stop
+// request, or the time budget spent) or write a checkpoint first.
+class WholeSampleGate {
+  public:
+    WholeSampleGate(const RenderControl& control, std::optional<double> timeBudgetSeconds);
+    // True when the render ends at `done` of `total` samples, `seconds` into
+    // this run; `stopped` is set when a stop request ended it early.
+    bool ends(uint32_t done, uint32_t total, double seconds, bool& stopped) const;
+    // True when a checkpoint is due (then the caller writes it and calls checkpointed()).
+    bool checkpointDue(uint32_t done, uint32_t total) const;
+    void checkpointed();
+
+  private:
+    const RenderControl& m_control;
+    std::optional<double> m_timeBudget;
+    std::chrono::steady_clock::time_point m_lastCheckpoint;
+};
+
 struct RenderResult {
     image::Image image;          // mean radiance per pixel
     image::Image varianceOfMean; // per channel: sample variance / samples (the variance AOV)
@@ -161,6 +200,14 @@ struct RenderResult {
     double seconds = 0;                         // wall clock of this run's waves
     double priorSeconds = 0;                    // rendering before it, by the runs a resumed state came from
     std::map<std::string, double> stageMilliseconds;  // GPU: device time per stage (empty on the CPU)
+
+    // The image's totals from the state the render ended in: spp and the counts.
+    void takeTotals(const RenderState& end) {
+        samplesPerPixel = end.samplesDone;
+        nonFiniteSamples = end.nonFiniteSamples;
+        fireflySamples = end.fireflySamples;
+        rejectedLightSamples = end.rejectedLightSamples;
+    }
 };
 
 // The scene tables' SceneInfo with the render's settings filled in (samples,

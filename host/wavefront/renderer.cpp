@@ -317,19 +317,13 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
 
     RenderResult result;
     result.pathsInFlight = r.pathCount;
-    RenderState before;  // what the state resumed from holds (its film goes to the device)
-    if (control.resume) {
-        checkResumable(*control.resume, GPU_FILM_FORMAT, s.width, s.height, samples, "the state to resume");
-        if (control.resume->film.size() != r.filmBytes())
-            throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
-                                         control.resume->film.size(), r.filmBytes()));
+    const RenderState before = resumedState(control, GPU_FILM_FORMAT, s.width, s.height, samples, r.filmBytes());
+    if (control.resume) {  // its film goes to the device
         size_t offset = 0;
         for (vk::Buffer& window : r.film) {
             window.upload(std::span(control.resume->film).subspan(offset, window.size()));
             offset += window.size();
         }
-        before = *control.resume;
-        before.film.clear();
     } else {
         for (vk::Buffer& window : r.film) window.clear();
     }
@@ -339,20 +333,13 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     // The state now: the device's film and counters on top of what came before.
     auto state = [&](std::vector<std::byte> film, const shared::QueueCounters& counters, uint64_t done,
                      double seconds) {
-        RenderState now = before;
-        now.filmFormat = GPU_FILM_FORMAT;
-        now.width = s.width;
-        now.height = s.height;
-        now.samplesDone = uint32_t(done / pixels);
-        now.film = std::move(film);
-        now.nonFiniteSamples += counters.nonFinite;
-        now.fireflySamples += counters.fireflies;
-        now.rejectedLightSamples += counters.rejectedLightSamples;
-        now.rays.closest += join64(counters.closestRays);
-        now.rays.shadow += join64(counters.shadowRays);
-        now.waves += result.waves;
-        now.seconds += seconds;
-        return now;
+        const RunTally run{counters.nonFinite,
+                           counters.fireflies,
+                           counters.rejectedLightSamples,
+                           {join64(counters.closestRays), join64(counters.shadowRays)},
+                           result.waves,
+                           seconds};
+        return continuedState(before, uint32_t(done / pixels), std::move(film), run);
     };
     auto filmBytes = [&] {  // the windows, one after another: the film in pixel order
         std::vector<std::byte> film(r.filmBytes());
@@ -365,7 +352,7 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     };
 
     const auto start = Clock::now();
-    auto lastCheckpoint = start;
+    WholeSampleGate gate(control, s.timeBudgetSeconds);
     uint64_t done = uint64_t(before.samplesDone) * pixels;
     // maxWaveMilliseconds: the next wave's size from the paths per
     // millisecond the last one managed, aimed at 3/4 of the cap (room for
@@ -448,15 +435,10 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         if (control.progress) control.progress({samplesDone, samples.count, seconds});
         // Stops, the time budget and checkpoints: at whole samples only.
         if (done % pixels != 0) continue;
-        if (control.stopRequested && control.stopRequested()) {
-            result.stopped = done < totalPaths;
-            break;
-        }
-        if (s.timeBudgetSeconds && seconds >= *s.timeBudgetSeconds) break;
-        if (control.checkpoint && done < totalPaths &&
-            std::chrono::duration<double>(Clock::now() - lastCheckpoint).count() >= control.checkpointEverySeconds) {
+        if (gate.ends(samplesDone, samples.count, seconds, result.stopped)) break;
+        if (gate.checkpointDue(samplesDone, samples.count)) {
             control.checkpoint(state(filmBytes(), r.counters.download<shared::QueueCounters>().at(0), done, seconds));
-            lastCheckpoint = Clock::now();
+            gate.checkpointed();
         }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -465,11 +447,8 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
 
     const shared::QueueCounters counters = r.counters.download<shared::QueueCounters>().at(0);
     result.rays = {join64(counters.closestRays), join64(counters.shadowRays)};
-    RenderState end = state(filmBytes(), counters, done, result.seconds);
-    result.samplesPerPixel = end.samplesDone;
-    result.nonFiniteSamples = end.nonFiniteSamples;
-    result.fireflySamples = end.fireflySamples;
-    result.rejectedLightSamples = end.rejectedLightSamples;
+    const RenderState end = state(filmBytes(), counters, done, result.seconds);
+    result.takeTotals(end);
     if (control.checkpoint) control.checkpoint(end);
     result.image = image::Image(s.width, s.height);
     result.varianceOfMean = image::Image(s.width, s.height);
