@@ -14,7 +14,14 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
       m_lightAlias(tables.lightAlias),
       m_primitiveLight(tables.primitiveLight),
       m_envAlias(tables.envAlias),
-      m_envRadiance(tables.envRadiance) {
+      m_envRadiance(tables.envRadiance),
+      m_triangleVertices(tables.surface.triangleVertices),
+      m_vertexNormals(tables.surface.vertexNormals),
+      m_vertexTexcoords(tables.surface.vertexTexcoords),
+      m_vertexColors(tables.surface.vertexColors),
+      m_textures(tables.textures.textures),
+      m_textureSlots(tables.textures.slots),
+      m_texels(tables.textures.texels) {
     auto require = [](bool ok, const std::string& what) {
         if (!ok) throw std::invalid_argument("scene tables: " + what);
     };
@@ -26,6 +33,25 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
                         info.lightCount));
     require(m_primitiveLight.empty() || m_primitiveLight.size() == primitives.size(),
             fmt::format("{} primitive-light entries for {} primitives", m_primitiveLight.size(), primitives.size()));
+    if (info.triangleAttributes != 0u) {
+        for (const BvhPrimitive& p : primitives)
+            require(p.kind != VKP_PRIMITIVE_TRIANGLE || p.id < m_triangleVertices.size(),
+                    fmt::format("triangle {} of {} with vertex attributes", p.id, m_triangleVertices.size()));
+        for (const TriangleVertices& t : m_triangleVertices)
+            for (const auto& [bit, size] : {std::pair{VKP_TRIANGLE_SHADING_NORMALS, m_vertexNormals.size()},
+                                            std::pair{VKP_TRIANGLE_TEXCOORDS, m_vertexTexcoords.size()},
+                                            std::pair{VKP_TRIANGLE_COLORS, m_vertexColors.size()}})
+                require((t.attributes & bit) == 0u || glm::all(glm::lessThan(t.vertex, glm::uvec3(uint(size)))),
+                        "vertex attribute index out of range");
+    }
+    for (const Material& m : m_materials)
+        require(m.textures == VKP_NO_TEXTURE || m.textures + VKP_SLOTS_PER_MATERIAL <= m_textureSlots.size(),
+                "material texture slots out of range");
+    for (const TextureSlot& slot : m_textureSlots)
+        require(slot.texture == VKP_NO_TEXTURE || slot.texture < m_textures.size(), "texture index out of range");
+    for (const TextureInfo& t : m_textures)
+        require(t.width > 0 && t.height > 0 && uint64_t(t.firstTexel) + uint64_t(t.width) * t.height <= m_texels.size(),
+                "texture texels out of range");
     require(info.environmentLight == VKP_NO_LIGHT || info.environmentLight < info.lightCount,
             "environment light index out of range");
     if (info.hasEnvironment != 0u && info.environment.width > 0) {

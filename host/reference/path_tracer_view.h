@@ -23,9 +23,11 @@
 #include "shared/environment_sampling.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/mesh_attributes.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 #include "shared/scene_data.h"
+#include "shared/texture.h"
 #include "wavefront/gpu_scene.h"
 
 namespace vkpath::shared {
@@ -48,6 +50,16 @@ struct PathTracerView : BvhView {
     }
     AliasEntry sceneEnvAlias(uint texel) const { return m_envAlias[texel]; }
     vec3 sceneEnvRadiance(uint texel) const { return m_envRadiance[texel]; }
+    TriangleVertices sceneTriangleVertices(uint triangle) const { return m_triangleVertices[triangle]; }
+    vec3 sceneVertexNormal(uint vertex) const { return m_vertexNormals[vertex]; }
+    vec4 sceneVertexTexcoords(uint vertex) const { return m_vertexTexcoords[vertex]; }
+    vec4 sceneVertexColor(uint vertex) const { return m_vertexColors[vertex]; }
+    TextureInfo sceneTexture(uint index) const { return m_textures[index]; }
+    TextureSlot sceneTextureSlot(uint index) const { return m_textureSlots[index]; }
+    vec4 sceneTexel(uint index) const {
+        const uvec2 packed = m_texels[index];
+        return vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));
+    }
 
 #include "shared/path_tracer.h"
 #include "shared/integrator.h"
@@ -60,6 +72,13 @@ struct PathTracerView : BvhView {
     std::span<const uint> m_primitiveLight;
     std::span<const AliasEntry> m_envAlias;
     std::span<const vec3> m_envRadiance;
+    std::span<const TriangleVertices> m_triangleVertices;
+    std::span<const vec3> m_vertexNormals;
+    std::span<const vec4> m_vertexTexcoords;
+    std::span<const vec4> m_vertexColors;
+    std::span<const TextureInfo> m_textures;
+    std::span<const TextureSlot> m_textureSlots;
+    std::span<const uvec2> m_texels;
 };
 
 }  // namespace vkpath::shared

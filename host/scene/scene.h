@@ -7,6 +7,7 @@
 // taken as W/sr, a lux as W/m^2).
 #pragma once
 
+#include <glm/ext/vector_uint4_sized.hpp>
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -25,6 +26,41 @@ enum class MaterialKind : uint32_t {
     Dielectric = 2,  // smooth glass: exact Fresnel between ior 1 and `ior`
 };
 
+// How a texture is read outside [0, 1] (glTF sampler wrapS / wrapT); the
+// same numbers as VKP_WRAP_* (shaders/shared/texture.h).
+enum class TextureWrap : uint32_t { Repeat = 0, ClampToEdge = 1, MirroredRepeat = 2 };
+
+// An image as decoded from its file: RGBA, 16-bit normalised, rows top to
+// bottom (the first row is v = 0 in glTF's texture coordinates), values as
+// stored (no colour decoding: each use says whether they are sRGB).
+struct TextureImage {
+    std::string name;
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<glm::u16vec4> texels;  // width x height, row-major
+};
+
+// A glTF texture: an image and how it is sampled.
+struct Texture {
+    uint32_t image = 0;  // index into Scene::images
+    TextureWrap wrapU = TextureWrap::Repeat;
+    TextureWrap wrapV = TextureWrap::Repeat;
+    bool nearest = false;  // nearest texel, else bilinear (glTF's magFilter)
+};
+
+// A material's use of a texture (glTF textureInfo with KHR_texture_transform):
+// uv' = offset + R(rotation) S(scale) uv, read at texture coordinate set
+// `texCoord`. `texture` < 0: none.
+struct TextureRef {
+    int32_t texture = -1;  // index into Scene::textures
+    uint32_t texCoord = 0;  // TEXCOORD_n
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f;  // radians, counter-clockwise in uv as KHR_texture_transform defines it
+    glm::vec2 scale{1.0f};
+
+    bool present() const { return texture >= 0; }
+};
+
 struct Material {
     std::string name;
     MaterialKind kind = MaterialKind::Diffuse;
@@ -32,6 +68,11 @@ struct Material {
     glm::vec3 transmittance{1.0f};  // glass only: tint of refracted light
     float ior = 1.5f;               // glass only: index of refraction inside / outside
     glm::vec3 emission{0.0f};       // emitted radiance, W/(m^2 sr); > 0 makes the surface an area light
+    // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
+    // `transmittance`, which the base colour tints), the emissive texture
+    // `emission`; both are sRGB-encoded.
+    TextureRef baseColorTexture;
+    TextureRef emissiveTexture;
 
     bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
@@ -40,6 +81,10 @@ struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;  // world space
     std::vector<glm::vec3> normals;    // world space shading normals, per vertex; empty: use face normals
+    std::vector<glm::vec2> texcoords0; // TEXCOORD_0 per vertex, glTF's convention ((0, 0) the image's top left);
+                                       // empty: none
+    std::vector<glm::vec2> texcoords1; // TEXCOORD_1 per vertex; empty: none
+    std::vector<glm::vec4> colors;     // COLOR_0 per vertex, linear RGBA; empty: none (white)
     std::vector<glm::uvec3> triangles; // indices into positions, counter-clockwise seen from the front
     uint32_t material = 0;             // index into Scene::materials
 };
@@ -106,6 +151,8 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Mesh> meshes;
     std::vector<Sphere> spheres;
+    std::vector<TextureImage> images;
+    std::vector<Texture> textures;
     std::vector<PointLight> pointLights;
     std::vector<SpotLight> spotLights;
     std::vector<DirectionalLight> directionalLights;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -17,8 +18,9 @@ namespace {
 
 constexpr double PI = std::numbers::pi;
 
-shared::Material toGpu(const scene::Material& m) {
+shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXTURE) {
     shared::Material g;
+    g.textures = textures;
     g.reflectance = m.reflectance;
     g.kind = static_cast<uint32_t>(m.kind);
     g.transmittance = m.transmittance;
@@ -77,7 +79,11 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     const scene::Scene scene = moved(world, t.worldOrigin);
     t.camera = scene.camera;
     t.bvh = bvh::buildBvh(scene, bvhOptions);
-    for (const auto& m : scene.materials) t.materials.push_back(toGpu(m));
+    t.surface = buildSurfaceTables(scene);
+    t.info.triangleAttributes = t.surface.attributes;
+    t.textures = buildTextureTables(scene);
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+        t.materials.push_back(toGpu(scene.materials[i], t.textures.materialSlots[i]));
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
 
     std::vector<double> power;
@@ -88,7 +94,10 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
         const scene::Material& m = scene.materials.at(mesh.material);
         for (const glm::uvec3& tri : mesh.triangles) {
             const uint32_t id = triangleId++;
-            if (!m.emissive()) continue;
+            // A textured emitter is not light-sampled (its emission varies over
+            // the triangle, which the light's constant record cannot say): it
+            // is found by BSDF samples alone, with weight 1, which is unbiased.
+            if (!m.emissive() || m.emissiveTexture.present()) continue;
             const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y), p2 = mesh.positions.at(tri.z);
             if (bvh::isDegenerateTriangle(p0, p1, p2)) continue;
             shared::Light light{};
@@ -194,12 +203,15 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
 uint64_t deviceBytes(const SceneTables& t) {
     auto bytes = [](const auto& array) { return uint64_t(array.size() * sizeof(array[0])); };
     return t.bvh.bytes() + bytes(t.materials) + bytes(t.lights) + bytes(t.lightAlias) + bytes(t.primitiveLight) +
-           bytes(t.envAlias) + bytes(t.envRadiance);
+           bytes(t.envAlias) + bytes(t.envRadiance) + bytes(t.surface.triangleVertices) +
+           bytes(t.surface.vertexNormals) + bytes(t.surface.vertexTexcoords) + bytes(t.surface.vertexColors) +
+           bytes(t.textures.textures) + bytes(t.textures.slots) + bytes(t.textures.texels);
 }
 
 uint64_t GpuScene::bytes() const {
     return bvh.bytes() + materials.size() + lights.size() + lightAlias.size() + primitiveLight.size() +
-           envAlias.size() + envRadiance.size();
+           envAlias.size() + envRadiance.size() + triangleVertices.size() + vertexNormals.size() +
+           vertexTexcoords.size() + vertexColors.size() + textures.size() + textureSlots.size() + texels.size();
 }
 
 GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
@@ -213,7 +225,12 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
                                        extent("light alias", t.lightAlias),
                                        extent("primitive light", t.primitiveLight),
                                        extent("environment alias", t.envAlias),
-                                       extent("environment radiance", t.envRadiance)};
+                                       extent("environment radiance", t.envRadiance),
+                                       extent("triangle vertices", t.surface.triangleVertices),
+                                       extent("vertex normals", t.surface.vertexNormals),
+                                       extent("vertex texture coordinates", t.surface.vertexTexcoords),
+                                       extent("vertex colours", t.surface.vertexColors),
+                                       extent("texels", t.textures.texels)};
     const vk::BufferLimits limits = vk::bufferLimits(context.info());
     GpuScene g;
     g.byAddress = vk::chooseAddressAccess(extents, limits);
@@ -229,22 +246,42 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     g.primitiveLight = uploadOrPlaceholder(context, t.primitiveLight, "primitiveLight");
     g.envAlias = uploadOrPlaceholder(context, t.envAlias, "envAlias");
     g.envRadiance = uploadOrPlaceholder(context, t.envRadiance, "envRadiance");
+    g.triangleVertices = uploadOrPlaceholder(context, t.surface.triangleVertices, "triangleVertices");
+    g.vertexNormals = uploadOrPlaceholder(context, t.surface.vertexNormals, "vertexNormals");
+    g.vertexTexcoords = uploadOrPlaceholder(context, t.surface.vertexTexcoords, "vertexTexcoords");
+    g.vertexColors = uploadOrPlaceholder(context, t.surface.vertexColors, "vertexColors");
+    g.textures = uploadOrPlaceholder(context, t.textures.textures, "textures");
+    g.textureSlots = uploadOrPlaceholder(context, t.textures.slots, "textureSlots");
+    g.texels = uploadOrPlaceholder(context, t.textures.texels, "texels");
     shared::SceneAddresses addresses{};
     if (g.byAddress) {
         auto split = [](const vk::Buffer& b) {
             const VkDeviceAddress a = b.deviceAddress();
             return glm::uvec2(uint32_t(a), uint32_t(a >> 32));
         };
-        addresses = {g.bvh.addresses(), split(g.lights),    split(g.lightAlias),
-                     split(g.primitiveLight), split(g.envAlias), split(g.envRadiance)};
+        addresses = {g.bvh.addresses(),      split(g.lights),           split(g.lightAlias),
+                     split(g.primitiveLight), split(g.envAlias),         split(g.envRadiance),
+                     split(g.triangleVertices), split(g.vertexNormals), split(g.vertexTexcoords),
+                     split(g.vertexColors), split(g.texels)};
     }
     g.addresses = vk::Buffer::fromSpan(context, std::span(&addresses, 1), "sceneAddresses");
     return g;
 }
 
 std::string describeMemory(const GpuScene& g, const SceneTables& t) {
-    return fmt::format("scene: {:.1f} MiB on the device ({}), {}", g.bytes() / (1024.0 * 1024.0),
-                       bvh::describeMemory(t.bvh),
+    std::string surface;
+    if (t.surface.attributes != 0)
+        surface = fmt::format("; vertex attributes: {} triangles, {} vertices ({:.1f} KiB)",
+                              t.surface.triangleVertices.size(),
+                              std::max({t.surface.vertexNormals.size(), t.surface.vertexTexcoords.size(),
+                                        t.surface.vertexColors.size()}),
+                              (g.triangleVertices.size() + g.vertexNormals.size() + g.vertexTexcoords.size() +
+                               g.vertexColors.size()) / 1024.0);
+    if (!t.textures.textures.empty())
+        surface += fmt::format("; textures: {} ({} texels, {:.1f} MiB)", t.textures.textures.size(),
+                               t.textures.texels.size(), g.texels.size() / (1024.0 * 1024.0));
+    return fmt::format("scene: {:.1f} MiB on the device ({}{}), {}", g.bytes() / (1024.0 * 1024.0),
+                       bvh::describeMemory(t.bvh), surface,
                        g.byAddress ? "read by buffer device address (larger than a storage-buffer binding)"
                                    : "bound as storage buffers");
 }

@@ -19,6 +19,8 @@
 #include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
 #include "vk/buffer.h"
+#include "wavefront/surface_tables.h"
+#include "wavefront/texture_tables.h"
 
 namespace vkpath::wavefront {
 
@@ -32,6 +34,8 @@ struct SceneTables {
     std::vector<uint32_t> primitiveLight;  // per leaf primitive; empty when nothing is emissive
     std::vector<shared::AliasEntry> envAlias;
     std::vector<glm::vec3> envRadiance;
+    SurfaceTables surface;     // vertex attributes for shading (empty when the scene is flat)
+    TextureTables textures;    // empty when no material has a texture
     shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
     // Everything above is in render space: world space moved so that the
     // centre of the geometry's bounding box is the origin (computed in
@@ -58,10 +62,18 @@ struct GpuScene {
     vk::Buffer primitiveLight;
     vk::Buffer envAlias;
     vk::Buffer envRadiance;
+    vk::Buffer triangleVertices;
+    vk::Buffer vertexNormals;
+    vk::Buffer vertexTexcoords;
+    vk::Buffer vertexColors;
+    vk::Buffer textures;      // TextureInfo[]: bound always (one per texture)
+    vk::Buffer textureSlots;  // TextureSlot[]: bound always (a few per material)
+    vk::Buffer texels;
     // Whether the stage kernels read the BVH and the arrays that grow with the
-    // scene (lights, lightAlias, primitiveLight, envAlias, envRadiance) by
-    // address, through `addresses` (shared/scene_addresses.h); then each of
-    // their bindings gets bvh.placeholder. Pipelines take it as
+    // scene (lights, lightAlias, primitiveLight, envAlias, envRadiance,
+    // triangleVertices and the vertex attributes, texels) by address, through `addresses`
+    // (shared/scene_addresses.h); then each of their bindings gets
+    // bvh.placeholder. Pipelines take it as
     // bvh::sceneAccessConstant(byAddress).
     bool byAddress = false;
     vk::Buffer addresses;  // SceneAddresses, zeros unless byAddress (always bound)

@@ -5,7 +5,9 @@
 
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/mesh_attributes.h"
 #include "shared/rng.h"
+#include "shared/texture.h"
 
 namespace vkpath::wavefront {
 namespace {
@@ -27,6 +29,9 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_LIGHT_SAMPLES, "light-samples"},
     {VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES, "multiple-light-samples"},
     {VKP_FEATURE_ROULETTE, "roulette"},
+    {VKP_FEATURE_SHADING_NORMALS, "shading-normals"},
+    {VKP_FEATURE_TEXTURES, "textures"},
+    {VKP_FEATURE_VERTEX_COLORS, "vertex-colors"},
 }};
 
 }  // namespace
@@ -38,12 +43,15 @@ uint32_t sceneFeatures(const SceneTables& t) {
         const shared::Material& m = t.materials.at(p.material);
         f |= shared::materialFeature(m.kind);
         if (m.emission != glm::vec3(0.0f)) f |= VKP_FEATURE_EMISSIVE_SURFACES;
+        if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE) f |= VKP_FEATURE_TEXTURES;
     }
     for (const shared::Light& light : t.lights) {
         if (light.type == VKP_LIGHT_POINT) f |= VKP_FEATURE_POINT_LIGHTS;
         if (light.type == VKP_LIGHT_SPOT) f |= VKP_FEATURE_SPOT_LIGHTS;
         if (light.type == VKP_LIGHT_DIRECTIONAL) f |= VKP_FEATURE_DIRECTIONAL_LIGHTS;
     }
+    if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
+    if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
     // The environment is seen by escaping rays whether or not it is bright
     // enough to be in the light list.
     if (t.info.hasEnvironment != 0)

@@ -139,29 +139,79 @@ VKP_FN BsdfSample sampleDielectric(vec3 reflectance, vec3 transmittance, float i
     return s;
 }
 
+// ---- shading normals ----------------------------------------------------------
+// A BSDF runs in the frame of the shading normal ns (interpolated vertex
+// normals), while the surface the ray meets has the geometric normal ng. Two
+// rules keep the two consistent:
+//
+// - Sidedness follows the geometry (Veach's thesis, section 5.3; PBR 3rd ed.,
+//   section 9.1): whether wi is a reflection or a transmission is decided
+//   by ng, as the surface really is, and a direction the shading frame
+//   classifies otherwise carries nothing (bsdfSidesAgree). No light leaks
+//   through a surface and none is taken from behind it.
+// - No black facets: where wo lies below ns's hemisphere, or a mirror
+//   reflection about ns would go into the surface, ns is bent just enough that
+//   the reflection of wo about it stays above the geometric surface (the
+//   normal adaptation of Keller et al., "The Iray Light Transport Simulation
+//   and Rendering System", 2017, appendix A; the same rule Blender's Cycles
+//   applies). The lifted reflection is kept min(0.9 cos_g, 0.01) above the
+//   surface, cos_g the cosine of wo with the geometric normal.
+//
+// With ns == ng both are exact no-ops, so flat triangles shade bit for bit as
+// with the geometric normal alone.
+
+// Whether the shading frame and the geometry agree on wi being a reflection
+// of wo (same side) or a transmission (other side).
+VKP_FN bool bsdfSidesAgree(vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
+    if (!hasFeature(VKP_FEATURE_SHADING_NORMALS)) return true;  // then ns == ng
+    return (dot(ng, wo) * dot(ng, wi) > 0.0f) == (dot(ns, wo) * dot(ns, wi) > 0.0f);
+}
+
+// ns adapted to wo as described above, oriented like ng (the outward side of
+// a dielectric stays the geometry's).
+VKP_FN vec3 adaptShadingNormal(vec3 ng, vec3 ns, vec3 wo) {
+    vec3 nf = faceForward(ng, wo);
+    vec3 sf = dot(ns, nf) < 0.0f ? -ns : ns;
+    float threshold = min(0.9f * dot(wo, nf), 0.01f);
+    vec3 r = reflectAbout(wo, sf);
+    float height = dot(r, nf);
+    if (!(height < threshold)) return dot(sf, ng) < 0.0f ? -sf : sf;
+    vec3 tangential = r - height * nf;
+    float length2 = dot(tangential, tangential);
+    vec3 lifted = nf;
+    if (length2 > 0.0f)
+        lifted = tangential * (sqrt(max(0.0f, 1.0f - threshold * threshold)) / sqrt(length2)) + threshold * nf;
+    vec3 bent = normalize(wo + lifted);
+    return dot(bent, ng) < 0.0f ? -bent : bent;
+}
+
 // ---- a material's BSDF: one dispatch over the kinds --------------------------------
 // Each kind's test is folded away where the kernel's features exclude it or
-// leave it the only one (materialIs, shared/features.h).
+// leave it the only one (materialIs, shared/features.h). ng is the geometric
+// normal, ns the shading normal (adaptShadingNormal; ns == ng on flat
+// surfaces), both world space, unit, oriented alike.
 
-// Samples wi for `material` at a surface of normal n; u uniform in [0, 1)^2.
-VKP_FN BsdfSample sampleBsdf(Material material, vec3 n, vec3 wo, vec2 u) {
-    if (materialIs(material, VKP_MATERIAL_DIFFUSE)) return sampleLambertian(material.reflectance, n, wo, u);
-    if (materialIs(material, VKP_MATERIAL_MIRROR)) return sampleMirror(material.reflectance, n, wo);
-    if (materialIs(material, VKP_MATERIAL_DIELECTRIC))
-        return sampleDielectric(material.reflectance, material.transmittance, material.ior, n, wo, u.x);
-    return invalidBsdfSample();
+// Samples wi for `material`; u uniform in [0, 1)^2.
+VKP_FN BsdfSample sampleBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec2 u) {
+    BsdfSample s = invalidBsdfSample();
+    if (materialIs(material, VKP_MATERIAL_DIFFUSE)) s = sampleLambertian(material.reflectance, ns, wo, u);
+    else if (materialIs(material, VKP_MATERIAL_MIRROR)) s = sampleMirror(material.reflectance, ns, wo);
+    else if (materialIs(material, VKP_MATERIAL_DIELECTRIC))
+        s = sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo, u.x);
+    if (s.valid && !bsdfSidesAgree(ng, ns, wo, s.direction)) return invalidBsdfSample();
+    return s;
 }
 
 // f * |cos| of the non-delta lobes (only Lambertian has one).
-VKP_FN vec3 evalBsdf(Material material, vec3 n, vec3 wo, vec3 wi) {
-    if (!materialIs(material, VKP_MATERIAL_DIFFUSE)) return vec3(0.0f);
-    return evalLambertian(material.reflectance, n, wo, wi);
+VKP_FN vec3 evalBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
+    if (!materialIs(material, VKP_MATERIAL_DIFFUSE) || !bsdfSidesAgree(ng, ns, wo, wi)) return vec3(0.0f);
+    return evalLambertian(material.reflectance, ns, wo, wi);
 }
 
 // The solid-angle density with which sampleBsdf picks wi (0 for delta lobes).
-VKP_FN float bsdfPdf(Material material, vec3 n, vec3 wo, vec3 wi) {
-    if (!materialIs(material, VKP_MATERIAL_DIFFUSE)) return 0.0f;
-    return lambertianPdf(n, wo, wi);
+VKP_FN float bsdfPdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
+    if (!materialIs(material, VKP_MATERIAL_DIFFUSE) || !bsdfSidesAgree(ng, ns, wo, wi)) return 0.0f;
+    return lambertianPdf(ns, wo, wi);
 }
 
 // Whether light sampling can reach the material (it has a non-delta lobe).

@@ -35,7 +35,10 @@
 #define VKP_FEATURE_LIGHT_SAMPLES (1u << 13)           // SceneInfo::lightSamples > 0: next-event estimation
 #define VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES (1u << 14)  // SceneInfo::lightSamples > 1
 #define VKP_FEATURE_ROULETTE (1u << 15)                // rouletteDepth <= maxDepth: roulette can end a path
-#define VKP_FEATURE_COUNT 16u
+#define VKP_FEATURE_SHADING_NORMALS (1u << 16)        // a triangle with interpolated vertex normals
+#define VKP_FEATURE_TEXTURES (1u << 17)               // a material with a texture
+#define VKP_FEATURE_VERTEX_COLORS (1u << 18)          // a triangle with vertex colours
+#define VKP_FEATURE_COUNT 19u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 #define VKP_FEATURES_MATERIALS (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS)

@@ -39,9 +39,10 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
         return false;
     }
     BvhPrimitive primitive = bvhPrimitive(hit.primitive);
-    shading.material = sceneMaterial(primitive.material);
+    shading.material = materialAt(sceneMaterial(primitive.material), primitive, hit);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     shading.wo = -path.ray.direction;
+    shading.surface.shadingNormal = shadingNormal(primitive, hit, shading.surface.normal, shading.wo);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
         path.radiance += path.throughput * emittedRadiance(shading.material, hit.primitive, shading.surface,
                                                            path.ray.direction, path.previousPosition,

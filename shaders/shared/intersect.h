@@ -260,6 +260,8 @@ struct SurfacePoint {
     vec3 position;    // world space
     float magnitude;  // largest absolute coordinate the position was computed from
     vec3 normal;      // world space, unit, geometric: triangles (p1 - p0) x (p2 - p0), spheres outward
+    vec3 shadingNormal;  // world space, unit, oriented like `normal`: the BSDF's frame. surfacePoint
+                         // sets it to `normal`; the path tracer interpolates vertex normals into it
 };
 
 VKP_FN float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
@@ -271,6 +273,7 @@ VKP_FN SurfacePoint surfacePoint(BvhPrimitive primitive, Ray ray, Hit hit) {
         vec3 outward = normalize(ray.origin + hit.t * ray.direction - primitive.p0);
         s.position = primitive.p0 + radius * outward;  // projected back onto the sphere
         s.normal = outward;
+        s.shadingNormal = outward;
         s.magnitude = maxComponent(abs(primitive.p0)) + radius;
     } else {
         float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
@@ -278,6 +281,7 @@ VKP_FN SurfacePoint surfacePoint(BvhPrimitive primitive, Ray ray, Hit hit) {
         // exact, so the only rounding of note is the final addition.
         s.position = primitive.p0 + (b1 * (primitive.p1 - primitive.p0) + b2 * (primitive.p2 - primitive.p0));
         s.normal = normalize(cross(primitive.p1 - primitive.p0, primitive.p2 - primitive.p0));
+        s.shadingNormal = s.normal;
         s.magnitude = maxComponent(max(max(abs(primitive.p0), abs(primitive.p1)), abs(primitive.p2)));
     }
     return s;

@@ -4,6 +4,7 @@
 
 #include "shared/compat.h"
 #include "shared/features.h"
+#include "shared/texture.h"
 
 // Values of Material::kind; the same numbers as scene::MaterialKind.
 #define VKP_MATERIAL_DIFFUSE 0u
@@ -18,6 +19,8 @@ struct Material {
     vec3 transmittance;  // glass: tint of refracted light
     float ior;           // glass: index of refraction of the inside relative to the outside
     vec3 emission;       // emitted radiance, W/(m^2 sr), from the front face
+    uint textures;       // index of the first of its VKP_SLOTS_PER_MATERIAL TextureSlots (shared/texture.h), or
+                         // VKP_NO_TEXTURE
 };
 
 // The feature bit of material kind `kind` (shared/features.h).
@@ -39,7 +42,7 @@ VKP_FN bool materialIs(Material material, uint kind) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::Material) == 44);
+static_assert(sizeof(vkpath::shared::Material) == 48);
 #endif
 
 #endif  // VKPATH_SHARED_MATERIAL_H

@@ -12,6 +12,13 @@
 //   AliasEntry sceneEnvAlias(uint texel);
 //   vec3 sceneEnvRadiance(uint texel);              // linear RGB, before strength
 //   BvhPrimitive bvhPrimitive(uint index);          // from the BVH
+//   TriangleVertices sceneTriangleVertices(uint triangle);  // by BvhPrimitive::id (shared/mesh_attributes.h)
+//   vec3 sceneVertexNormal(uint vertex);
+//   vec4 sceneVertexTexcoords(uint vertex);         // (TEXCOORD_0, TEXCOORD_1)
+//   vec4 sceneVertexColor(uint vertex);
+//   TextureInfo sceneTexture(uint index);           // shared/texture.h
+//   TextureSlot sceneTextureSlot(uint index);
+//   vec4 sceneTexel(uint index);                    // linear RGBA
 //
 // No include guard: include once per scope (C++: inside the reference
 // renderer's scene view struct, so these become const member functions).
@@ -74,6 +81,94 @@ VKP_FN float environmentPdf(vec3 worldDirection) VKP_SCENE_CONST {
     EnvironmentInfo env = sceneInfo().environment;
     if (!environmentIsMap()) return uniformSpherePdf();
     return envDirectionPdf(env, sceneEnvAlias(environmentTexel(worldDirection)).probability, worldDirection);
+}
+
+// ---- shading normals ------------------------------------------------------------------
+
+// The normal the BSDF uses at a hit on `primitive` whose geometric normal is
+// `geometric`, seen from wo: the triangle's vertex normals interpolated with
+// the hit's barycentrics (Phong's interpolation: glTF's NORMAL attribute,
+// Scotty3D's smooth meshes), adapted to wo (shared/bsdf.h); the geometric
+// normal itself for spheres and flat triangles.
+VKP_FN vec3 shadingNormal(BvhPrimitive primitive, Hit hit, vec3 geometric, vec3 wo) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_SHADING_NORMALS) || isSphere(primitive)) return geometric;
+    if ((sceneInfo().triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) == 0u) return geometric;
+    TriangleVertices triangle = sceneTriangleVertices(primitive.id);
+    if ((triangle.attributes & VKP_TRIANGLE_SHADING_NORMALS) == 0u) return geometric;
+    float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
+    vec3 n = (1.0f - b1 - b2) * sceneVertexNormal(triangle.vertex.x) + b1 * sceneVertexNormal(triangle.vertex.y) +
+             b2 * sceneVertexNormal(triangle.vertex.z);
+    float length2 = dot(n, n);
+    if (!(length2 > 1e-12f)) return geometric;  // vertex normals that cancel out
+    return adaptShadingNormal(geometric, n / sqrt(length2), wo);
+}
+
+// ---- textures and vertex colours --------------------------------------------------------
+
+VKP_FN vec4 textureTexel(TextureInfo texture, int i, int j) VKP_SCENE_CONST {
+    return sceneTexel(texture.firstTexel + uint(j) * texture.width + uint(i));
+}
+
+// The texture's value at uv (shared/texture.h has the conventions).
+VKP_FN vec4 textureLookup(TextureInfo texture, vec2 uv) VKP_SCENE_CONST {
+    int w = int(texture.width), h = int(texture.height);
+    uint wrapU = texture.sampling & 3u, wrapV = (texture.sampling >> 2u) & 3u;
+    float x = uv.x * float(w), y = uv.y * float(h);
+    if ((texture.sampling & VKP_TEXTURE_NEAREST) != 0u)
+        return textureTexel(texture, wrapTexelIndex(floorToInt(x), w, wrapU),
+                            wrapTexelIndex(floorToInt(y), h, wrapV));
+    // Bilinear: the four texels whose centres surround (x, y).
+    x -= 0.5f;
+    y -= 0.5f;
+    int i = floorToInt(x), j = floorToInt(y);
+    float fx = x - float(i), fy = y - float(j);
+    int i0 = wrapTexelIndex(i, w, wrapU), i1 = wrapTexelIndex(i + 1, w, wrapU);
+    int j0 = wrapTexelIndex(j, h, wrapV), j1 = wrapTexelIndex(j + 1, h, wrapV);
+    vec4 top = mix(textureTexel(texture, i0, j0), textureTexel(texture, i1, j0), fx);
+    vec4 bottom = mix(textureTexel(texture, i0, j1), textureTexel(texture, i1, j1), fx);
+    return mix(top, bottom, fy);
+}
+
+// The value of texture slot `slot` at texture coordinates `texcoords`
+// (TEXCOORD_0, TEXCOORD_1); 1 for an empty slot.
+VKP_FN vec4 textureSlotValue(uint slot, vec4 texcoords) VKP_SCENE_CONST {
+    TextureSlot s = sceneTextureSlot(slot);
+    if (s.texture == VKP_NO_TEXTURE) return vec4(1.0f);
+    vec3 uv1 = s.texCoord == 0u ? vec3(texcoords.x, texcoords.y, 1.0f) : vec3(texcoords.z, texcoords.w, 1.0f);
+    return textureLookup(sceneTexture(s.texture), vec2(dot(s.transformU, uv1), dot(s.transformV, uv1)));
+}
+
+// `material` as it is at a hit on `primitive`: its base colour times the
+// base-colour texture and the vertex colour (glTF 2.0 section 3.9.2; a
+// glass's base colour tints its transmission, scene::Material), its
+// emission times the emissive texture. Spheres have no texture coordinates.
+VKP_FN Material materialAt(Material material, BvhPrimitive primitive, Hit hit) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_TEXTURES | VKP_FEATURE_VERTEX_COLORS) || isSphere(primitive)) return material;
+    bool textured = hasFeature(VKP_FEATURE_TEXTURES) && material.textures != VKP_NO_TEXTURE;
+    uint attributes = sceneInfo().triangleAttributes & (VKP_TRIANGLE_TEXCOORDS | VKP_TRIANGLE_COLORS);
+    if (!textured && (!hasFeature(VKP_FEATURE_VERTEX_COLORS) || attributes == 0u)) return material;
+    vec4 base = vec4(1.0f);
+    vec4 texcoords = vec4(0.0f);
+    if (attributes != 0u) {
+        TriangleVertices triangle = sceneTriangleVertices(primitive.id);
+        float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y, b0 = 1.0f - b1 - b2;
+        uvec3 v = triangle.vertex;
+        if (textured && (triangle.attributes & VKP_TRIANGLE_TEXCOORDS) != 0u)
+            texcoords = b0 * sceneVertexTexcoords(v.x) + b1 * sceneVertexTexcoords(v.y) +
+                        b2 * sceneVertexTexcoords(v.z);
+        if (hasFeature(VKP_FEATURE_VERTEX_COLORS) && (triangle.attributes & VKP_TRIANGLE_COLORS) != 0u)
+            base = b0 * sceneVertexColor(v.x) + b1 * sceneVertexColor(v.y) + b2 * sceneVertexColor(v.z);
+    }
+    if (textured) {
+        base *= textureSlotValue(material.textures + VKP_SLOT_BASE_COLOR, texcoords);
+        if (material.emission != vec3(0.0f))
+            material.emission *= vec3(textureSlotValue(material.textures + VKP_SLOT_EMISSIVE, texcoords));
+    }
+    if (materialIs(material, VKP_MATERIAL_DIELECTRIC))
+        material.transmittance *= vec3(base);
+    else
+        material.reflectance *= vec3(base);
+    return material;
 }
 
 // ---- emission seen by a path ----------------------------------------------------------
@@ -169,11 +264,13 @@ VKP_FN ShadowRequest sampleDirectLight(Material material, SurfacePoint surface, 
     }
     if (ls.radiance == vec3(0.0f)) return request;
 
-    vec3 f = evalBsdf(material, surface.normal, wo, ls.direction);
+    vec3 f = evalBsdf(material, surface.normal, surface.shadingNormal, wo, ls.direction);
     if (f == vec3(0.0f)) return request;
     float n = float(lightSampleCount());
     float lightPdf = choice * ls.pdf;
-    float weight = ls.delta ? 1.0f : powerHeuristic(n * lightPdf, bsdfPdf(material, surface.normal, wo, ls.direction));
+    float weight = ls.delta ? 1.0f
+                            : powerHeuristic(n * lightPdf, bsdfPdf(material, surface.normal, surface.shadingNormal,
+                                                                   wo, ls.direction));
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
@@ -220,7 +317,7 @@ VKP_FN PathStep continuePath(Material material, SurfacePoint surface, vec3 wo, v
     step.ray.pixel = key.pixel;
 
     uint dim = bounceDimension(bounce);
-    BsdfSample s = sampleBsdf(material, surface.normal, wo, rngUniform2(key, dim));
+    BsdfSample s = sampleBsdf(material, surface.normal, surface.shadingNormal, wo, rngUniform2(key, dim));
     if (!s.valid) return step;
     vec3 beta = throughput * s.weight;
     // Kept within [2^-100, 2^100]: never 0 or infinite, so its sign can be

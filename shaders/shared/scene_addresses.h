@@ -12,7 +12,8 @@
 VKP_NAMESPACE_BEGIN
 
 // The arrays whose length grows with the scene: per node, per primitive, per
-// emitter, per environment texel. (Materials and the SceneInfo stay bound.)
+// emitter, per environment texel, per triangle and per vertex. (Materials and
+// the SceneInfo stay bound.)
 struct SceneAddresses {
     BvhAddresses bvh;
     uvec2 lights;          // Light[]
@@ -20,12 +21,17 @@ struct SceneAddresses {
     uvec2 primitiveLight;  // uint[primitives]
     uvec2 envAlias;        // AliasEntry[texels]
     uvec2 envRadiance;     // vec3[texels]
+    uvec2 triangleVertices;  // TriangleVertices[triangles]
+    uvec2 vertexNormals;     // vec3[vertices]
+    uvec2 vertexTexcoords;   // vec4[vertices]: TEXCOORD_0, TEXCOORD_1
+    uvec2 vertexColors;      // vec4[vertices]
+    uvec2 texels;            // uvec2[texels]: the texture store (shared/texture.h)
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneAddresses) == 56);
+static_assert(sizeof(vkpath::shared::SceneAddresses) == 96);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_ADDRESSES_H

@@ -26,12 +26,14 @@ struct SceneInfo {
     float clampRadiance;          // > 0: each path sample's largest component is clamped to this (biased)
     float fireflyThreshold;       // samples above this (largest component) are counted as fireflies
     uint samplerKind;             // VKP_SAMPLER_* (shared/rng.h): where the random numbers come from
+    uint triangleAttributes;      // VKP_TRIANGLE_* bits some triangle has (shared/mesh_attributes.h): the
+                                  // per-triangle and per-vertex arrays exist only if non-zero
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 80);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 84);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -31,6 +31,13 @@
 #define VKP_WF_SHADOW_RADIANCE 18  // vec3[W lightSamples]: contribution if unoccluded
 #define VKP_WF_FILM 19             // FilmPixel[width height]
 #define VKP_WF_SCENE_ADDRESSES 20  // SceneAddresses (read when the scene is read by address)
+#define VKP_WF_TRIANGLE_VERTICES 21  // TriangleVertices[triangles] (shared/mesh_attributes.h)
+#define VKP_WF_VERTEX_NORMALS 22     // vec3[vertices]: world-space shading normals
+#define VKP_WF_VERTEX_TEXCOORDS 23   // vec4[vertices]: TEXCOORD_0 (xy), TEXCOORD_1 (zw)
+#define VKP_WF_VERTEX_COLORS 24      // vec4[vertices]: COLOR_0, linear RGBA
+#define VKP_WF_TEXTURES 25           // TextureInfo[] (shared/texture.h)
+#define VKP_WF_TEXTURE_SLOTS 26      // TextureSlot[]
+#define VKP_WF_TEXELS 27             // uvec2[]: RGBA texels, two packHalf2x16 words each
 
 VKP_NAMESPACE_BEGIN
 

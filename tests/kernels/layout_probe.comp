@@ -10,9 +10,11 @@
 #include "shared/camera.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/mesh_attributes.h"
 #include "shared/ray.h"
 #include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
+#include "shared/texture.h"
 #include "shared/wavefront.h"
 
 layout(local_size_x = 1) in;
@@ -35,6 +37,9 @@ PROBE(FilmPixel, 13)
 PROBE(WavePush, 14)
 PROBE(BvhAddresses, 15)
 PROBE(SceneAddresses, 16)
+PROBE(TriangleVertices, 17)
+PROBE(TextureInfo, 18)
+PROBE(TextureSlot, 19)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
@@ -55,4 +60,7 @@ void main() {
     items14[0] = items14[1];
     items15[0] = items15[1];
     items16[0] = items16[1];
+    items17[0] = items17[1];
+    items18[0] = items18[1];
+    items19[0] = items19[1];
 }

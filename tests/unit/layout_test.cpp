@@ -11,9 +11,11 @@
 #include "shared/camera.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/mesh_attributes.h"
 #include "shared/ray.h"
 #include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
+#include "shared/texture.h"
 #include "shared/wavefront.h"
 #include "vk/embedded_shaders.h"
 #include "vk/spirv_reflect.h"
@@ -41,7 +43,13 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(Camera, width), VKP_O(Camera, height)}},
         {"Material", sizeof(Material),
          {VKP_O(Material, reflectance), VKP_O(Material, kind), VKP_O(Material, transmittance), VKP_O(Material, ior),
-          VKP_O(Material, emission)}},
+          VKP_O(Material, emission), VKP_O(Material, textures)}},
+        {"TextureInfo", sizeof(TextureInfo),
+         {VKP_O(TextureInfo, firstTexel), VKP_O(TextureInfo, width), VKP_O(TextureInfo, height),
+          VKP_O(TextureInfo, sampling)}},
+        {"TextureSlot", sizeof(TextureSlot),
+         {VKP_O(TextureSlot, transformU), VKP_O(TextureSlot, texture), VKP_O(TextureSlot, transformV),
+          VKP_O(TextureSlot, texCoord)}},
         {"BvhNode", sizeof(BvhNode),
          {VKP_O(BvhNode, boundsMin), VKP_O(BvhNode, offset), VKP_O(BvhNode, boundsMax), VKP_O(BvhNode, count)}},
         {"BvhPrimitive", sizeof(BvhPrimitive),
@@ -52,7 +60,12 @@ std::vector<Expected> expectedLayouts() {
         {"BvhAddresses", sizeof(BvhAddresses), {VKP_O(BvhAddresses, nodes), VKP_O(BvhAddresses, primitives)}},
         {"SceneAddresses", sizeof(SceneAddresses),
          {VKP_O(SceneAddresses, bvh), VKP_O(SceneAddresses, lights), VKP_O(SceneAddresses, lightAlias),
-          VKP_O(SceneAddresses, primitiveLight), VKP_O(SceneAddresses, envAlias), VKP_O(SceneAddresses, envRadiance)}},
+          VKP_O(SceneAddresses, primitiveLight), VKP_O(SceneAddresses, envAlias), VKP_O(SceneAddresses, envRadiance),
+          VKP_O(SceneAddresses, triangleVertices), VKP_O(SceneAddresses, vertexNormals),
+          VKP_O(SceneAddresses, vertexTexcoords), VKP_O(SceneAddresses, vertexColors),
+          VKP_O(SceneAddresses, texels)}},
+        {"TriangleVertices", sizeof(TriangleVertices),
+         {VKP_O(TriangleVertices, vertex), VKP_O(TriangleVertices, attributes)}},
         {"AliasEntry", sizeof(AliasEntry),
          {VKP_O(AliasEntry, threshold), VKP_O(AliasEntry, alias), VKP_O(AliasEntry, probability)}},
         {"EnvironmentInfo", sizeof(EnvironmentInfo),
@@ -63,7 +76,7 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(SceneInfo, environmentLight), VKP_O(SceneInfo, lightSamples), VKP_O(SceneInfo, maxDepth),
           VKP_O(SceneInfo, rouletteDepth), VKP_O(SceneInfo, seed), VKP_O(SceneInfo, width),
           VKP_O(SceneInfo, height), VKP_O(SceneInfo, clampRadiance), VKP_O(SceneInfo, fireflyThreshold),
-          VKP_O(SceneInfo, samplerKind)}},
+          VKP_O(SceneInfo, samplerKind), VKP_O(SceneInfo, triangleAttributes)}},
         {"Light", sizeof(Light),
          {VKP_O(Light, p0), VKP_O(Light, type), VKP_O(Light, p1), VKP_O(Light, radius), VKP_O(Light, p2),
           VKP_O(Light, cosInner), VKP_O(Light, emission), VKP_O(Light, cosOuter)}},

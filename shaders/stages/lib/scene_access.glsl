@@ -5,8 +5,10 @@
 #include "shared/path_state.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/mesh_attributes.h"
 #include "shared/rng.h"
 #include "shared/scene_data.h"
+#include "shared/texture.h"
 
 #include "stages/lib/scene_bvh.glsl"
 
@@ -17,12 +19,26 @@ layout(binding = VKP_WF_LIGHT_ALIAS, scalar) readonly buffer LightAliasBuffer { 
 layout(binding = VKP_WF_PRIMITIVE_LIGHT, scalar) readonly buffer PrimitiveLightBuffer { uint primitiveLight[]; };
 layout(binding = VKP_WF_ENV_ALIAS, scalar) readonly buffer EnvAliasBuffer { AliasEntry envAlias[]; };
 layout(binding = VKP_WF_ENV_RADIANCE, scalar) readonly buffer EnvRadianceBuffer { vec3 envRadiance[]; };
+layout(binding = VKP_WF_TRIANGLE_VERTICES, scalar) readonly buffer TriangleVertexBuffer {
+    TriangleVertices triangleVertices[];
+};
+layout(binding = VKP_WF_VERTEX_NORMALS, scalar) readonly buffer VertexNormalBuffer { vec3 vertexNormals[]; };
+layout(binding = VKP_WF_VERTEX_TEXCOORDS, scalar) readonly buffer VertexTexcoordBuffer { vec4 vertexTexcoords[]; };
+layout(binding = VKP_WF_VERTEX_COLORS, scalar) readonly buffer VertexColorBuffer { vec4 vertexColors[]; };
+layout(binding = VKP_WF_TEXTURES, scalar) readonly buffer TextureBuffer { TextureInfo textures[]; };
+layout(binding = VKP_WF_TEXTURE_SLOTS, scalar) readonly buffer TextureSlotBuffer { TextureSlot textureSlots[]; };
+layout(binding = VKP_WF_TEXELS, scalar) readonly buffer TexelBuffer { uvec2 texels[]; };
 
 // The same arrays by address (sceneByAddress: scenes beyond a binding).
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer AliasArray { AliasEntry v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec3Array { vec3 v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec4Array { vec4 v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Uvec2Array { uvec2 v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer TriangleVerticesArray {
+    TriangleVertices v[];
+};
 
 SceneInfo sceneInfo() { return sceneInfoData; }
 Material sceneMaterial(uint i) { return materials[i]; }
@@ -45,6 +61,28 @@ AliasEntry sceneEnvAlias(uint i) {
 vec3 sceneEnvRadiance(uint i) {
     if (sceneByAddress) return Vec3Array(sceneAddresses.envRadiance).v[i];
     return envRadiance[i];
+}
+TriangleVertices sceneTriangleVertices(uint i) {
+    if (sceneByAddress) return TriangleVerticesArray(sceneAddresses.triangleVertices).v[i];
+    return triangleVertices[i];
+}
+vec3 sceneVertexNormal(uint i) {
+    if (sceneByAddress) return Vec3Array(sceneAddresses.vertexNormals).v[i];
+    return vertexNormals[i];
+}
+vec4 sceneVertexTexcoords(uint i) {
+    if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTexcoords).v[i];
+    return vertexTexcoords[i];
+}
+vec4 sceneVertexColor(uint i) {
+    if (sceneByAddress) return Vec4Array(sceneAddresses.vertexColors).v[i];
+    return vertexColors[i];
+}
+TextureInfo sceneTexture(uint i) { return textures[i]; }
+TextureSlot sceneTextureSlot(uint i) { return textureSlots[i]; }
+vec4 sceneTexel(uint i) {
+    uvec2 packed = sceneByAddress ? Uvec2Array(sceneAddresses.texels).v[i] : texels[i];
+    return vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));
 }
 
 #include "shared/path_tracer.h"
