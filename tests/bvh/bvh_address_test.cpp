@@ -13,6 +13,7 @@
 
 #include "bvh_test_util.h"
 #include "input_error.h"
+#include "support/binding_limit.h"
 #include "scene/load.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
@@ -22,14 +23,7 @@ namespace {
 using namespace vkpath;
 using namespace vkpath::test::bvh;
 
-// Sets VKPATH_MAX_BINDING_BYTES for the life of the object.
-class BindingLimit {
-  public:
-    explicit BindingLimit(uint64_t bytes) { setenv("VKPATH_MAX_BINDING_BYTES", std::to_string(bytes).c_str(), 1); }
-    ~BindingLimit() { unsetenv("VKPATH_MAX_BINDING_BYTES"); }
-    BindingLimit(const BindingLimit&) = delete;
-    BindingLimit& operator=(const BindingLimit&) = delete;
-};
+using test::BindingLimit;
 
 TEST(BvhAddress, LimitsChooseThePath) {
     const vk::BufferLimits limits{1000, 5000};
