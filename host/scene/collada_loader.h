@@ -4,7 +4,8 @@
 // profile means, and how Scotty3D frames its scenes, is summarised in
 // ../shared/scenes/scotty3d/SOURCE.md; the decisions this importer takes
 // where Scotty3D is not physical (lamps described twice, point lights without
-// falloff, hemisphere "ambient" lights) are documented in collada_loader.cpp.
+// falloff, hemisphere "ambient" lights, the camera framing) are documented in
+// scotty3d_policy.h, those of reading the file in collada_loader.cpp.
 #pragma once
 
 #include <filesystem>

@@ -1,6 +1,24 @@
 #include "scene/scene.h"
 
+#include <limits>
+
 namespace vkpath::scene {
+
+Bounds Scene::geometryBounds() const {
+    Bounds b{glm::vec3(std::numeric_limits<float>::max()),
+             glm::vec3(-std::numeric_limits<float>::max())};
+    for (const Mesh& m : meshes)
+        for (const glm::uvec3& t : m.triangles)
+            for (int k = 0; k < 3; ++k) {
+                b.lo = glm::min(b.lo, m.positions[t[k]]);
+                b.hi = glm::max(b.hi, m.positions[t[k]]);
+            }
+    for (const Sphere& s : spheres) {
+        b.lo = glm::min(b.lo, s.center - s.radius);
+        b.hi = glm::max(b.hi, s.center + s.radius);
+    }
+    return b;
+}
 
 size_t Scene::triangleCount() const {
     size_t count = 0;

@@ -147,6 +147,11 @@ struct FeatureSummary {
     bool environment = false;
 };
 
+// An axis-aligned box, world space.
+struct Bounds {
+    glm::vec3 lo, hi;
+};
+
 struct Scene {
     std::vector<Material> materials;
     std::vector<Mesh> meshes;
@@ -165,6 +170,9 @@ struct Scene {
 
     FeatureSummary features() const;
     size_t triangleCount() const;
+    // The box around the triangles of the meshes and the spheres (lo > hi
+    // when there are none): what the importers frame a default camera on.
+    Bounds geometryBounds() const;
 };
 
 }  // namespace vkpath::scene

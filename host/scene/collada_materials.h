@@ -1,0 +1,50 @@
+// COLLADA materials as Scotty3D reads them, bound per instance through
+// <bind_material> symbols and read once each:
+// - a CMU462 <mirror>, <glass>, <refraction> or <emission> replaces the
+//   profile_COMMON material; otherwise the Phong/Lambert <diffuse> colour is
+//   a Lambertian albedo (specular ignored), 0.5 grey without one;
+// - an <emission>-only material reflects nothing (Scotty3D's EmissionBSDF),
+//   so its reflectance is 0.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scene/collada_document.h"
+#include "scene/import_warnings.h"
+#include "scene/scene.h"
+
+namespace vkpath::scene::collada {
+
+// <instance_material symbol target> pairs in document order.
+using Bindings = std::vector<std::pair<std::string, std::string>>;
+
+class Materials {
+  public:
+    // Materials are appended to `materials` (the scene's) as first used.
+    Materials(const Document& document, ImportWarnings& warnings, std::vector<Material>& materials)
+        : m_document(document), m_warnings(warnings), m_materials(materials) {}
+
+    // The scene material that `symbol` is bound to in `bindings`; as in
+    // Scotty3D, an unbound or empty symbol takes the instance's first binding,
+    // and no binding at all Scotty3D's grey 0.5 default.
+    uint32_t forSymbol(const std::string& symbol, const Bindings& bindings,
+                       const std::string& nodeName);
+
+  private:
+    uint32_t materialIndex(const std::string& targetUrl, const std::string& context);
+    Material readMaterial(pugi::xml_node material);
+    uint32_t defaultMaterial();
+
+    const Document& m_document;
+    ImportWarnings& m_warnings;
+    std::vector<Material>& m_materials;
+    std::map<std::string, uint32_t> m_materialsById;
+    std::optional<uint32_t> m_defaultMaterial;
+};
+
+}  // namespace vkpath::scene::collada

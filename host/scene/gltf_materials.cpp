@@ -1,0 +1,156 @@
+#include "scene/gltf_materials.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "input_error.h"
+
+namespace vkpath::scene::gltf {
+namespace {
+
+class MaterialConverter {
+  public:
+    MaterialConverter(const std::string& file, ImportWarnings& warnings)
+        : m_file(file), m_warnings(warnings) {}
+
+    // The material mapping table of docs/SCENES.md.
+    Material convert(const tinygltf::Material& m, size_t index) {
+        Material out;
+        out.name = m.name.empty() ? fmt::format("material {}", index) : m.name;
+        const std::string& name = out.name;
+        const auto& pbr = m.pbrMetallicRoughness;
+        if (pbr.baseColorFactor.size() != 4)
+            fail("material '{}': baseColorFactor needs 4 numbers", name);
+        const glm::vec3 base(factor(pbr.baseColorFactor[0], "baseColorFactor", name),
+                             factor(pbr.baseColorFactor[1], "baseColorFactor", name),
+                             factor(pbr.baseColorFactor[2], "baseColorFactor", name));
+        factor(pbr.baseColorFactor[3], "baseColorFactor", name);
+        const double metallic = factor(pbr.metallicFactor, "metallicFactor", name);
+        const double roughness = factor(pbr.roughnessFactor, "roughnessFactor", name);
+        const double transmission =
+            factor(extensionNumber(m.extensions, "KHR_materials_transmission", "transmissionFactor",
+                                   0.0, name),
+                   "transmissionFactor", name);
+        const double ior = extensionNumber(m.extensions, "KHR_materials_ior", "ior", 1.5, name);
+        if (!std::isfinite(ior) || ior < 1.0)
+            fail("material '{}': ior {} is not a finite number >= 1", name, ior);
+
+        if (usesTexture(m))
+            m_warnings.addCounted("textures are ignored; the constant factors are used", "material",
+                                  name);
+        if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
+            m_warnings.addCounted("alpha (alphaMode MASK or BLEND) is ignored; surfaces are opaque",
+                                  "material", name);
+        if (metallic > 0.0 && metallic < 1.0)
+            m_warnings.addCounted(
+                "partly metallic materials are approximated: metallicFactor >= 0.5 as metal, below "
+                "as "
+                "non-metal",
+                "material", name);
+
+        constexpr double SMOOTH =
+            0.01;  // roughness at or below which a surface counts as perfectly smooth
+        if (metallic >= 0.5) {
+            out.reflectance = base;
+            out.kind = roughness <= 0.5 ? MaterialKind::Mirror : MaterialKind::Diffuse;
+            if (roughness > SMOOTH)
+                m_warnings.addCounted(
+                    "rough metals are approximated: roughnessFactor <= 0.5 as a mirror, above as "
+                    "diffuse",
+                    "material", name);
+        } else if (transmission >= 0.5) {
+            out.kind = MaterialKind::Dielectric;
+            out.reflectance = glm::vec3(1.0f);  // glTF's dielectric specular is untinted
+            out.transmittance = base;  // KHR_materials_transmission: base colour tints what passes
+            out.ior = float(ior);
+            if (roughness > SMOOTH)
+                m_warnings.addCounted("rough transmission is approximated as smooth glass",
+                                      "material", name);
+        } else {
+            out.kind = MaterialKind::Diffuse;
+            out.reflectance = base;
+            if (roughness < 0.5 && transmission == 0.0)
+                m_warnings.addCounted(
+                    "glossy non-metals (roughnessFactor < 0.5) are approximated as Lambertian: the "
+                    "specular layer is dropped",
+                    "material", name);
+        }
+        if (transmission > 0.0 && transmission < 1.0 && metallic < 0.5)
+            m_warnings.addCounted(
+                "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below "
+                "as "
+                "opaque",
+                "material", name);
+
+        glm::dvec3 emissive(0.0);
+        if (!m.emissiveFactor.empty()) {
+            if (m.emissiveFactor.size() != 3)
+                fail("material '{}': emissiveFactor needs 3 numbers", name);
+            for (int c = 0; c < 3; ++c)
+                emissive[c] = factor(m.emissiveFactor[size_t(c)], "emissiveFactor", name);
+        }
+        const double strength = extensionNumber(m.extensions, "KHR_materials_emissive_strength",
+                                                "emissiveStrength", 1.0, name);
+        if (!std::isfinite(strength) || strength < 0.0)
+            fail("material '{}': emissiveStrength {} is not a finite number >= 0", name, strength);
+        out.emission = glm::vec3(emissive * strength);
+        return out;
+    }
+
+  private:
+    // A factor in [0, 1]: NaN is an error, anything outside is clamped.
+    double factor(double value, const char* what, const std::string& material) {
+        if (!std::isfinite(value)) fail("material '{}': {} is not a finite number", material, what);
+        if (value < 0.0 || value > 1.0) {
+            m_warnings.addCounted("material factors outside [0, 1] are clamped", "material",
+                                  material);
+            value = std::clamp(value, 0.0, 1.0);
+        }
+        return value;
+    }
+
+    // extension.key as a number, `fallback` when the extension or key is absent.
+    double extensionNumber(const tinygltf::ExtensionMap& extensions, const char* extension,
+                           const char* key, double fallback, const std::string& material) {
+        const auto it = extensions.find(extension);
+        if (it == extensions.end()) return fallback;
+        if (!it->second.IsObject()) fail("material '{}': {} is not an object", material, extension);
+        if (!it->second.Has(key)) return fallback;
+        const tinygltf::Value& value = it->second.Get(key);
+        if (!value.IsNumber())
+            fail("material '{}': {}.{} is not a number", material, extension, key);
+        return value.GetNumberAsDouble();
+    }
+
+    static bool usesTexture(const tinygltf::Material& m) {
+        const auto& pbr = m.pbrMetallicRoughness;
+        if (pbr.baseColorTexture.index >= 0 || pbr.metallicRoughnessTexture.index >= 0 ||
+            m.normalTexture.index >= 0 || m.occlusionTexture.index >= 0 ||
+            m.emissiveTexture.index >= 0)
+            return true;
+        for (const auto& [name, value] : m.extensions)
+            for (const std::string& key : value.Keys())
+                if (key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0) return true;
+        return false;
+    }
+
+    template <typename... Args>
+    [[noreturn]] void fail(fmt::format_string<Args...> format, Args&&... args) const {
+        throw InputError(
+            fmt::format("{}: {}", m_file, fmt::format(format, std::forward<Args>(args)...)));
+    }
+
+    const std::string& m_file;
+    ImportWarnings& m_warnings;
+};
+
+}  // namespace
+
+Material convertMaterial(const tinygltf::Material& material, size_t index, const std::string& file,
+                         ImportWarnings& warnings) {
+    return MaterialConverter(file, warnings).convert(material, index);
+}
+
+}  // namespace vkpath::scene::gltf

@@ -1,0 +1,35 @@
+// glTF meshes as world-space triangle meshes: primitive modes, attributes,
+// indices and the node transform.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+#include "scene/gltf_accessors.h"
+#include "scene/import_warnings.h"
+#include "scene/scene.h"
+
+namespace vkpath::scene::gltf {
+
+// One triangle primitive of a glTF mesh, in world space.
+struct WorldPrimitive {
+    Mesh mesh;  // mesh.material is the glTF material index unless usesDefaultMaterial
+    bool usesDefaultMaterial = false;  // the primitive names no material
+};
+
+// The primitives of node `nodeIndex`'s mesh under the node's world transform,
+// those left with no triangles omitted:
+//   - TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN (glTF 2.0, 3.7.2.1) become
+//     triangle lists; other modes are an error;
+//   - normals go through the inverse transpose; a transform with a negative
+//     determinant flips the winding so fronts stay counter-clockwise;
+//   - degenerate triangles are dropped with a warning.
+// `nodeName` names the node in errors; errors name the file and the mesh.
+std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Accessors& accessors,
+                                        int nodeIndex, const std::string& nodeName,
+                                        const glm::dmat4& world, const std::string& file,
+                                        ImportWarnings& warnings);
+
+}  // namespace vkpath::scene::gltf
