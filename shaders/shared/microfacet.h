@@ -1,6 +1,9 @@
 // Microfacet BSDF lobes: the Trowbridge-Reitz (GGX) distribution with the
-// height-correlated Smith masking-shadowing term and sampling of its visible
-// normals.
+// height-correlated Smith masking-shadowing term, sampling of its visible
+// normals, and from them a rough conductor.
+//
+// BsdfSample is bsdf.h's, so bsdf.h's dispatch must include this header after
+// its definition (or the struct move to a header of its own).
 //
 // Everything here works in the LOCAL shading frame: the macro-surface normal
 // is +z, wo and wi are unit vectors pointing away from the surface (wo toward
@@ -15,6 +18,7 @@
 #ifndef VKPATH_SHARED_MICROFACET_H
 #define VKPATH_SHARED_MICROFACET_H
 
+#include "shared/bsdf.h"
 #include "shared/compat.h"
 #include "shared/constants.h"
 
@@ -122,6 +126,128 @@ VKP_FN vec3 sampleGgxVisibleNormal(vec3 wo, vec2 alpha, vec2 u) {
     float sinTheta = sqrt(clamp(1.0f - z * z, 0.0f, 1.0f));
     vec3 h = vec3(sinTheta * cos(phi), sinTheta * sin(phi), z) + v;
     return normalize(vec3(alpha.x * h.x, alpha.y * h.y, max(h.z, 0.0f)));
+}
+
+// ---- Fresnel ------------------------------------------------------------------------
+
+// Schlick's approximation with a colour F0 (glTF 2.0 Appendix B,
+// metal_brdf's fresnel_mix: F0 = base colour). cosTheta = wo.m.
+VKP_FN vec3 fresnelSchlick(vec3 f0, float cosTheta) {
+    float c = 1.0f - clamp(cosTheta, 0.0f, 1.0f);
+    float c2 = c * c;
+    return f0 + (vec3(1.0f) - f0) * (c2 * c2 * c);
+}
+
+// Complex numbers as vec2 (re, im) for the conductor's Fresnel equations.
+VKP_FN vec2 complexMul(vec2 a, vec2 b) {
+    return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
+}
+
+VKP_FN vec2 complexDiv(vec2 a, vec2 b) {
+    float scale = 1.0f / dot(b, b);
+    return vec2(a.x * b.x + a.y * b.y, a.y * b.x - a.x * b.y) * scale;
+}
+
+// The principal square root, by the half-angle formulas: with n = |z|,
+// t = sqrt((n + |re|) / 2) and im / (2 t) are the two parts, t going to the
+// real one when re >= 0 (no cancellation in either case).
+VKP_FN vec2 complexSqrt(vec2 z) {
+    float n = length(z);
+    if (n == 0.0f) return vec2(0.0f);
+    float t1 = sqrt(0.5f * (n + abs(z.x)));
+    float t2 = 0.5f * z.y / t1;
+    if (z.x >= 0.0f) return vec2(t1, t2);
+    return vec2(abs(t2), z.y >= 0.0f ? t1 : -t1);
+}
+
+// Unpolarised reflectance of a conductor of complex relative index
+// eta + i k for light at cosine cosTheta (clamped to [0, 1]): the Fresnel
+// equations with a complex index (PBR 4th ed., section 9.3.6, FrComplex).
+VKP_FN float fresnelComplex(float cosTheta, float eta, float k) {
+    cosTheta = clamp(cosTheta, 0.0f, 1.0f);
+    vec2 n = vec2(eta, k);
+    vec2 sin2ThetaT = complexDiv(vec2(1.0f - cosTheta * cosTheta, 0.0f), complexMul(n, n));
+    vec2 cosThetaT = complexSqrt(vec2(1.0f, 0.0f) - sin2ThetaT);
+    vec2 nCosI = n * cosTheta;
+    vec2 nCosT = complexMul(n, cosThetaT);
+    vec2 rParallel = complexDiv(nCosI - cosThetaT, nCosI + cosThetaT);
+    vec2 rPerpendicular = complexDiv(vec2(cosTheta, 0.0f) - nCosT, vec2(cosTheta, 0.0f) + nCosT);
+    return 0.5f * (dot(rParallel, rParallel) + dot(rPerpendicular, rPerpendicular));
+}
+
+VKP_FN vec3 fresnelComplex3(float cosTheta, vec3 eta, vec3 k) {
+    return vec3(fresnelComplex(cosTheta, eta.x, k.x), fresnelComplex(cosTheta, eta.y, k.y),
+                fresnelComplex(cosTheta, eta.z, k.z));
+}
+
+// ---- rough conductor ------------------------------------------------------------------
+// Cook-Torrance reflection with GGX: f = F(wo.m) D(m) G2 / (4 |zo| |zi|),
+// m = normalize(wo + wi) (Walter et al. 2007, eq. 20). wi is sampled from the
+// visible normals of wo and reflected about m, so the density is
+// D_wo(m) / (4 wo.m) (the half-vector Jacobian, Walter eq. 14) and the weight
+// is F G2 / G1(wo). Two-sided like the mirror: a wo below the surface
+// reflects below it (the frame is flipped for it).
+
+struct Conductor {
+    vec2 alpha;           // GGX roughness along s and t (alpha = roughness^2)
+    vec3 f0;              // Schlick's reflectance at normal incidence (glTF: base colour)
+    vec3 eta;             // complex index, real part per RGB channel, relative to the outside
+    vec3 k;               // complex index, imaginary part (absorption) per channel
+    bool complexFresnel;  // true: Fresnel of eta + i k; false: Schlick with f0
+};
+
+VKP_FN vec3 conductorFresnel(Conductor c, float cosTheta) {
+    if (c.complexFresnel) return fresnelComplex3(cosTheta, c.eta, c.k);
+    return fresnelSchlick(c.f0, cosTheta);
+}
+
+VKP_FN BsdfSample sampleConductor(Conductor c, vec3 wo, vec2 u) {
+    if (wo.z == 0.0f) return invalidBsdfSample();
+    float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    vec3 o = side * wo;
+    BsdfSample s;
+    s.delta = false;
+    s.valid = true;
+    s.etaSquared = 1.0f;
+    if (microfacetIsSmooth(c.alpha)) {
+        // The mirror: probability 1, weight F of the macro normal.
+        s.direction = side * vec3(-o.x, -o.y, o.z);
+        s.weight = conductorFresnel(c, o.z);
+        s.pdf = 1.0f;
+        s.delta = true;
+        return s;
+    }
+    vec3 m = sampleGgxVisibleNormal(o, c.alpha, u);
+    float om = dot(o, m);
+    vec3 i = 2.0f * om * m - o;
+    // Reflected below the macro surface: a path the single-scattering model
+    // loses (the energy multiple scattering would return).
+    if (om <= 0.0f || i.z <= 0.0f) return invalidBsdfSample();
+    s.direction = side * i;
+    // D_wo(m) / (4 wo.m) = D / (2 (zo + Lo)).
+    s.pdf = ggxD(m, c.alpha) / (2.0f * (o.z + ggxStretchedLength(o, c.alpha)));
+    s.weight = conductorFresnel(c, om) * ggxG2OverG1(o, i, c.alpha);
+    return s;
+}
+
+// f * |cos wi| = F D G2 / (4 zo) = F D zi / (2 (zi Lo + zo Li)); 0 for wo, wi
+// on different sides and for the delta case.
+VKP_FN vec3 evalConductor(Conductor c, vec3 wo, vec3 wi) {
+    if (microfacetIsSmooth(c.alpha) || wo.z * wi.z <= 0.0f) return vec3(0.0f);
+    float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    vec3 o = side * wo;
+    vec3 i = side * wi;
+    vec3 m = normalize(o + i);
+    float d = i.z * ggxStretchedLength(o, c.alpha) + o.z * ggxStretchedLength(i, c.alpha);
+    return conductorFresnel(c, dot(o, m)) * (ggxD(m, c.alpha) * i.z / (2.0f * d));
+}
+
+VKP_FN float conductorPdf(Conductor c, vec3 wo, vec3 wi) {
+    if (microfacetIsSmooth(c.alpha) || wo.z * wi.z <= 0.0f) return 0.0f;
+    float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    vec3 o = side * wo;
+    vec3 m = normalize(o + side * wi);
+    return ggxD(m, c.alpha) / (2.0f * (o.z + ggxStretchedLength(o, c.alpha)));
 }
 
 VKP_NAMESPACE_END

@@ -30,6 +30,26 @@ void main() {
         r.weight = vec3(1.0);
         r.flags = 1u;
         r.etaSquared = 1.0;
+    } else {
+        BsdfSample s;
+        if (push.routine == MICROFACET_CONDUCTOR) {
+            Conductor c;
+            c.alpha = push.alpha;
+            c.f0 = push.f0;
+            c.eta = push.eta;
+            c.k = push.k;
+            c.complexFresnel = push.complexFresnel != 0u;
+            s = sampleConductor(c, push.wo, u);
+            if (s.valid) {
+                r.eval = evalConductor(c, push.wo, s.direction);
+                r.evalPdf = conductorPdf(c, push.wo, s.direction);
+            }
+        }
+        r.direction = s.direction;
+        r.pdf = s.pdf;
+        r.weight = s.weight;
+        r.flags = (s.valid ? 1u : 0u) | (s.delta ? 2u : 0u);
+        r.etaSquared = s.etaSquared;
     }
     results[i] = r;
 }

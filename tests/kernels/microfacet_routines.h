@@ -7,6 +7,7 @@
 #include "shared/compat.h"
 
 #define MICROFACET_VISIBLE_NORMAL 0u  // sampleGgxVisibleNormal(wo): direction = m, pdf = D_wo(m)
+#define MICROFACET_CONDUCTOR 1u       // sampleConductor, with evalConductor / conductorPdf
 
 VKP_NAMESPACE_BEGIN
 
