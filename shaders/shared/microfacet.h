@@ -1,6 +1,6 @@
 // Microfacet BSDF lobes: the Trowbridge-Reitz (GGX) distribution with the
 // height-correlated Smith masking-shadowing term, sampling of its visible
-// normals, and from them a rough conductor.
+// normals, and from them a rough conductor and a rough dielectric.
 //
 // BsdfSample is bsdf.h's, so bsdf.h's dispatch must include this header after
 // its definition (or the struct move to a header of its own).
@@ -40,8 +40,8 @@ VKP_FN bool microfacetIsSmooth(vec2 alpha) {
 
 // ---- Trowbridge-Reitz (GGX) ---------------------------------------------------
 // Walter et al. 2007, "Microfacet Models for Refraction through Rough
-// Surfaces", eq. 33, anisotropic as Heitz 2014, "Understanding the
-// Masking-Shadowing Function in Microfacet-Based BRDFs", eq. 85. With
+// Surfaces", eq. 33, anisotropic as in Heitz 2014, "Understanding the
+// Masking-Shadowing Function in Microfacet-Based BRDFs" (JCGT 3(2)). With
 // cos^4 (1 + tan^2 (cos^2 phi / ax^2 + sin^2 phi / ay^2))^2 expanded for a
 // unit m it is 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2): no tan theta,
 // no 1 / cos^4, finite at the horizon.
@@ -52,7 +52,7 @@ VKP_FN float ggxD(vec3 m, vec2 alpha) {
 }
 
 // |w| after stretching the surface by alpha: sqrt(z^2 + ax^2 x^2 + ay^2 y^2).
-// Smith's Lambda for GGX (Heitz 2014, eq. 86) is (L / |z| - 1) / 2, so the
+// Smith's Lambda for GGX (Heitz 2014) is (L / |z| - 1) / 2, so the
 // masking terms below are written with L and |z|, which keeps them finite
 // and exact at grazing angles where tan theta is infinite.
 VKP_FN float ggxStretchedLength(vec3 w, vec2 alpha) {
@@ -78,10 +78,10 @@ VKP_FN float ggxG1(vec3 w, vec2 alpha) {
 }
 
 // Height-correlated masking-shadowing, G2 = 1 / (1 + Lambda(wo) + Lambda(wi))
-// (Heitz 2014, eq. 99), = 2 |zo| |zi| / (|zi| Lo + |zo| Li). Used for
-// reflection and, as pbrt-v4 does, for transmission too (Heitz 2014 section
-// 6.2 gives the exact height-correlated transmission term as a Beta function,
-// B(1 + Lambda(wo), 1 + Lambda(wi)), which is smaller; both are <= G1(wo),
+// (Heitz 2014), = 2 |zo| |zi| / (|zi| Lo + |zo| Li). Used for reflection
+// and, as pbrt-v4 does, for transmission too (for wo and wi on opposite
+// sides the height-correlated term is instead a Beta function,
+// B(1 + Lambda(wo), 1 + Lambda(wi)), which is never larger; both are <= G1(wo),
 // so neither creates energy).
 VKP_FN float ggxG2(vec3 wo, vec3 wi, vec2 alpha) {
     float zo = abs(wo.z);
@@ -102,7 +102,7 @@ VKP_FN float ggxG2OverG1(vec3 wo, vec3 wi, vec2 alpha) {
 
 // ---- visible normals ------------------------------------------------------------
 // The density of microfacet normals m that wo sees (Heitz 2018, "Sampling the
-// GGX Distribution of Visible Normals", JCGT 7(4), eq. 2):
+// GGX Distribution of Visible Normals", JCGT 7(4)):
 // D_wo(m) = G1(wo) max(0, wo.m) D(m) / wo.z, here 2 max(0, wo.m) D(m) / (zo + Lo),
 // finite even at wo.z = 0. wo must be in the upper hemisphere (wo.z >= 0):
 // the lobes below flip a wo from below before they sample.
@@ -113,11 +113,11 @@ VKP_FN float ggxVisibleNormalPdf(vec3 wo, vec3 m, vec2 alpha) {
 }
 
 // Samples D_wo by the spherical-cap form of Dupuy and Benyoub 2023, "Sound and
-// Robust Sampling of the Visible Normals of GGX" (Listing 3): in the
+// Robust Sampling of the Visible Normals of GGX": in the
 // configuration stretched to alpha = 1 the visible normals of wo are uniform
 // on the cap of the unit sphere above the plane z = -wo'.z, shifted by wo'
 // (wo' the stretched wo), then unstretched (normals scale by alpha like
-// directions do: Heitz 2018, section 3). wo.z >= 0.
+// directions do, Heitz 2018). wo.z >= 0.
 VKP_FN vec3 sampleGgxVisibleNormal(vec3 wo, vec2 alpha, vec2 u) {
     vec3 v = normalize(vec3(alpha.x * wo.x, alpha.y * wo.y, wo.z));
     float phi = VKP_TWO_PI * u.x;
@@ -248,6 +248,133 @@ VKP_FN float conductorPdf(Conductor c, vec3 wo, vec3 wi) {
     vec3 o = side * wo;
     vec3 m = normalize(o + side * wi);
     return ggxD(m, c.alpha) / (2.0f * (o.z + ggxStretchedLength(o, c.alpha)));
+}
+
+// ---- rough dielectric -------------------------------------------------------------------
+// Walter et al. 2007 (and PBR 4th ed., section 9.7). The normal +z points to
+// the outside; ior is n_inside / n_outside, as for the smooth glass. A wo
+// below the surface is handled by flipping the frame (wo, wi -> -wo, -wi),
+// which turns the inside into the outside and the relative index into
+// 1 / ior: D, Lambda and G depend only on squares and |z|, so the lobe from
+// below is the same formula. In that frame eta = n(wi side) / n(wo side)
+// for transmission, the bsdf.h convention.
+//
+// A visible normal m is sampled; reflection is chosen with probability
+// F(wo.m), refraction through m otherwise. pdf is the solid-angle density of
+// the whole procedure (the choice's probability included, as the smooth
+// glass's pdf is F or 1 - F):
+//   reflection:   F D_wo(m) / (4 wo.m)                           (Walter eq. 14)
+//   transmission: (1 - F) D_wo(m) eta^2 |wi.m| / (wo.m + eta wi.m)^2 (Walter eq. 17)
+// with m the generalised half vector normalize(wo + eta wi) for transmission
+// (Walter eq. 16). The transmitted f is Walter's eq. 21 for radiance, which
+// carries the 1 / eta^2 of the smooth glass (PBR 4th ed., section 9.5.2): the
+// weight is T G2 / (G1 eta^2), BsdfSample::etaSquared = eta^2, and
+// f(wo, wi) / n(wo side)^2 = f(wi, wo) / n(wi side)^2 (Veach's thesis, chapter 5).
+
+struct RoughDielectric {
+    vec2 alpha;          // GGX roughness along s and t (alpha = roughness^2)
+    float ior;           // n_inside / n_outside; the inside is -z
+    vec3 reflectance;    // tint of reflected light (1 for physical glass)
+    vec3 transmittance;  // tint of refracted light
+};
+
+// u picks the visible normal, uc the reflect/refract choice.
+VKP_FN BsdfSample sampleRoughDielectric(RoughDielectric d, vec3 wo, vec2 u, float uc) {
+    // Index 1 refracts every microfacet straight through (a delta however
+    // rough), so it is the smooth glass too, as in pbrt-v4.
+    if (microfacetIsSmooth(d.alpha) || d.ior == 1.0f)
+        return sampleDielectric(d.reflectance, d.transmittance, d.ior, vec3(0.0f, 0.0f, 1.0f), wo,
+                                uc);
+    if (wo.z == 0.0f) return invalidBsdfSample();
+    float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    float eta = wo.z > 0.0f ? d.ior : 1.0f / d.ior;
+    vec3 o = side * wo;
+    vec3 m = sampleGgxVisibleNormal(o, d.alpha, u);
+    float om = dot(o, m);
+    if (om <= 0.0f) return invalidBsdfSample();
+    float fresnel = fresnelDielectric(om, eta);
+    float visiblePdf = ggxVisibleNormalPdf(o, m, d.alpha);
+
+    BsdfSample s;
+    s.delta = false;
+    s.valid = true;
+    if (uc < fresnel) {
+        vec3 i = 2.0f * om * m - o;
+        if (i.z <= 0.0f) return invalidBsdfSample();
+        s.direction = side * i;
+        s.pdf = fresnel * visiblePdf / (4.0f * om);
+        s.weight = d.reflectance * ggxG2OverG1(o, i, d.alpha);
+        s.etaSquared = 1.0f;
+        return s;
+    }
+    // Snell's law about m; uc >= F means F < 1, so no total internal reflection.
+    float sin2T = (1.0f - om * om) / (eta * eta);
+    float cosT = sqrt(max(0.0f, 1.0f - sin2T));
+    vec3 i = normalize(-o / eta + (om / eta - cosT) * m);
+    // Refracted through a steep microfacet back to wo's side: lost (single scattering).
+    if (i.z >= 0.0f) return invalidBsdfSample();
+    float im = dot(i, m);
+    float denom = om + eta * im;
+    s.direction = side * i;
+    s.pdf = (1.0f - fresnel) * visiblePdf * eta * eta * abs(im) / (denom * denom);
+    s.weight = d.transmittance * (ggxG2OverG1(o, i, d.alpha) / (eta * eta));
+    s.etaSquared = eta * eta;
+    return s;
+}
+
+// The half vector of wo and wi in the flipped frame (o.z > 0) and the
+// relative index eta; m.z > 0. Returns false where no microfacet joins them
+// with wo and wi on its correct sides (Walter's chi+ terms).
+VKP_FN bool roughDielectricHalfVector(vec3 o, vec3 i, float eta, VKP_OUT(vec3) m) {
+    m = vec3(0.0f, 0.0f, 1.0f);
+    bool reflection = i.z > 0.0f;
+    vec3 h = reflection ? o + i : o + eta * i;
+    float len2 = dot(h, h);
+    if (!(len2 > 0.0f)) return false;
+    m = h * inversesqrt(len2);
+    if (m.z < 0.0f) m = -m;
+    if (m.z == 0.0f) return false;
+    float om = dot(o, m);
+    float im = dot(i, m);
+    return reflection ? (om > 0.0f && im > 0.0f) : (om > 0.0f && im < 0.0f);
+}
+
+// f * |cos wi|, reflection and transmission; 0 in the delta case.
+VKP_FN vec3 evalRoughDielectric(RoughDielectric d, vec3 wo, vec3 wi) {
+    if (microfacetIsSmooth(d.alpha) || d.ior == 1.0f || wo.z == 0.0f || wi.z == 0.0f)
+        return vec3(0.0f);
+    float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    float eta = wo.z > 0.0f ? d.ior : 1.0f / d.ior;
+    vec3 o = side * wo;
+    vec3 i = side * wi;
+    vec3 m;
+    if (!roughDielectricHalfVector(o, i, eta, m)) return vec3(0.0f);
+    float om = dot(o, m);
+    float fresnel = fresnelDielectric(om, eta);
+    float dm = ggxD(m, d.alpha);
+    float g2 = ggxG2(o, i, d.alpha);
+    if (i.z > 0.0f) return d.reflectance * (fresnel * dm * g2 / (4.0f * o.z));
+    float im = dot(i, m);
+    float denom = om + eta * im;
+    // Walter eq. 21 times |cos wi|, for radiance (n on wo's side is 1 here).
+    return d.transmittance * ((1.0f - fresnel) * dm * g2 * abs(im) * om / (o.z * denom * denom));
+}
+
+VKP_FN float roughDielectricPdf(RoughDielectric d, vec3 wo, vec3 wi) {
+    if (microfacetIsSmooth(d.alpha) || d.ior == 1.0f || wo.z == 0.0f || wi.z == 0.0f) return 0.0f;
+    float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    float eta = wo.z > 0.0f ? d.ior : 1.0f / d.ior;
+    vec3 o = side * wo;
+    vec3 i = side * wi;
+    vec3 m;
+    if (!roughDielectricHalfVector(o, i, eta, m)) return 0.0f;
+    float om = dot(o, m);
+    float fresnel = fresnelDielectric(om, eta);
+    float visiblePdf = ggxVisibleNormalPdf(o, m, d.alpha);
+    if (i.z > 0.0f) return fresnel * visiblePdf / (4.0f * om);
+    float im = dot(i, m);
+    float denom = om + eta * im;
+    return (1.0f - fresnel) * visiblePdf * eta * eta * abs(im) / (denom * denom);
 }
 
 VKP_NAMESPACE_END

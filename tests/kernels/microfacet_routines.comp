@@ -44,6 +44,17 @@ void main() {
                 r.eval = evalConductor(c, push.wo, s.direction);
                 r.evalPdf = conductorPdf(c, push.wo, s.direction);
             }
+        } else {
+            RoughDielectric d;
+            d.alpha = push.alpha;
+            d.ior = push.ior;
+            d.reflectance = vec3(1.0);
+            d.transmittance = vec3(1.0);
+            s = sampleRoughDielectric(d, push.wo, u, uc);
+            if (s.valid) {
+                r.eval = evalRoughDielectric(d, push.wo, s.direction);
+                r.evalPdf = roughDielectricPdf(d, push.wo, s.direction);
+            }
         }
         r.direction = s.direction;
         r.pdf = s.pdf;

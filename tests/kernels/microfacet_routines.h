@@ -8,6 +8,7 @@
 
 #define MICROFACET_VISIBLE_NORMAL 0u  // sampleGgxVisibleNormal(wo): direction = m, pdf = D_wo(m)
 #define MICROFACET_CONDUCTOR 1u       // sampleConductor, with evalConductor / conductorPdf
+#define MICROFACET_DIELECTRIC 2u      // sampleRoughDielectric, with its eval / pdf (tints 1)
 
 VKP_NAMESPACE_BEGIN
 

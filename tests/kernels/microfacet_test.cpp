@@ -17,6 +17,7 @@
 #include "image/statistics.h"
 #include "kernels/microfacet_routines.h"
 #include "shared/microfacet.h"
+#include "shared/rng.h"
 #include "support/direction_chi2.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
@@ -32,8 +33,9 @@ constexpr uint32_t SAMPLES = 1000000;
 constexpr double PI = 3.14159265358979323846;
 // Statistical tests in this file (power checks, which must reject, not counted):
 // chi-square of visible normals 17, of the warped grid's own check 2, of the
-// conductor 14; binomial z-tests of the conductor's limit alpha -> 0: 3.
-constexpr int MICROFACET_STATISTICAL_TESTS = 36;
+// conductor 14, of the dielectric 9; binomial z-tests of the conductor's limit
+// alpha -> 0: 3.
+constexpr int MICROFACET_STATISTICAL_TESTS = 45;
 const double ALPHA = test::sidakAlpha(0.01, MICROFACET_STATISTICAL_TESTS);
 const double Z_CRITICAL = image::normalCritical(ALPHA);
 
@@ -122,7 +124,7 @@ const glm::vec2 ALPHAS[] = {{0.05f, 0.05f}, {0.2f, 0.2f}, {0.5f, 0.5f}, {1.0f, 1
                             {0.08f, 0.5f}};
 
 // D is a distribution of normals whose projected area is the macro surface's:
-// the integral of D(m) m.z over the hemisphere is 1 (Walter et al. 2007, eq. 4).
+// the integral of D(m) m.z over the hemisphere is 1 (Walter et al. 2007).
 // Tolerance 1e-3, the bound of every pdf integral in the sampling tests: the
 // warped grid's midpoint rule integrates these to 6.8e-5 (measured, worst case).
 TEST(Ggx, ProjectedAreaIsOne) {
@@ -140,7 +142,7 @@ TEST(Ggx, ProjectedAreaIsOne) {
 
 // Smith's Lambda is defined by D: the projected area of the visible
 // microfacets, the integral of max(0, w.m) D(m), equals (1 + Lambda(w)) w.z
-// (Heitz 2014, eqs. 17 and 72). The closed form is checked against that
+// (Heitz 2014). The closed form is checked against that
 // integral, computed numerically, at normal, oblique and grazing directions;
 // the relative bound 1e-3 is the integration's (measured 1.7e-5). G1 and the height-correlated
 // G2 are 1 / (1 + Lambda) and 1 / (1 + Lambda + Lambda) exactly (to float
@@ -303,7 +305,9 @@ TEST(RoughConductor, SamplesFollowTheirDensity) {
             if (r.flags & 1u) {
                 ASSERT_NEAR(r.pdf / pdf(r.direction), 1.0, 1e-3);
             }
-        expectFits(gridFor(std::min(c.alpha.x, c.alpha.y), c.cosTheta), results, pdf, true);
+        test::DirectionGrid grid = gridFor(std::min(c.alpha.x, c.alpha.y), c.cosTheta);
+        grid.pointsPerAxis = 32;
+        expectFits(grid, results, pdf, true);
     }
 }
 
@@ -513,6 +517,287 @@ TEST(RoughConductor, ApproachesTheMirrorAsAlphaGoesToZero) {
     const glm::vec3 mirror(-p.wo.x, -p.wo.y, p.wo.z);
     EXPECT_EQ(shared::evalConductor(smooth, p.wo, mirror), glm::vec3(0));
     EXPECT_EQ(shared::conductorPdf(smooth, p.wo, mirror), 0.0f);
+}
+
+// ---- rough dielectric --------------------------------------------------------------------
+
+shared::RoughDielectric dielectricOf(const MicrofacetPush& p) {
+    shared::RoughDielectric d;
+    d.alpha = p.alpha;
+    d.ior = p.ior;
+    d.reflectance = glm::vec3(1.0f);
+    d.transmittance = glm::vec3(1.0f);
+    return d;
+}
+
+// The density of the rough dielectric's wi, written in double from Walter et
+// al. 2007 with the indices of both sides (no flipped frame, unlike the
+// header): the microfacet normal m (m.z > 0) is the half vector
+// normalize(wo + wi) for reflection and -(n_o wo + n_i wi) for transmission
+// (eq. 16); wo must see m from its side (the visible normals of wo, or of -wo
+// from below: G1(wo) |wo.m| D(m) / |wo.z|) and wi must leave on its side;
+// the Jacobians are 1 / (4 |wo.m|) and n_i^2 |wi.m| / (n_o wo.m + n_i wi.m)^2
+// (eqs. 14, 17); reflection is chosen with probability F(|wo.m|).
+double dielectricDensity(glm::vec3 wof, glm::vec3 wif, glm::vec2 alpha, double ior) {
+    const glm::dvec3 wo(wof), wi(wif);
+    if (wo.z == 0 || wi.z == 0) return 0;
+    const double no = wo.z > 0 ? 1 : ior, ni = wi.z > 0 ? 1 : ior;
+    const bool reflection = wo.z * wi.z > 0;
+    glm::dvec3 m = reflection ? wo + wi : -(no * wo + ni * wi);
+    if (glm::dot(m, m) == 0) return 0;
+    m = glm::normalize(m);
+    if (m.z < 0) m = -m;
+    const double om = glm::dot(wo, m), im = glm::dot(wi, m);
+    if (om * wo.z <= 0 || im * wi.z <= 0) return 0;
+    const double visible = double(shared::ggxG1(wof, alpha)) * std::abs(om) *
+                           double(shared::ggxD(glm::vec3(m), alpha)) / std::abs(wo.z);
+    // Fresnel for light arriving along wo at the microfacet, from wo's side.
+    const double f =
+        shared::fresnelDielectric(float(std::abs(om)), float(wo.z > 0 ? ior : 1 / ior));
+    if (reflection) return f * visible / (4 * std::abs(om));
+    const double denom = no * om + ni * im;
+    return (1 - f) * visible * ni * ni * std::abs(im) / (denom * denom);
+}
+
+// Fresnel's slope is infinite at the critical angle (1 - F grows like
+// sqrt(cos - cos_c)), so there two float evaluations of one configuration
+// agree only as well as F does when wo.m moves by its rounding: the half
+// vector recomputed from wo and wi differs from the sampled one by a few
+// ulps, bounded here by 1e-6. Returns that relative change of F (reflection)
+// or of 1 - F (transmission); elsewhere it is ~1e-6 and the bounds below are
+// set by the rest of the arithmetic.
+double fresnelRounding(const shared::RoughDielectric& d, glm::vec3 wo, glm::vec3 wi) {
+    const float side = wo.z > 0 ? 1.0f : -1.0f;
+    const float eta = wo.z > 0 ? d.ior : 1 / d.ior;
+    glm::vec3 m;
+    if (!shared::roughDielectricHalfVector(side * wo, side * wi, eta, m)) return 0;
+    const float om = glm::dot(side * wo, m);
+    const double f = shared::fresnelDielectric(om, eta);
+    const double change = std::max(std::abs(shared::fresnelDielectric(om + 1e-6f, eta) - f),
+                                   std::abs(shared::fresnelDielectric(om - 1e-6f, eta) - f));
+    const double part = wo.z * wi.z > 0 ? f : 1 - f;
+    return part > 0 ? change / part : 0;
+}
+
+struct DielectricCase {
+    float ior;
+    double cosTheta;  // > 0: wo outside, < 0: inside
+    glm::vec2 alpha;
+};
+
+// Outside and inside, normal to grazing, narrow to rough, anisotropic; inside
+// beyond the critical angle (41.8 degrees for 1.5: cos 0.745), where total
+// internal reflection dominates and only steep microfacets transmit.
+const DielectricCase DIELECTRIC_CASES[] = {
+    {1.5f, 0.8, {0.2f, 0.2f}},    {1.5f, 1.0, {0.5f, 0.5f}},   {1.5f, 0.05, {0.5f, 0.5f}},
+    {1.33f, 0.5, {0.05f, 0.05f}}, {1.5f, -0.9, {0.2f, 0.2f}},  {1.5f, -0.5, {0.2f, 0.2f}},
+    {1.5f, -0.3, {0.05f, 0.05f}}, {2.4f, -0.7, {1.0f, 1.0f}},  {1.5f, 0.6, {0.05f, 0.4f}}};
+
+MicrofacetPush dielectricPush(const DielectricCase& c, uint32_t seed) {
+    MicrofacetPush p = pushFor(MICROFACET_DIELECTRIC, c.alpha, direction(c.cosTheta, 0.7), seed);
+    p.ior = c.ior;
+    return p;
+}
+
+// Reflection and transmission together follow the density above (chi-square
+// on the whole sphere, failed samples their own cell; both lobes hold more
+// than 1000 samples in every case), and each sample's pdf equals it to 1e-3
+// relative (+ Fresnel's rounding near the critical angle). The pdf jumps
+// where the transmitting microfacet reaches the horizon (GGX has horizontal
+// normals), anywhere in a cell, so cells are integrated with 32 x 32 points:
+// with 8 x 8 the integral at alpha 0.5, normal incidence, is 2e-3 low and
+// the grazing case fails; 32 and 64 points agree to 1e-4.
+TEST(RoughDielectric, SamplesFollowTheirDensity) {
+    for (const DielectricCase& c : DIELECTRIC_CASES) {
+        SCOPED_TRACE(testing::Message() << "ior " << c.ior << " cos " << c.cosTheta << " alpha "
+                                        << c.alpha.x << ", " << c.alpha.y);
+        const MicrofacetPush p = dielectricPush(c, 15);
+        const auto results = runRoutine(p);
+        const shared::RoughDielectric d = dielectricOf(p);
+        auto pdf = [&](glm::vec3 wi) { return dielectricDensity(p.wo, wi, c.alpha, c.ior); };
+        size_t reflected = 0, transmitted = 0;
+        for (const auto& r : results) {
+            if (!(r.flags & 1u)) continue;
+            ASSERT_NEAR(r.pdf / pdf(r.direction), 1.0,
+                        1e-3 + fresnelRounding(d, p.wo, r.direction));
+            (r.direction.z * p.wo.z > 0 ? reflected : transmitted) += 1;
+        }
+        EXPECT_GT(reflected, 1000u);  // both lobes are exercised in every case
+        EXPECT_GT(transmitted, 1000u);
+        test::DirectionGrid grid = gridFor(std::min(c.alpha.x, c.alpha.y), c.cosTheta);
+        grid.pointsPerAxis = 32;
+        expectFits(grid, results, pdf, true);
+    }
+}
+
+// Every sample's weight is eval / pdf, on the GPU and in C++ (1e-4 relative,
+// + Fresnel's rounding near the critical angle; measured 1.4e-5 elsewhere);
+// etaSquared is eta^2 for transmission (eta = n(wi side) / n(wo side)) and 1
+// for reflection; and in flux (weight x etaSquared) no sample exceeds 1, the
+// white furnace sample by sample.
+TEST(RoughDielectric, WeightIsEvalOverPdf) {
+    for (const DielectricCase& c : DIELECTRIC_CASES) {
+        SCOPED_TRACE(testing::Message() << "ior " << c.ior << " cos " << c.cosTheta);
+        const MicrofacetPush p = dielectricPush(c, 17);
+        const shared::RoughDielectric d = dielectricOf(p);
+        const float eta = c.cosTheta > 0 ? c.ior : 1 / c.ior;
+        for (const auto& r : runRoutine(p)) {
+            if (!(r.flags & 1u)) continue;
+            ASSERT_EQ(r.flags, 1u);
+            const bool transmitted = r.direction.z * p.wo.z < 0;
+            ASSERT_EQ(r.etaSquared, transmitted ? eta * eta : 1.0f);
+            ASSERT_LE(r.weight.x * r.etaSquared, 1.0f + 1e-6f);
+            const glm::vec3 f = shared::evalRoughDielectric(d, p.wo, r.direction);
+            const float pdf = shared::roughDielectricPdf(d, p.wo, r.direction);
+            const double bound = 1e-4 + fresnelRounding(d, p.wo, r.direction);
+            ASSERT_NEAR(r.evalPdf / r.pdf, 1.0, bound);
+            ASSERT_NEAR(r.eval.x / r.evalPdf / r.weight.x, 1.0, bound) << "GPU eval";
+            ASSERT_NEAR(f.x / pdf / r.weight.x, 1.0, bound) << "C++ eval";
+        }
+    }
+}
+
+// Reciprocity: reflection on either side f(wo, wi) = f(wi, wo); transmission
+// the generalised f(wo, wi) / n(wo side)^2 = f(wi, wo) / n(wi side)^2 of the
+// radiance form (Veach's thesis, chapter 5), to 1e-4 relative + Fresnel's
+// rounding near the critical angle (measured 3.3e-6 elsewhere): the half
+// vector computed with the two directions in opposite roles rounds
+// differently. 40000 random pairs, random anisotropic alpha and ior.
+TEST(RoughDielectric, Reciprocity) {
+    std::mt19937 rng(23);
+    std::normal_distribution<float> gauss;
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    int reflections = 0, transmissions = 0, edgeOn = 0;
+    for (int n = 0; n < 40000; ++n) {
+        shared::RoughDielectric d;
+        d.alpha = glm::vec2(0.02f + uniform(rng), 0.02f + uniform(rng));
+        d.ior = 1.1f + 1.5f * uniform(rng);
+        d.reflectance = d.transmittance = glm::vec3(1.0f);
+        const glm::vec3 a = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
+        const glm::vec3 b = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
+        if (std::abs(a.z) < 1e-2f || std::abs(b.z) < 1e-2f) continue;
+        const float fab = shared::evalRoughDielectric(d, a, b).x / std::abs(b.z);
+        const float fba = shared::evalRoughDielectric(d, b, a).x / std::abs(a.z);
+        if (fab == 0 && fba == 0) continue;
+        const float na = a.z > 0 ? 1 : d.ior, nb = b.z > 0 ? 1 : d.ior;
+        const double bound = 1e-4 + fresnelRounding(d, a, b) + fresnelRounding(d, b, a);
+        if (fab == 0 || fba == 0) {
+            // A microfacet seen edge-on from one side (wo.m ~ 1e-4): rounding
+            // puts the reverse on the other side of the support's boundary,
+            // where f is vanishing anyway.
+            ASSERT_LT(std::max(fab, fba), 1e-6f);
+            ++edgeOn;
+            continue;
+        }
+        ASSERT_NEAR((fab / (na * na)) / (fba / (nb * nb)), 1.0, bound);
+        (a.z * b.z > 0 ? reflections : transmissions) += 1;
+    }
+    EXPECT_GT(reflections, 5000);
+    EXPECT_GT(transmissions, 5000);
+    EXPECT_LT(edgeOn, 10);
+}
+
+// White furnace in flux: the albedo, reflection plus transmission times eta^2
+// (the energy, not the radiance, that crosses), sampled (mean of weight x
+// etaSquared, 2 x 10^5 samples) equals the integral of eval x (eta^2 where wi
+// transmits) over the sphere within 5 standard errors + 1e-3, and that
+// integral is at most 1 (ior 1.5, alpha 0.2 and 1, cos theta_o 0.9, 0.3,
+// -0.9, -0.5). The loss is the single scattering's, as for the conductor
+// (measured figures in docs/ACCURACY.md).
+TEST(RoughDielectric, WhiteFurnaceLosesOnlyTheMultipleScattering) {
+    for (float a : {0.2f, 1.0f})
+        for (double cosTheta : {0.9, 0.3, -0.9, -0.5}) {
+            SCOPED_TRACE(testing::Message() << "alpha " << a << " cos " << cosTheta);
+            const MicrofacetPush p = [&] {
+                MicrofacetPush q = dielectricPush({1.5f, cosTheta, glm::vec2(a)}, 19);
+                q.count = 200000;
+                return q;
+            }();
+            double sum = 0, sum2 = 0;
+            for (const auto& r : runRoutine(p)) {
+                const double w = (r.flags & 1u) ? r.weight.x * r.etaSquared : 0.0;
+                sum += w;
+                sum2 += w * w;
+            }
+            const double n = p.count, mean = sum / n;
+            const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+            const shared::RoughDielectric d = dielectricOf(p);
+            const float eta = cosTheta > 0 ? p.ior : 1 / p.ior;
+            const auto flux = [&](glm::vec3 wi) {
+                const double f = shared::evalRoughDielectric(d, p.wo, wi).x;
+                return wi.z * p.wo.z < 0 ? f * eta * eta : f;
+            };
+            const double albedo = test::integrateOverSphere(gridFor(a, cosTheta), flux);
+            EXPECT_LE(albedo, 1.0);
+            EXPECT_NEAR(mean, albedo, 5 * standardError + 1e-3);
+        }
+}
+
+// As alpha goes to 0 the rough dielectric becomes the smooth one (ior 1.5,
+// cos theta_o 0.6 and -0.9; alpha 1e-2, 3e-3, 1.01e-3): the reflected
+// fraction approaches F(cos theta_o) within 5 standard errors + 0.05 alpha
+// (measured within 2 standard errors), the median deviation of the
+// transmitted directions from Snell's is below 3 alpha (measured 0.49 and
+// 0.69 alpha), the flux albedo approaches 1 within 0.05 alpha (measured
+// 0.012 alpha). Below VKP_MICROFACET_SMOOTH_ALPHA, and at index
+// 1 whatever alpha, it IS the smooth glass: the same direction, pdf, weight
+// and etaSquared as bsdf.h's sampleDielectric given the same random number
+// (recomputed here in C++ from the shared RNG), to 1e-5.
+TEST(RoughDielectric, ApproachesSmoothGlassAsAlphaGoesToZero) {
+    for (double cosTheta : {0.6, -0.9})
+        for (float a : {1e-2f, 3e-3f, 1.01e-3f}) {
+            SCOPED_TRACE(testing::Message() << "cos " << cosTheta << " alpha " << a);
+            const MicrofacetPush p = dielectricPush({1.5f, cosTheta, glm::vec2(a)}, 21);
+            const float eta = cosTheta > 0 ? 1.5f : 1 / 1.5f;
+            const float fresnel = shared::fresnelDielectric(float(cosTheta), 1.5f);
+            const double sinT = std::sqrt(1 - cosTheta * cosTheta) / eta;
+            // Snell's direction: opposite side, azimuth turned by pi.
+            const glm::dvec3 snell(-sinT * std::cos(0.7), -sinT * std::sin(0.7),
+                                   (cosTheta > 0 ? -1 : 1) * std::sqrt(1 - sinT * sinT));
+            double reflected = 0, flux = 0;
+            std::vector<double> angles;
+            for (const auto& r : runRoutine(p)) {
+                if (!(r.flags & 1u)) continue;
+                flux += r.weight.x * r.etaSquared;
+                if (r.direction.z * p.wo.z > 0) {
+                    reflected += 1;
+                    continue;
+                }
+                const glm::dvec3 d(r.direction);
+                angles.push_back(std::atan2(glm::length(glm::cross(d, snell)), glm::dot(d, snell)));
+            }
+            const double n = p.count;
+            std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+            const double median = angles[angles.size() / 2];
+            EXPECT_NEAR(reflected / n, fresnel,
+                        5 * std::sqrt(fresnel * (1 - fresnel) / n) + 0.05 * a);
+            EXPECT_LT(median, 3 * a);
+            EXPECT_NEAR(flux / n, 1.0, 0.05 * a);
+        }
+    for (const auto& [ior, a] : {std::pair{1.5f, 0.99e-3f}, std::pair{1.0f, 0.5f}})
+        for (double cosTheta : {0.6, -0.9, -0.5}) {
+            SCOPED_TRACE(testing::Message()
+                         << "ior " << ior << " alpha " << a << " cos " << cosTheta);
+            MicrofacetPush p = dielectricPush({ior, cosTheta, glm::vec2(a)}, 25);
+            p.count = 10000;
+            const auto results = runRoutine(p);
+            for (uint32_t i = 0; i < p.count; ++i) {
+                const auto& r = results[i];
+                const float uc = shared::rngUniform(shared::makeRngKey(i, 0u, p.seed), 2u);
+                const shared::BsdfSample s =
+                    shared::sampleDielectric(glm::vec3(1.0f), glm::vec3(1.0f), ior,
+                                             glm::vec3(0, 0, 1), p.wo, uc);
+                ASSERT_EQ(r.flags, 3u);  // valid, delta
+                for (int k = 0; k < 3; ++k) ASSERT_NEAR(r.direction[k], s.direction[k], 1e-5f);
+                ASSERT_NEAR(r.pdf, s.pdf, 1e-5f);
+                ASSERT_NEAR(r.weight.x, s.weight.x, 1e-5f);
+                ASSERT_EQ(r.etaSquared, s.etaSquared);
+            }
+            const shared::RoughDielectric d = dielectricOf(p);
+            const glm::vec3 wi = -p.wo;
+            EXPECT_EQ(shared::evalRoughDielectric(d, p.wo, wi), glm::vec3(0));
+            EXPECT_EQ(shared::roughDielectricPdf(d, p.wo, wi), 0.0f);
+        }
 }
 
 }  // namespace
