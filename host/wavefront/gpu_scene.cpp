@@ -176,8 +176,9 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             const scene::EnvironmentTable table = scene::buildEnvironmentTable(*env.map);
             t.envAlias = table.entries;
             t.envRadiance = env.map->pixels;
-            // totalWeight sums luminance x sin(theta); a texel spans (2 pi / w)(pi / h).
-            radiantIntensity = table.totalWeight * (2 * PI / env.map->width) * (PI / env.map->height);
+            // totalWeight integrates luminance x sin(theta) over (u, v), and
+            // d omega = 2 pi^2 sin(theta) du dv (shared/environment_map.h).
+            radiantIntensity = table.totalWeight * 2 * PI * PI;
             if (t.envAlias.empty()) radiantIntensity = 0;  // a black map is not worth sampling
         } else {
             radiantIntensity = 4 * PI * scene::luminance(env.color);

@@ -1,10 +1,30 @@
-// Importance sampling of the environment map in proportion to
-// luminance x sin(theta), texel by texel, through an alias table over the
-// texels (shared/alias.h explains why not a float marginal/conditional CDF:
-// with a 10^7 sun, whole rows of sky fall below one float ulp of the CDF).
+// The environment map's radiance and its importance sampling.
+//
+// Radiance: texel (i, j) of a W x H map holds the radiance at its centre,
+// map coordinates ((i + 1/2) / W, (j + 1/2) / H), and between centres the
+// radiance is interpolated bilinearly from the four nearest (the convention of
+// Heckbert, "What are the coordinates of a pixel?", Graphics Gems 1990, and of
+// pbrt-v4's Image::Bilerp, appendix B.5: x = u W - 1/2), wrapping around in u
+// (longitude is periodic) and clamping in v (within half a texel of a pole,
+// the first or last row alone, interpolated in u). Mitsuba 3.9's `envmap`
+// emitter interpolates bilinearly too, with the same texel-centred, periodic
+// u; its v puts row j at j / (H - 1) (docs/SCENES.md, the Mitsuba table).
+//
+// Sampling: in proportion to luminance x sin(theta), cell by cell, where
+// texel (i, j)'s cell is the rectangle [i/W, (i+1)/W) x [j/H, (j+1)/H) around
+// its centre, through an alias table over the cells (shared/alias.h explains
+// why not a float marginal/conditional CDF: with a 10^7 sun, whole rows of
+// sky fall below one float ulp of the CDF). A cell's weight is the integral
+// over it of the bilinear luminance times sin(theta)
+// (host/scene/environment_table.cpp), not its own texel's value: the bilinear
+// radiance reaches half a texel into the cells of black texels next to bright
+// ones, and a cell weighted by its texel alone would leave that energy to BSDF
+// sampling. Inside a cell the direction is uniform in (u, v), so the pdf is
+// piecewise constant over cells, and the pdf of a direction is its cell's
+// probability over the cell's solid angle: exactly the density sampled.
 //
 // Sampling uses 4 random dimensions: two 32-bit words for the alias table,
-// then a point inside the chosen texel:
+// then a point inside the chosen cell:
 //   bucket = aliasBucket(bits0, texels); texel = aliasResolve(table[bucket], bucket, bits1);
 //   s = envSampleInTexel(info, texel, jitter);
 //   pdf = envDirectionPdf(info, table[s.pdfTexel].probability, s.direction);
@@ -44,8 +64,45 @@ VKP_FN uint envTexelOfUv(EnvironmentInfo info, vec2 uv) {
     return y * info.width + x;
 }
 
-// Solid-angle density of a map direction inside a texel of discrete
-// probability `probability`: the texel is sampled uniformly in (u, v), and
+// The four texels around map coordinates `uv` and the weights between them:
+// the radiance there is envBilinearMix of the four texels' values.
+struct EnvBilinear {
+    uint texel00;  // column x0, row y0 (index y * width + x)
+    uint texel10;  // x1, y0
+    uint texel01;  // x0, y1
+    uint texel11;  // x1, y1
+    vec2 weight;   // the fractions of the way from x0 to x1 and from y0 to y1, in [0, 1)
+};
+
+VKP_FN EnvBilinear envBilinear(EnvironmentInfo info, vec2 uv) {
+    // Continuous texel coordinates in which texel centres are integers.
+    float x = uv.x * float(info.width) - 0.5f;
+    float y = uv.y * float(info.height) - 0.5f;
+    float fx = floor(x);
+    float fy = floor(y);
+    EnvBilinear b;
+    b.weight = vec2(x - fx, y - fy);
+    // u in [0, 1] gives fx in [-1, width - 1]: column -1 is the last one.
+    uint x0 = uint(int(fx) + int(info.width)) % info.width;
+    uint x1 = (x0 + 1u) % info.width;
+    // v in [0, 1] gives fy in [-1, height - 1]: rows outside the map are the edge rows.
+    int lastRow = int(info.height) - 1;
+    uint y0 = uint(clamp(int(fy), 0, lastRow));
+    uint y1 = uint(clamp(int(fy) + 1, 0, lastRow));
+    b.texel00 = y0 * info.width + x0;
+    b.texel10 = y0 * info.width + x1;
+    b.texel01 = y1 * info.width + x0;
+    b.texel11 = y1 * info.width + x1;
+    return b;
+}
+
+// The radiance interpolated from the values of b's four texels.
+VKP_FN vec3 envBilinearMix(EnvBilinear b, vec3 v00, vec3 v10, vec3 v01, vec3 v11) {
+    return mix(mix(v00, v10, b.weight.x), mix(v01, v11, b.weight.x), b.weight.y);
+}
+
+// Solid-angle density of a map direction inside a cell of discrete
+// probability `probability`: the cell is sampled uniformly in (u, v), and
 // d omega = 2 pi^2 sin(theta) du dv. sin(theta) comes from the direction
 // itself (length of its xz part), not from v through sin(), so that every
 // path to the pdf of one direction computes the same number.
@@ -59,10 +116,10 @@ VKP_FN float envPdf(EnvironmentInfo info, float probability, vec3 mapDirection) 
 struct EnvSample {
     vec3 direction;  // world space
     vec2 uv;         // map coordinates
-    uint pdfTexel;   // the texel whose probability gives the pdf: read it, then call envDirectionPdf
+    uint pdfTexel;   // the cell whose probability gives the pdf: read it, then call envDirectionPdf
 };
 
-// A point uniformly inside the chosen texel. Its pdf is evaluated from the
+// A point uniformly inside the chosen texel's cell. Its pdf is evaluated from the
 // direction (envDirectionPdf with the probability of s.pdfTexel), exactly as for
 // a BSDF-sampled direction that escapes: the two MIS strategies then agree
 // to the bit. The texel looked up from the direction is the chosen one except

@@ -1,6 +1,8 @@
 // Test kernel: samples the environment's alias table and, for each sample,
 // also evaluates the pdf of the sampled direction the way a BSDF-sampled ray
-// that hits the environment would (direction -> map uv -> texel -> pdf).
+// that hits the environment would (direction -> map uv -> texel -> pdf), and
+// the map's bilinear radiance in that direction (as environmentRadiance does,
+// before strength).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -16,10 +18,12 @@ struct EnvTestResult {
     float pdfLookup;  // from evaluating the direction
     uint texel;       // the texel chosen by the alias table
     uint lookedUpTexel;  // the texel of the sampled direction, looked up
+    vec3 radiance;       // the bilinear radiance in the sampled direction
 };
 
 layout(binding = 0, scalar) readonly buffer Table { AliasEntry table[]; };
 layout(binding = 1, scalar) writeonly buffer Results { EnvTestResult results[]; };
+layout(binding = 2, scalar) readonly buffer Texels { vec3 texels[]; };
 layout(push_constant, scalar) uniform Push {
     EnvironmentInfo info;
     uint count;
@@ -47,5 +51,8 @@ void main() {
     r.pdfLookup = envDirectionPdf(info, table[lookedUp].probability, s.direction);
     r.texel = texel;
     r.lookedUpTexel = lookedUp;
+    EnvBilinear b = envBilinear(info, equirectUv(mapDirection));
+    r.radiance = envBilinearMix(b, texels[b.texel00], texels[b.texel10], texels[b.texel01],
+                                texels[b.texel11]);
     results[i] = r;
 }

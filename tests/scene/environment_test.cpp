@@ -1,7 +1,7 @@
 // Environment maps: the equirectangular mapping shared by CPU and GPU
 // (orientation, round trip, agreement between the two compilers), the
-// bundled sky, and loadEnvironmentMap's checks of bad files.
-#include "support/temp_dir.h"
+// bilinear radiance lookup against hand-computed values, the bundled sky, and
+// loadEnvironmentMap's checks of bad files.
 #include "scene/environment.h"
 
 #include <gtest/gtest.h>
@@ -15,10 +15,13 @@
 
 #include "image/image.h"
 #include "input_error.h"
+#include "reference/path_tracer_view.h"
 #include "shared/environment_map.h"
+#include "support/temp_dir.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
+#include "wavefront/render_types.h"
 
 namespace {
 
@@ -110,6 +113,106 @@ TEST(EquirectMapping, GpuAgreesWithCpu) {
         }
         EXPECT_NEAR(gpuUvs[k].y, uvs[k].y, 1e-5f);
     }
+}
+
+// ---------------------------------------------------------------------------
+// The bilinear lookup (shared/path_tracer.h environmentRadiance, as the CPU
+// reference runs it; tests/kernels/environment_sampling_test.cpp checks that the
+// GPU's lookup agrees)
+// ---------------------------------------------------------------------------
+
+// A 4 x 2 map whose texels all differ, in a scene of a small sphere (the
+// tables need a BVH) under it.
+glm::vec3 texel(int x, int y) {
+    return {1.0f + x + 4.0f * y, float(1 << (x + 4 * y)), 0.5f};
+}
+
+struct EnvironmentView {
+    explicit EnvironmentView(float strength = 1.0f, float rotationDegrees = 0.0f) {
+        scene::Scene s;
+        s.materials.push_back({});
+        s.spheres.push_back({"ball", glm::vec3(0.0f), 0.1f, 0});
+        scene::Environment env;
+        env.map = image::Image(4, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 4; ++x) env.map->at(x, y) = texel(x, y);
+        env.strength = strength;
+        env.rotationDegrees = rotationDegrees;
+        s.environment = env;
+        tables = wavefront::buildSceneTables(s);
+        info = wavefront::renderSceneInfo(tables, wavefront::RenderSettings{});
+    }
+    // The radiance seen along the world direction of map coordinates (u, v).
+    glm::vec3 at(float u, float v) const {
+        const shared::PathTracerView view(tables, info);
+        return view.environmentRadiance(
+            shared::envMapToWorld(info.environment, shared::equirectDirection(u, v)));
+    }
+    wavefront::SceneTables tables;
+    shared::SceneInfo info;
+};
+
+// Texel (x, y)'s centre is (u, v) = ((x + 1/2) / 4, (y + 1/2) / 2); u wraps
+// around, v clamps to the edge rows. The expected values are the texels'
+// weights worked out by hand.
+TEST(EnvironmentLookup, BilinearBetweenTexelCentres) {
+    const EnvironmentView env;
+    // The direction's round trip to (u, v) is good to ~2e-6 (RoundTripFromUv),
+    // 1e-5 of a texel here; a texel-centre convention off by half a texel
+    // would be off by tens of percent.
+    const float tolerance = 1e-4f;
+    auto expectNear = [&](glm::vec3 actual, glm::vec3 expected) {
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(actual[c], expected[c], tolerance * std::max(1.0f, expected[c])) << c;
+    };
+    {
+        SCOPED_TRACE("texel centres");
+        expectNear(env.at(0.375f, 0.25f), texel(1, 0));
+        expectNear(env.at(0.875f, 0.75f), texel(3, 1));
+    }
+    {
+        SCOPED_TRACE("midway between two centres, and four");
+        expectNear(env.at(0.5f, 0.25f), 0.5f * (texel(1, 0) + texel(2, 0)));
+        expectNear(env.at(0.375f, 0.5f), 0.5f * (texel(1, 0) + texel(1, 1)));
+        expectNear(env.at(0.5f, 0.5f),
+                   0.25f * (texel(1, 0) + texel(2, 0) + texel(1, 1) + texel(2, 1)));
+    }
+    {
+        SCOPED_TRACE("a quarter of the way in each direction: x = 1.25, y = 0.25");
+        expectNear(env.at(0.4375f, 0.375f), 0.5625f * texel(1, 0) + 0.1875f * texel(2, 0) +
+                                                0.1875f * texel(1, 1) + 0.0625f * texel(2, 1));
+    }
+    {
+        SCOPED_TRACE("across the seam at u = 0 (-Z): the last column and the first");
+        expectNear(env.at(0.0f, 0.25f), 0.5f * (texel(3, 0) + texel(0, 0)));
+        expectNear(env.at(0.0625f, 0.25f), 0.25f * texel(3, 0) + 0.75f * texel(0, 0));
+        expectNear(env.at(0.9375f, 0.25f), 0.75f * texel(3, 0) + 0.25f * texel(0, 0));
+        expectNear(env.at(0.0f, 0.5f),
+                   0.25f * (texel(3, 0) + texel(0, 0) + texel(3, 1) + texel(0, 1)));
+    }
+    {
+        SCOPED_TRACE("within half a texel of a pole: the edge row alone");
+        expectNear(env.at(0.375f, 0.1f), texel(1, 0));
+        expectNear(env.at(0.5f, 0.05f), 0.5f * (texel(1, 0) + texel(2, 0)));
+        expectNear(env.at(0.625f, 0.9f), texel(2, 1));
+    }
+    {
+        SCOPED_TRACE(
+            "the poles themselves: u = 0 there (equirectUv), midway between columns 3 and 0");
+        const shared::PathTracerView view(env.tables, env.info);
+        expectNear(view.environmentRadiance({0, 1, 0}), 0.5f * (texel(3, 0) + texel(0, 0)));
+        expectNear(view.environmentRadiance({0, -1, 0}), 0.5f * (texel(3, 1) + texel(0, 1)));
+    }
+}
+
+TEST(EnvironmentLookup, StrengthAndRotationApply) {
+    const EnvironmentView env(2.0f, 73.0f);
+    const glm::vec3 expected = 0.5625f * texel(1, 0) + 0.1875f * texel(2, 0) +
+                               0.1875f * texel(1, 1) + 0.0625f * texel(2, 1);
+    const glm::vec3 actual =
+        env.at(0.4375f, 0.375f);  // the map direction, turned to the world by 73 degrees
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(actual[c], 2.0f * expected[c], 1e-4f * 2.0f * expected[c]) << c;
 }
 
 // ---------------------------------------------------------------------------
