@@ -1,5 +1,6 @@
 #include "image/image.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
@@ -211,6 +212,38 @@ Image readImage(const std::filesystem::path& path, uint64_t maxPixels) {
     for (size_t i = 0; i < image.pixels.size(); ++i) {
         const float* p = &data[i * channels];
         image.pixels[i] = channels >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+    }
+    return image;
+}
+
+Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& format, uint64_t maxPixels) {
+    OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
+    // The name only picks the reader; the bytes come from `memory`.
+    auto in = OIIO::ImageInput::open("texture." + format, nullptr, &memory);
+    if (!in) throw InputError(fmt::format("cannot decode the {} image: {}", format, OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth != 1)
+        throw InputError(fmt::format("the {} image is not a 2-D image", format));
+    if (uint64_t(spec.width) * uint64_t(spec.height) > maxPixels)
+        throw InputError(fmt::format("the {} image's {}x{} pixels exceed the limit of {}", format, spec.width,
+                                     spec.height, maxPixels));
+    const int channels = std::min(spec.nchannels, 4);
+    std::vector<uint16_t> data(size_t(spec.width) * spec.height * channels);
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, data.data()))
+        throw InputError(fmt::format("cannot decode the {} image: {}", format, in->geterror()));
+    Rgba16Image image;
+    image.width = uint32_t(spec.width);
+    image.height = uint32_t(spec.height);
+    image.texels.resize(size_t(spec.width) * spec.height);
+    for (size_t i = 0; i < image.texels.size(); ++i) {
+        const uint16_t* p = &data[i * channels];
+        const uint16_t opaque = 65535;
+        switch (channels) {
+            case 1: image.texels[i] = glm::u16vec4(p[0], p[0], p[0], opaque); break;
+            case 2: image.texels[i] = glm::u16vec4(p[0], p[0], p[0], p[1]); break;
+            case 3: image.texels[i] = glm::u16vec4(p[0], p[1], p[2], opaque); break;
+            default: image.texels[i] = glm::u16vec4(p[0], p[1], p[2], p[3]); break;
+        }
     }
     return image;
 }

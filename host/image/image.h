@@ -2,11 +2,13 @@
 // PNG previews (sRGB-encoded, with an exposure in stops).
 #pragma once
 
+#include <glm/ext/vector_uint4_sized.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +40,21 @@ void writePng(const std::filesystem::path& path, const Image& image, float expos
 // Throws vkpath::InputError naming the file when it cannot be read or is
 // larger than maxPixels.
 Image readImage(const std::filesystem::path& path, uint64_t maxPixels = uint64_t(1) << 28);
+
+// An image as its file stores it: RGBA, 16-bit normalised (8-bit values
+// widened exactly, v x 257), rows from the top, no colour decoding.
+struct Rgba16Image {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<glm::u16vec4> texels;
+};
+
+// Decodes an image file held in memory (PNG, JPEG, and whatever else
+// OpenImageIO reads from memory); `format` is the file extension that names
+// its reader ("png", "jpg"). Grey becomes RGB, a missing alpha 1. Throws
+// vkpath::InputError (without a file name: the caller knows where the bytes
+// came from) when it cannot be decoded or has more than maxPixels pixels.
+Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& format, uint64_t maxPixels);
 
 // The attributes of an image's header whose names start with "vkpath:" (what
 // writeExr wrote), as strings. Throws vkpath::InputError naming the file when

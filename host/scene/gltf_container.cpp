@@ -219,7 +219,7 @@ void checkUris(const Json& root, const fs::path& folder, bool binary, bool hasBi
                         "{}: buffer {}: data URI is not base64 application/octet-stream "
                         "or application/gltf-buffer",
                         file, i));
-                continue;  // images are not decoded
+                continue;  // an image's data URI is decoded by tinygltf, its bytes by gltf_textures
             }
             const std::string problem = uriProblem(text, folder);
             if (!problem.empty())
@@ -268,9 +268,14 @@ bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigne
     return false;
 }
 
-// Textures are not modelled, so images are kept undecoded.
-bool keepImageUndecoded(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                        const unsigned char*, int, void*) {
+// tinygltf's image callback: keeps each image's bytes for the texture phase,
+// which decodes only the images materials use, with OpenImageIO.
+bool keepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int,
+                    const unsigned char* bytes, int size, void* user) {
+    auto& images = *static_cast<std::vector<std::vector<uint8_t>>*>(user);
+    if (index < 0) return true;
+    if (size_t(index) >= images.size()) images.resize(size_t(index) + 1);
+    if (bytes && size > 0) images[size_t(index)].assign(bytes, bytes + size);
     return true;
 }
 
@@ -340,8 +345,8 @@ Document readDocument(const std::filesystem::path& path) {
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(
         {&guardedFileExists, &unexpandedPath, &guardedReadWholeFile, &refuseWrite, &guard});
-    loader.SetImageLoader(&keepImageUndecoded, nullptr);
     Document document;
+    loader.SetImageLoader(&keepImageBytes, &document.imageBytes);
     document.folder = folder;
     std::string err, warn;
     const std::string baseDir = folder.string();

@@ -5,6 +5,7 @@
 // same URI rule.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,7 +27,11 @@ namespace vkpath::scene::gltf {
 struct Document {
     tinygltf::Model model;
     std::filesystem::path folder;  // the scene file's folder: external files must stay inside it
-    std::vector<std::filesystem::path> filesRead;  // what tinygltf read (buffers), in order
+    std::vector<std::filesystem::path> filesRead;  // what tinygltf read (buffers, images), in order
+    // Per glTF image, its file's bytes as tinygltf found them (a file, a data
+    // URI or a bufferView), not yet decoded: the texture phase decodes those
+    // a material uses (gltf_textures). Empty where tinygltf had none.
+    std::vector<std::vector<uint8_t>> imageBytes;
 };
 
 // Reads `path` (.gltf or .glb, told apart by the GLB magic):
@@ -37,7 +42,7 @@ struct Document {
 //      system: no scheme, not absolute, no "..", present, and not a symbolic
 //      link out of the folder;
 //   3. tinygltf's model, read through file-system callbacks that enforce the
-//      same rule and never write (images are not decoded).
+//      same rule and never write (images are kept as bytes, Document::imageBytes).
 // Throws InputError "<file>: <problem>" on anything malformed or unsafe.
 Document readDocument(const std::filesystem::path& path);
 

@@ -44,20 +44,20 @@ struct CameraCandidate {
 
 class Importer {
   public:
-    Importer(std::string file, fs::path folder, const tinygltf::Model& model,
-             const LoadOptions& options)
+    Importer(std::string file, const gltf::Document& document, const LoadOptions& options)
         : m_file(std::move(file)),
-          m_folder(std::move(folder)),
-          m_model(model),
+          m_folder(document.folder),
+          m_model(document.model),
           m_options(options),
           m_warnings(m_file),
-          m_accessors(model, m_file) {}
+          m_accessors(document.model, m_file),
+          m_textures(document, m_file, m_scene, m_warnings) {}
 
     Scene run() {
         checkExtensions();
         for (size_t i = 0; i < m_model.materials.size(); ++i)
             m_scene.materials.push_back(
-                gltf::convertMaterial(m_model.materials[i], i, m_file, m_warnings));
+                gltf::convertMaterial(m_model.materials[i], i, m_file, m_textures, m_warnings));
         if (!m_model.animations.empty())
             m_warnings.addCounted("animations are ignored: the scene is loaded at rest",
                                   "animation", m_model.animations[0].name);
@@ -472,6 +472,7 @@ class Importer {
     ImportWarnings m_warnings;
     gltf::Accessors m_accessors;
     Scene m_scene;
+    gltf::TextureImporter m_textures;
     std::optional<uint32_t> m_defaultMaterial;
     std::vector<CameraCandidate> m_cameras;  // in node order
 };
@@ -480,7 +481,7 @@ class Importer {
 
 Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options) {
     gltf::Document document = gltf::readDocument(path);
-    Scene scene = Importer(path.string(), document.folder, document.model, options).run();
+    Scene scene = Importer(path.string(), document, options).run();
     scene.referencedFiles.insert(scene.referencedFiles.begin(), document.filesRead.begin(),
                                  document.filesRead.end());
     return scene;

@@ -12,8 +12,8 @@ namespace {
 
 class MaterialConverter {
   public:
-    MaterialConverter(const std::string& file, ImportWarnings& warnings)
-        : m_file(file), m_warnings(warnings) {}
+    MaterialConverter(const std::string& file, TextureImporter& textures, ImportWarnings& warnings)
+        : m_file(file), m_textures(textures), m_warnings(warnings) {}
 
     // The material mapping table of docs/SCENES.md.
     Material convert(const tinygltf::Material& m, size_t index) {
@@ -37,9 +37,23 @@ class MaterialConverter {
         if (!std::isfinite(ior) || ior < 1.0)
             fail("material '{}': ior {} is not a finite number >= 1", name, ior);
 
-        if (usesTexture(m))
-            m_warnings.addCounted("textures are ignored; the constant factors are used", "material",
-                                  name);
+        out.baseColorTexture = m_textures.reference(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                                    pbr.baseColorTexture.extensions, name, "baseColorTexture");
+        out.emissiveTexture = m_textures.reference(m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                                                   m.emissiveTexture.extensions, name, "emissiveTexture");
+        if (pbr.metallicRoughnessTexture.index >= 0)
+            m_warnings.addCounted("metallicRoughnessTexture is ignored until vkpath has microfacet materials; the "
+                                  "factors are used",
+                                  "material", name);
+        if (m.normalTexture.index >= 0)
+            m_warnings.addCounted("normal maps (normalTexture) are not applied yet; vertex normals are used",
+                                  "material", name);
+        if (m.occlusionTexture.index >= 0)
+            m_warnings.addCounted("occlusionTexture is not applied: a path tracer computes occlusion itself",
+                                  "material", name);
+        if (usesExtensionTexture(m))
+            m_warnings.addCounted("textures of material extensions are ignored; their factors are used",
+                                  "material", name);
         if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
             m_warnings.addCounted("alpha (alphaMode MASK or BLEND) is ignored; surfaces are opaque",
                                   "material", name);
@@ -124,12 +138,9 @@ class MaterialConverter {
         return value.GetNumberAsDouble();
     }
 
-    static bool usesTexture(const tinygltf::Material& m) {
-        const auto& pbr = m.pbrMetallicRoughness;
-        if (pbr.baseColorTexture.index >= 0 || pbr.metallicRoughnessTexture.index >= 0 ||
-            m.normalTexture.index >= 0 || m.occlusionTexture.index >= 0 ||
-            m.emissiveTexture.index >= 0)
-            return true;
+    // Whether a material extension (KHR_materials_transmission's
+    // transmissionTexture...) names a texture.
+    static bool usesExtensionTexture(const tinygltf::Material& m) {
         for (const auto& [name, value] : m.extensions)
             for (const std::string& key : value.Keys())
                 if (key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0) return true;
@@ -143,14 +154,15 @@ class MaterialConverter {
     }
 
     const std::string& m_file;
+    TextureImporter& m_textures;
     ImportWarnings& m_warnings;
 };
 
 }  // namespace
 
 Material convertMaterial(const tinygltf::Material& material, size_t index, const std::string& file,
-                         ImportWarnings& warnings) {
-    return MaterialConverter(file, warnings).convert(material, index);
+                         TextureImporter& textures, ImportWarnings& warnings) {
+    return MaterialConverter(file, textures, warnings).convert(material, index);
 }
 
 }  // namespace vkpath::scene::gltf

@@ -273,8 +273,9 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
             rotate.append_attribute("y") = "1";
             rotate.append_attribute("angle") = num(env.rotationDegrees).c_str();
             result.warnings.push_back(
-                "environment map: Mitsuba interpolates its texels bilinearly, vkpath looks up the nearest texel "
-                "(a half-texel blur; sharp features such as a small sun differ in shape, not in power)");
+                "environment map: both interpolate bilinearly, but Mitsuba 3.9 places the map's rows at "
+                "v = j / (height - 1), vkpath at the texel centres (j + 0.5) / height: the sky shifts by up to "
+                "half a texel in elevation (docs/TRADEOFFS.md)");
         } else {
             e.append_attribute("type") = "constant";
             addRgb(e, "radiance", env.color * env.strength);

@@ -70,9 +70,12 @@ struct Material {
     glm::vec3 emission{0.0f};       // emitted radiance, W/(m^2 sr); > 0 makes the surface an area light
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
-    // `emission`; both are sRGB-encoded.
+    // `emission`; both are sRGB-encoded. The others hold linear data.
     TextureRef baseColorTexture;
     TextureRef emissiveTexture;
+    TextureRef metallicRoughnessTexture;  // G: roughness, B: metalness
+    TextureRef normalTexture;             // tangent-space normals
+    float normalScale = 1.0f;             // glTF normalTexture.scale: scales the map's x and y
 
     bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "wavefront/texture_tables.h"
+
 namespace vkpath::wavefront {
 namespace {
 
@@ -28,10 +30,6 @@ bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::v
     return true;
 }
 
-bool usesTexcoords(const scene::Material& material) {
-    return material.baseColorTexture.present() || material.emissiveTexture.present();
-}
-
 namespace {
 
 // The attribute bits the vertices of `mesh` carry for all its triangles.
@@ -39,7 +37,7 @@ uint32_t meshAttributes(const scene::Scene& scene, const scene::Mesh& mesh) {
     uint32_t bits = 0;
     const size_t n = mesh.positions.size();
     const bool hasTexcoords = (mesh.texcoords0.size() == n && n > 0) || (mesh.texcoords1.size() == n && n > 0);
-    if (hasTexcoords && mesh.material < scene.materials.size() && usesTexcoords(scene.materials[mesh.material]))
+    if (hasTexcoords && mesh.material < scene.materials.size() && usesTextures(scene.materials[mesh.material]))
         bits |= VKP_TRIANGLE_TEXCOORDS;
     if (mesh.colors.size() == n)
         for (const glm::vec4& c : mesh.colors)

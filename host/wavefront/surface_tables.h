@@ -41,7 +41,4 @@ bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::v
 // move with a translation).
 SurfaceTables buildSurfaceTables(const scene::Scene& scene);
 
-// Whether `material` reads texture coordinates.
-bool usesTexcoords(const scene::Material& material);
-
 }  // namespace vkpath::wavefront

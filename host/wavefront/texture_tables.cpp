@@ -14,6 +14,11 @@ double srgbToLinear(double encoded) {
     return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
 }
 
+bool usesTextures(const scene::Material& m) {
+    return m.baseColorTexture.present() || m.emissiveTexture.present() || m.metallicRoughnessTexture.present() ||
+           m.normalTexture.present();
+}
+
 namespace {
 
 // KHR_texture_transform: uv' = T R S uv with R = [cos sin; -sin cos] (the
@@ -33,11 +38,13 @@ class Builder {
         m_tables.materialSlots.assign(m_scene.materials.size(), VKP_NO_TEXTURE);
         for (size_t i = 0; i < m_scene.materials.size(); ++i) {
             const scene::Material& m = m_scene.materials[i];
-            if (!m.baseColorTexture.present() && !m.emissiveTexture.present()) continue;
+            if (!usesTextures(m)) continue;
             const uint32_t first = uint32_t(m_tables.slots.size());
             m_tables.slots.resize(first + VKP_SLOTS_PER_MATERIAL, emptySlot());
             m_tables.slots[first + VKP_SLOT_BASE_COLOR] = slot(m.baseColorTexture, true, m.name);
             m_tables.slots[first + VKP_SLOT_EMISSIVE] = slot(m.emissiveTexture, true, m.name);
+            m_tables.slots[first + VKP_SLOT_METALLIC_ROUGHNESS] = slot(m.metallicRoughnessTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_NORMAL] = slot(m.normalTexture, false, m.name);
             m_tables.materialSlots[i] = first;
         }
         return std::move(m_tables);

@@ -22,6 +22,9 @@ struct TextureTables {
     std::vector<uint32_t> materialSlots;
 };
 
+// Whether `material` reads a texture (and so texture coordinates).
+bool usesTextures(const scene::Material& material);
+
 // The sRGB transfer function's inverse (IEC 61966-2-1): encoded value in
 // [0, 1] to linear.
 double srgbToLinear(double encoded);

@@ -33,7 +33,9 @@
 // A textured material's slots, in this order from Material::textures on.
 #define VKP_SLOT_BASE_COLOR 0u  // sRGB colour and linear alpha: multiplies the base colour
 #define VKP_SLOT_EMISSIVE 1u    // sRGB colour: multiplies the emission
-#define VKP_SLOTS_PER_MATERIAL 2u
+#define VKP_SLOT_METALLIC_ROUGHNESS 2u  // linear: G roughness, B metalness (glTF), multiplying the factors
+#define VKP_SLOT_NORMAL 3u      // linear: tangent-space normal, (2 x - 1) scaled in x and y by the normal scale
+#define VKP_SLOTS_PER_MATERIAL 4u
 
 VKP_NAMESPACE_BEGIN
 
