@@ -40,6 +40,12 @@ struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;  // world space
     std::vector<glm::vec3> normals;    // world space shading normals, per vertex; empty: use face normals
+    std::vector<glm::vec2> texcoords0; // TEXCOORD_0 per vertex, glTF's convention ((0, 0) the image's top left);
+                                       // empty: none
+    std::vector<glm::vec2> texcoords1; // TEXCOORD_1 per vertex; empty: none
+    std::vector<glm::vec4> colors;     // COLOR_0 per vertex, linear RGBA; empty: none (white)
+    std::vector<glm::vec4> tangents;   // TANGENT per vertex: world space unit xyz, w = +-1 so that
+                                       // the bitangent is w (normal x tangent); empty: none
     std::vector<glm::uvec3> triangles; // indices into positions, counter-clockwise seen from the front
     uint32_t material = 0;             // index into Scene::materials
 };
