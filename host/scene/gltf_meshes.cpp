@@ -96,10 +96,11 @@ bool allows(const AttributeFormat& format, const Encoding& encoding) {
            format.encodings.end();
 }
 
-// One primitive's conversion: its attributes read, counted and transformed.
-class PrimitiveConverter {
+// Reads a primitive's attributes, each checked against its formats and counted
+// against POSITION.
+class AttributeReader {
   public:
-    PrimitiveConverter(const tinygltf::Primitive& primitive, const Accessors& accessors,
+    AttributeReader(const tinygltf::Primitive& primitive, const Accessors& accessors,
                        const std::string& file, const std::string& meshName, bool quantized)
         : m_primitive(primitive),
           m_accessors(accessors),
@@ -172,7 +173,7 @@ std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Acce
         const tinygltf::Primitive& primitive = mesh.primitives[p];
         Mesh out;
         out.name = mesh.primitives.size() == 1 ? baseName : fmt::format("{}#{}", baseName, p);
-        const PrimitiveConverter attributes(primitive, accessors, file, out.name, quantized);
+        const AttributeReader attributes(primitive, accessors, file, out.name, quantized);
         const std::string& what = attributes.what();
         if (primitive.mode != TINYGLTF_MODE_TRIANGLES &&
             primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
