@@ -9,7 +9,10 @@
 // GLTF_DIR: glTF files that use the fuzz folder's buffer.bin (fuzz_support.h)
 // through a URI that stays inside the folder, and through each kind of URI
 // that leaves it (a link, a linked folder, "..", "%2e%2e", an absolute path,
-// a scheme), so every run exercises the folder rule.
+// a scheme), so every run exercises the folder rule; and a glTF whose
+// triangle carries every vertex attribute the importer reads, in the
+// quantized encodings of KHR_mesh_quantization, so the fuzzer starts inside
+// those accessors.
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
@@ -97,6 +100,66 @@ std::string gltfWithBuffer(const std::string& uri, const std::string& imageUri =
         BUFFER_POSITIONS_OFFSET, BUFFER_INDICES_OFFSET, uri, BUFFER_BYTES, images);
 }
 
+std::string base64(const std::vector<uint8_t>& data) {
+    static const char* TABLE = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < data.size(); i += 3) {
+        const uint32_t n = uint32_t(data[i]) << 16 |
+                           (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
+                           (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
+        out += TABLE[(n >> 18) & 63];
+        out += TABLE[(n >> 12) & 63];
+        out += i + 1 < data.size() ? TABLE[(n >> 6) & 63] : '=';
+        out += i + 2 < data.size() ? TABLE[n & 63] : '=';
+    }
+    return out;
+}
+
+// One triangle with quantized positions (u16), normals (normalized i8),
+// TEXCOORD_0 (normalized u8), TEXCOORD_1 (i16), COLOR_0 (normalized u16
+// RGBA) and TANGENT (normalized i8), each in a bufferView of its own with
+// 4-byte-aligned elements, in an embedded buffer.
+std::string gltfWithAttributes() {
+    std::vector<uint8_t> bin;
+    std::vector<std::string> views, accessors;
+    auto add = [&](const std::vector<int>& values, size_t bytes, size_t width, int componentType,
+                   const char* type, bool normalized) {
+        const size_t element = width * bytes, stride = (element + 3) / 4 * 4;
+        const size_t offset = bin.size();
+        bin.resize(offset + stride * (values.size() / width), 0);
+        for (size_t i = 0; i < values.size(); ++i)
+            for (size_t b = 0; b < bytes; ++b)  // little-endian, two's complement
+                bin[offset + (i / width) * stride + (i % width) * bytes + b] =
+                    uint8_t(uint32_t(values[i]) >> (8 * b));
+        views.push_back(fmt::format(R"({{"buffer":0,"byteOffset":{},"byteLength":{}{}}})", offset,
+                                    bin.size() - offset,
+                                    stride == element ? "" : fmt::format(R"(,"byteStride":{})",
+                                                                         stride)));
+        accessors.push_back(fmt::format(
+            R"({{"bufferView":{},"componentType":{},"type":"{}","count":{}{}}})",
+            views.size() - 1, componentType, type, values.size() / width,
+            normalized ? R"(,"normalized":true)" : ""));
+    };
+    add({0, 0, 0, 1, 0, 0, 0, 1, 0}, 2, 3, 5123, "VEC3", false);
+    add({0, 0, 127, 0, 0, 127, 0, 0, 127}, 1, 3, 5120, "VEC3", true);
+    add({0, 255, 255, 255, 0, 0}, 1, 2, 5121, "VEC2", true);
+    add({0, 0, 2, 0, 0, -2}, 2, 2, 5122, "VEC2", false);
+    add({65535, 0, 0, 65535, 0, 65535, 0, 32768, 0, 0, 65535, 65535}, 2, 4, 5123, "VEC4", true);
+    add({127, 0, 0, 127, 127, 0, 0, -127, 0, 127, 0, 127}, 1, 4, 5120, "VEC4", true);
+    add({0, 1, 2}, 2, 1, 5123, "SCALAR", false);
+    std::string viewList, accessorList;
+    for (const std::string& v : views) viewList += (viewList.empty() ? "" : ",") + v;
+    for (const std::string& a : accessors) accessorList += (accessorList.empty() ? "" : ",") + a;
+    return fmt::format(
+        R"({{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_mesh_quantization"],)"
+        R"("extensionsRequired":["KHR_mesh_quantization"],"scene":0,"scenes":[{{"nodes":[0]}}],)"
+        R"("nodes":[{{"mesh":0,"scale":[0.5,0.5,0.5]}}],"meshes":[{{"primitives":[{{)"
+        R"("attributes":{{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2,"TEXCOORD_1":3,"COLOR_0":4,)"
+        R"("TANGENT":5}},"indices":6,"mode":4}}]}}],"accessors":[{}],"bufferViews":[{}],)"
+        R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
+        accessorList, viewList, bin.size(), base64(bin));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -138,5 +201,6 @@ int main(int argc, char** argv) {
     writeText(gltfDir / "escape_scheme.gltf", gltfWithBuffer("file:///etc/hostname"));
     writeText(gltfDir / "escape_image.gltf",
               gltfWithBuffer("buffer.bin", "escape_dir/secret.txt"));
+    writeText(gltfDir / "vertex_attributes.gltf", gltfWithAttributes());
     return ok ? 0 : 1;
 }

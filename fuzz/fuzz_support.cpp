@@ -180,6 +180,31 @@ void checkScene(const scene::Scene& s) {
             if (!finite(p)) finding(fmt::format("mesh '{}': a position is not finite", mesh.name));
         for (const glm::vec3& n : mesh.normals)
             if (!finite(n)) finding(fmt::format("mesh '{}': a normal is not finite", mesh.name));
+        // The other per-vertex attributes: one per vertex or none, and usable
+        // as the scene model defines them.
+        auto perVertex = [&](size_t count, const char* what) {
+            if (count != 0 && count != mesh.positions.size())
+                finding(fmt::format("mesh '{}': {} {} for {} positions", mesh.name, count, what,
+                                    mesh.positions.size()));
+        };
+        perVertex(mesh.texcoords0.size(), "texcoords0");
+        perVertex(mesh.texcoords1.size(), "texcoords1");
+        perVertex(mesh.colors.size(), "colours");
+        perVertex(mesh.tangents.size(), "tangents");
+        for (const auto* uvs : {&mesh.texcoords0, &mesh.texcoords1})
+            for (const glm::vec2& uv : *uvs)
+                if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+                    finding(
+                        fmt::format("mesh '{}': a texture coordinate is not finite", mesh.name));
+        for (const glm::vec4& c : mesh.colors)
+            if (!(glm::all(glm::greaterThanEqual(c, glm::vec4(0.0f))) &&
+                  glm::all(glm::lessThanEqual(c, glm::vec4(1.0f)))))
+                finding(fmt::format("mesh '{}': a colour is not in [0, 1]", mesh.name));
+        for (const glm::vec4& t : mesh.tangents)
+            if (!finite(glm::vec3(t)) || std::abs(glm::length(glm::vec3(t)) - 1.0f) > 1e-3f ||
+                (t.w != 1.0f && t.w != -1.0f))
+                finding(fmt::format("mesh '{}': a tangent is not a unit vector with w = +-1",
+                                    mesh.name));
         for (const glm::uvec3& t : mesh.triangles)
             for (int k = 0; k < 3; ++k)
                 if (t[k] >= mesh.positions.size())

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace vkpath::scene::collada {
 namespace {
@@ -12,10 +13,33 @@ namespace {
 // exhausting memory through instancing.
 constexpr uint64_t MAX_TRIANGLES = 20'000'000;
 
+// What makes corners one vertex: their position and normal (by index) and
+// their texture coordinate's value (by bits): exporters such as Blender's
+// give every corner a coordinate of its own, most of them equal.
+struct VertexKey {
+    uint32_t position, normal, u, v;
+    bool operator==(const VertexKey&) const = default;
+};
+
+struct VertexKeyHash {
+    size_t operator()(const VertexKey& k) const {
+        const uint64_t a = uint64_t(k.position) << 32 | k.normal, b = uint64_t(k.u) << 32 | k.v;
+        return std::hash<uint64_t>()(a * 0x9E3779B97F4A7C15ull ^ b);
+    }
+};
+
+uint32_t bits(float value) {
+    uint32_t b;
+    std::memcpy(&b, &value, sizeof(b));
+    return b;
+}
+
 }  // namespace
 
-std::vector<glm::vec3> Geometry::readVec3Source(pugi::xml_node source,
-                                                bool requireFinite) const {
+// The elements of a <source>, `width` (2: s t, or 3: x y z) numbers each,
+// through its accessor; a third component of 2-wide elements is 0.
+std::vector<glm::vec3> Geometry::readSource(pugi::xml_node source, size_t width,
+                                            bool requireFinite) const {
     const std::string what = fmt::format("source '{}'", nameOf(source));
     const pugi::xml_node array = source.child("float_array");
     if (!array) fail(fmt::format("{} has no <float_array>", what));
@@ -26,22 +50,24 @@ std::vector<glm::vec3> Geometry::readVec3Source(pugi::xml_node source,
             fail(fmt::format("{}: <float_array> has {} numbers, its count says {}", what,
                              data.size(), declared));
     }
-    uint64_t count = data.size() / 3, stride = 3, offset = 0;
+    uint64_t count = data.size() / width, stride = width, offset = 0;
     if (const pugi::xml_node accessor = source.child("technique_common").child("accessor")) {
         count = accessor.attribute("count").as_ullong();
         stride = accessor.attribute("stride").as_ullong(1);
         offset = accessor.attribute("offset").as_ullong(0);
     }
-    if (stride < 3) fail(fmt::format("{}: accessor stride {} is below 3 (x y z)", what, stride));
+    if (stride < width)
+        fail(fmt::format("{}: accessor stride {} is below {} ({})", what, stride, width,
+                         width == 3 ? "x y z" : "s t"));
     // Checked before multiplying so absurd counts cannot overflow.
     if (count > data.size() || stride > data.size() || offset > data.size() ||
-        (count > 0 && offset + (count - 1) * stride + 3 > data.size()))
+        (count > 0 && offset + (count - 1) * stride + width > data.size()))
         fail(fmt::format("{}: accessor (count {}, stride {}, offset {}) reads past its {} numbers",
                          what, count, stride, offset, data.size()));
     std::vector<glm::vec3> out(count);
     for (uint64_t i = 0; i < count; ++i) {
         const double* v = &data[offset + i * stride];
-        out[i] = glm::vec3(v[0], v[1], v[2]);
+        out[i] = glm::vec3(v[0], v[1], width == 3 ? v[2] : 0.0);
         if (requireFinite && !allFinite(out[i]))
             fail(fmt::format("{}: element {} {} is not finite", what, i, vecString(out[i])));
     }
@@ -60,7 +86,9 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
     uint64_t stride = 1;
     std::optional<uint64_t> vertexOffset, normalOffset;
     bool normalsPerPosition = false;
-    std::vector<glm::vec3> normals;
+    std::vector<glm::vec3> normals, texCoords;
+    std::optional<uint64_t> texCoordOffset;
+    unsigned texCoordSet = 0;
     for (pugi::xml_node input : element.children("input")) {
         const std::string_view semantic = input.attribute("semantic").as_string();
         const uint64_t offset = input.attribute("offset").as_ullong(0);
@@ -77,20 +105,27 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
                 const std::string_view vsemantic = vin.attribute("semantic").as_string();
                 const char* url = vin.attribute("source").as_string(nullptr);
                 if (vsemantic == "POSITION") {
-                    local.positions = readVec3Source(m_document.resolve(url, "source", what), true);
+                    local.positions =
+                        readSource(m_document.resolve(url, "source", what), 3, true);
                     havePositions = true;
                 } else if (vsemantic == "NORMAL") {
-                    normals = readVec3Source(m_document.resolve(url, "source", what), false);
+                    normals = readSource(m_document.resolve(url, "source", what), 3, false);
                     normalsPerPosition = true;
                 }
             }
             if (!havePositions) fail(fmt::format("{}: its <vertices> has no POSITION input", what));
         } else if (semantic == "NORMAL") {
-            normals = readVec3Source(m_document.resolve(sourceUrl, "source", what), false);
+            normals = readSource(m_document.resolve(sourceUrl, "source", what), 3, false);
             normalOffset = offset;
             normalsPerPosition = false;
+        } else if (semantic == "TEXCOORD" && (!texCoordOffset || input.attribute("set").as_uint(0) <
+                                                                      texCoordSet)) {
+            // The lowest set is Mesh::texcoords0 (Blender and Maya export one, set 0).
+            texCoordSet = input.attribute("set").as_uint(0);
+            texCoords = readSource(m_document.resolve(sourceUrl, "source", what), 2, true);
+            texCoordOffset = offset;
         }
-        // TEXCOORD, COLOR, ...: nothing in the scene model uses them.
+        // COLOR, further TEXCOORD sets, ...: not read.
     }
     if (!vertexOffset) fail(fmt::format("{} has no VERTEX input", what));
     if (normalsPerPosition && normals.size() < local.positions.size())
@@ -101,13 +136,18 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
     // primitive, so they are appended and indices rebased.
     const uint32_t normalBase = static_cast<uint32_t>(local.normals.size());
     local.normals.insert(local.normals.end(), normals.begin(), normals.end());
+    // COLLADA's t runs up from the image's bottom row (COLLADA 1.4.1, 6-8,
+    // <input> TEXCOORD, as OpenGL); the scene model takes glTF's top-left
+    // origin, so v = 1 - t.
+    const uint32_t texCoordBase = static_cast<uint32_t>(local.texCoords.size());
+    for (const glm::vec3& st : texCoords) local.texCoords.push_back({st.x, 1.0f - st.y});
 
     auto corner = [&](const std::vector<uint32_t>& p, uint64_t k) {
         const uint32_t position = p[k * stride + *vertexOffset];
         if (position >= local.positions.size())
             fail(fmt::format("{}: position index {} out of range of its source ({} elements)",
                              what, position, local.positions.size()));
-        uint32_t normal = NO_NORMAL;
+        uint32_t normal = NO_INDEX, texCoord = NO_INDEX;
         if (normalOffset) {
             normal = p[k * stride + *normalOffset];
             if (normal >= normals.size())
@@ -117,7 +157,14 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
         } else if (normalsPerPosition) {
             normal = position + normalBase;
         }
-        return Corner{position, normal};
+        if (texCoordOffset) {
+            texCoord = p[k * stride + *texCoordOffset];
+            if (texCoord >= texCoords.size())
+                fail(fmt::format("{}: TEXCOORD index {} out of range of its source ({} elements)",
+                                 what, texCoord, texCoords.size()));
+            texCoord += texCoordBase;
+        }
+        return Corner{position, normal, texCoord};
     };
     auto addFan = [&](const std::vector<uint32_t>& p, uint64_t first, uint64_t n) {
         if (n < 3) {
@@ -272,7 +319,7 @@ void Geometry::addMeshInstance(const LocalMesh& local, const glm::dmat4& world,
             faceNormals[t] = cross / twiceArea;
             for (int i = 0; i < 3; ++i) {
                 const uint32_t n = cornerOf(t, i).normal;
-                if (n == NO_NORMAL) continue;
+                if (n == NO_INDEX) continue;
                 anyNormals = true;
                 if (!normalValid[n]) {
                     ++m_replacedNormals;
@@ -283,28 +330,31 @@ void Geometry::addMeshInstance(const LocalMesh& local, const glm::dmat4& world,
         }
         const bool keepNormals = anyNormals && !flat;
 
-        // Pass 2: vertices shared per (position, normal) pair.
+        // Pass 2: vertices shared per VertexKey.
         Mesh mesh;
         mesh.name = local.primitives.size() > 1 ? fmt::format("{}#{}", nodeName, k) : nodeName;
         mesh.material = materialFor(primitive.symbol);
-        std::unordered_map<uint64_t, uint32_t> vertexOf;
+        const bool texCoords =
+            !primitive.corners.empty() && primitive.corners[0].texCoord != NO_INDEX;
+        std::unordered_map<VertexKey, uint32_t, VertexKeyHash> vertexOf;
+        auto addVertex = [&](const Corner& c, const glm::vec3& normal) {
+            mesh.positions.push_back(positions[c.position]);
+            if (keepNormals) mesh.normals.push_back(normal);
+            if (texCoords) mesh.texcoords0.push_back(local.texCoords[c.texCoord]);
+            return static_cast<uint32_t>(mesh.positions.size() - 1);
+        };
         auto vertex = [&](const Corner& c, const glm::vec3& faceNormal) -> uint32_t {
-            const bool ownNormal = keepNormals && c.normal != NO_NORMAL && normalValid[c.normal];
-            if (keepNormals && !ownNormal) {
-                // An invalid normal: this corner takes its face's, unshared.
-                mesh.positions.push_back(positions[c.position]);
-                mesh.normals.push_back(faceNormal);
-                return static_cast<uint32_t>(mesh.positions.size() - 1);
-            }
-            const uint64_t key =
-                (uint64_t(c.position) << 32) | (ownNormal ? c.normal : uint64_t(0xffffffffu));
-            const auto [it, inserted] =
-                vertexOf.emplace(key, static_cast<uint32_t>(mesh.positions.size()));
-            if (inserted) {
-                mesh.positions.push_back(positions[c.position]);
-                if (keepNormals) mesh.normals.push_back(normals[c.normal]);
-            }
-            return it->second;
+            const bool ownNormal = keepNormals && c.normal != NO_INDEX && normalValid[c.normal];
+            // An invalid normal: this corner takes its face's, unshared.
+            if (keepNormals && !ownNormal) return addVertex(c, faceNormal);
+            const glm::vec2 uv = texCoords ? local.texCoords[c.texCoord] : glm::vec2(0.0f);
+            const VertexKey key{c.position, ownNormal ? c.normal : NO_INDEX, bits(uv.x),
+                                bits(uv.y)};
+            const auto found = vertexOf.find(key);
+            if (found != vertexOf.end()) return found->second;
+            const uint32_t index = addVertex(c, ownNormal ? normals[c.normal] : glm::vec3(0.0f));
+            vertexOf.emplace(key, index);
+            return index;
         };
         for (size_t t = 0; t < triangleCount; ++t) {
             if (!keep[t]) continue;

@@ -20,13 +20,15 @@
 
 namespace vkpath::scene::collada {
 
-constexpr uint32_t NO_NORMAL = std::numeric_limits<uint32_t>::max();
+constexpr uint32_t NO_INDEX = std::numeric_limits<uint32_t>::max();
 
-// A corner of a triangle: an index into LocalMesh::positions and one into
-// LocalMesh::normals (NO_NORMAL when the primitive has none).
+// A corner of a triangle: an index into LocalMesh::positions, one into
+// LocalMesh::normals and one into LocalMesh::texCoords (NO_INDEX when the
+// primitive has no such input).
 struct Corner {
     uint32_t position;
     uint32_t normal;
+    uint32_t texCoord;
 };
 
 // One <polylist>/<triangles>/... of a <mesh>, triangulated, in file winding.
@@ -39,6 +41,7 @@ struct Primitive {
 struct LocalMesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
+    std::vector<glm::vec2> texCoords;  // (u, 1 - v): glTF's top-left origin (scene.h)
     std::vector<Primitive> primitives;
     uint64_t degeneratePolygons = 0;  // fewer than 3 vertices
 };
@@ -72,7 +75,8 @@ class Geometry {
 
   private:
     [[noreturn]] void fail(const std::string& what) const { m_document.fail(what); }
-    std::vector<glm::vec3> readVec3Source(pugi::xml_node source, bool requireFinite) const;
+    std::vector<glm::vec3> readSource(pugi::xml_node source, size_t width,
+                                      bool requireFinite) const;
     void readPrimitive(pugi::xml_node element, pugi::xml_node mesh, const std::string& geometryName,
                        LocalMesh& local);
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -74,7 +75,81 @@ size_t componentCount(int type) {
     }
 }
 
+const char* componentTypeName(int componentType) {
+    switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            return "BYTE";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return "UNSIGNED_BYTE";
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            return "SHORT";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return "UNSIGNED_SHORT";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+            return "UNSIGNED_INT";
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return "FLOAT";
+        default:
+            return "unknown";
+    }
+}
+
+// "a", "a or b", "a, b or c".
+std::string alternatives(const std::vector<std::string>& names) {
+    std::string out;
+    for (size_t i = 0; i < names.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return out;
+}
+
+// One component, little-endian as glTF stores it (and as this host is).
+// Normalized integers as glTF 2.0 3.11 defines them: unsigned c / (2^n - 1),
+// signed max(c / (2^(n-1) - 1), -1), so that both ends of the range are exact.
+float componentValue(const uint8_t* bytes, const Encoding& encoding) {
+    auto read = [&](auto value) {
+        std::memcpy(&value, bytes, sizeof(value));
+        return value;
+    };
+    const bool n = encoding.normalized;
+    switch (encoding.componentType) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return read(float(0));
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            const float c = read(int8_t(0));
+            return n ? std::max(c / 127.0f, -1.0f) : c;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+            const float c = read(uint8_t(0));
+            return n ? c / 255.0f : c;
+        }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            const float c = read(int16_t(0));
+            return n ? std::max(c / 32767.0f, -1.0f) : c;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            const float c = read(uint16_t(0));
+            return n ? c / 65535.0f : c;
+        }
+        default: {  // UNSIGNED_INT: no vertex attribute allows it
+            const double c = read(uint32_t(0));
+            return float(n ? c / 4294967295.0 : c);
+        }
+    }
+}
+
 }  // namespace
+
+std::string encodingName(const Encoding& e) {
+    return fmt::format("{}{}", e.normalized ? "normalized " : "",
+                       componentTypeName(e.componentType));
+}
+
+std::string formatName(const AttributeFormat& format) {
+    std::vector<std::string> encodings, types;
+    for (const Encoding& e : format.encodings) encodings.push_back(encodingName(e));
+    for (int type : format.types) types.push_back(typeName(type));
+    return alternatives(encodings) + " " + alternatives(types);
+}
 
 template <typename... Args>
 void Accessors::fail(fmt::format_string<Args...> format, Args&&... args) const {
@@ -188,18 +263,32 @@ void Accessors::applySparse(const tinygltf::Accessor& a, int index, const std::s
     }
 }
 
-std::vector<glm::vec3> Accessors::vec3(int index, const std::string& what) const {
+Encoding Accessors::encoding(int index, const std::string& what) const {
     const tinygltf::Accessor& a = accessor(index, what);
-    if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-        fail("{}: accessor {} must be FLOAT VEC3, not {} {}", what, index, a.componentType,
-             typeName(a.type));
+    return {a.componentType, a.normalized};
+}
+
+std::vector<glm::vec4> Accessors::floats(int index, const std::string& what,
+                                         const AttributeFormat& format, size_t& components) const {
+    const tinygltf::Accessor& a = accessor(index, what);
+    const Encoding encoding{a.componentType, a.normalized};
+    if (std::find(format.types.begin(), format.types.end(), a.type) == format.types.end() ||
+        std::find(format.encodings.begin(), format.encodings.end(), encoding) ==
+            format.encodings.end()) {
+        fail("{}: accessor {} must be {}, not {} {}", what, index, formatName(format),
+             encodingName(encoding), typeName(a.type));
+    }
+    components = componentCount(a.type);
     size_t elementSize = 0;
     const std::vector<uint8_t> bytes = elementBytes(index, what, elementSize);
-    std::vector<glm::vec3> out(a.count);
-    std::memcpy(out.data(), bytes.data(), bytes.size());
-    for (size_t i = 0; i < out.size(); ++i)
-        if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y) || !std::isfinite(out[i].z))
-            fail("{}: element {} is not finite", what, i);
+    const size_t size = componentSize(a.componentType);
+    std::vector<glm::vec4> out(a.count, glm::vec4(0.0f));
+    for (size_t i = 0; i < a.count; ++i)
+        for (size_t c = 0; c < components; ++c) {
+            const float value = componentValue(&bytes[i * elementSize + c * size], encoding);
+            if (!std::isfinite(value)) fail("{}: element {} is not finite", what, i);
+            out[i][int(c)] = value;
+        }
     return out;
 }
 

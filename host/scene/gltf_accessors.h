@@ -16,15 +16,41 @@
 
 namespace vkpath::scene::gltf {
 
+// How an accessor stores each component (glTF 2.0, 3.6.2.2).
+struct Encoding {
+    int componentType;  // TINYGLTF_COMPONENT_TYPE_*
+    bool normalized;    // integers read as fractions of their range, not as their values
+    bool operator==(const Encoding&) const = default;
+};
+
+// What an attribute's accessor may be: its element types and encodings.
+struct AttributeFormat {
+    std::vector<int> types;  // TINYGLTF_TYPE_*
+    std::vector<Encoding> encodings;
+};
+
+// "FLOAT", "normalized UNSIGNED_BYTE", ...: how errors name an encoding.
+std::string encodingName(const Encoding& encoding);
+// "FLOAT, normalized UNSIGNED_BYTE or normalized UNSIGNED_SHORT VEC3 or VEC4".
+std::string formatName(const AttributeFormat& format);
+
 class Accessors {
   public:
     // `file` prefixes every error; `model` must outlive this.
     Accessors(const tinygltf::Model& model, std::string file)
         : m_model(model), m_file(std::move(file)) {}
 
-    // FLOAT VEC3 elements, each finite. `what` names the data in errors
+    // The encoding of accessor `index`. `what` names the data in errors
     // ("mesh 'box' POSITION").
-    std::vector<glm::vec3> vec3(int index, const std::string& what) const;
+    Encoding encoding(int index, const std::string& what) const;
+
+    // The elements of a vector accessor as floats, after checking its type
+    // and encoding against `format`: FLOAT as stored, normalized integers as
+    // glTF 2.0 3.11 converts them (c / 255, max(c / 127, -1), ...), other
+    // integers as their values. Each element fills the first `components`
+    // (which this sets) of a vec4, the rest 0. Every value is finite.
+    std::vector<glm::vec4> floats(int index, const std::string& what, const AttributeFormat& format,
+                                  size_t& components) const;
 
     // Unsigned byte, short or int SCALARs.
     std::vector<uint32_t> indices(int index, const std::string& what) const;

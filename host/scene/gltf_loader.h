@@ -12,9 +12,12 @@ namespace vkpath::scene {
 
 // Loads the default scene of a glTF file (else its first scene, else every
 // root node) into world space:
-//   - TRIANGLES primitives, indexed (u8/u16/u32) or not; other modes are
-//     rejected. Normals go through the inverse transpose; a transform with a
-//     negative determinant flips the winding so fronts stay counter-clockwise.
+//   - TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, indexed
+//     (u8/u16/u32) or not; other modes are rejected. Normals go through the
+//     inverse transpose, tangents through the transform (w negated under a
+//     mirror); a transform with a negative determinant flips the winding so
+//     fronts stay counter-clockwise. TEXCOORD_0/1 and COLOR_0 are kept as
+//     stored; KHR_mesh_quantization's encodings are read (gltf_meshes.h).
 //   - Spheres from vkpath's node extension
 //     "VKPATH_sphere": {"radius": r, "material": i}.
 //   - Materials mapped to Diffuse / Mirror / Dielectric, emission from

@@ -23,8 +23,12 @@ struct WorldPrimitive {
 // those left with no triangles omitted:
 //   - TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN (glTF 2.0, 3.7.2.1) become
 //     triangle lists; other modes are an error;
-//   - normals go through the inverse transpose; a transform with a negative
+//   - normals go through the inverse transpose, tangents through the
+//     transform with w negated under a mirror; a transform with a negative
 //     determinant flips the winding so fronts stay counter-clockwise;
+//   - TEXCOORD_0/1 and COLOR_0 are kept as stored (docs/SCENES.md has the
+//     encodings each attribute may use, in core glTF and with
+//     KHR_mesh_quantization);
 //   - degenerate triangles are dropped with a warning.
 // `nodeName` names the node in errors; errors name the file and the mesh.
 std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Accessors& accessors,

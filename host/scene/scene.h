@@ -88,6 +88,8 @@ struct Mesh {
                                        // empty: none
     std::vector<glm::vec2> texcoords1; // TEXCOORD_1 per vertex; empty: none
     std::vector<glm::vec4> colors;     // COLOR_0 per vertex, linear RGBA; empty: none (white)
+    std::vector<glm::vec4> tangents;   // TANGENT per vertex: world space unit xyz, w = +-1 so that
+                                       // the bitangent is w (normal x tangent); empty: none
     std::vector<glm::uvec3> triangles; // indices into positions, counter-clockwise seen from the front
     uint32_t material = 0;             // index into Scene::materials
 };
