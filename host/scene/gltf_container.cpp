@@ -29,8 +29,8 @@ constexpr uint32_t GLB_CHUNK_BIN = 0x004E4942;   // "BIN\0"
 
 const std::set<std::string> SUPPORTED_EXTENSIONS = {
     "KHR_lights_punctual",        "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_transmission", "KHR_mesh_quantization",           "VKPATH_environment",
-    "VKPATH_sphere"};
+    "KHR_materials_transmission", "KHR_mesh_quantization",           "KHR_texture_transform",
+    "VKPATH_environment",         "VKPATH_sphere"};
 
 // ---------------------------------------------------------------------------
 // Phase 1: the file and the GLB container
