@@ -19,6 +19,7 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
       m_vertexNormals(tables.surface.vertexNormals),
       m_vertexTexcoords(tables.surface.vertexTexcoords),
       m_vertexColors(tables.surface.vertexColors),
+      m_vertexTangents(tables.surface.vertexTangents),
       m_textures(tables.textures.textures),
       m_textureSlots(tables.textures.slots),
       m_texels(tables.textures.texels) {
@@ -40,7 +41,8 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
         for (const TriangleVertices& t : m_triangleVertices)
             for (const auto& [bit, size] : {std::pair{VKP_TRIANGLE_SHADING_NORMALS, m_vertexNormals.size()},
                                             std::pair{VKP_TRIANGLE_TEXCOORDS, m_vertexTexcoords.size()},
-                                            std::pair{VKP_TRIANGLE_COLORS, m_vertexColors.size()}})
+                                            std::pair{VKP_TRIANGLE_COLORS, m_vertexColors.size()},
+                                            std::pair{VKP_TRIANGLE_TANGENTS, m_vertexTangents.size()}})
                 require((t.attributes & bit) == 0u || glm::all(glm::lessThan(t.vertex, glm::uvec3(uint(size)))),
                         "vertex attribute index out of range");
     }

@@ -54,6 +54,7 @@ struct PathTracerView : BvhView {
     vec3 sceneVertexNormal(uint vertex) const { return m_vertexNormals[vertex]; }
     vec4 sceneVertexTexcoords(uint vertex) const { return m_vertexTexcoords[vertex]; }
     vec4 sceneVertexColor(uint vertex) const { return m_vertexColors[vertex]; }
+    vec4 sceneVertexTangent(uint vertex) const { return m_vertexTangents[vertex]; }
     TextureInfo sceneTexture(uint index) const { return m_textures[index]; }
     TextureSlot sceneTextureSlot(uint index) const { return m_textureSlots[index]; }
     vec4 sceneTexel(uint index) const {
@@ -76,6 +77,7 @@ struct PathTracerView : BvhView {
     std::span<const vec3> m_vertexNormals;
     std::span<const vec4> m_vertexTexcoords;
     std::span<const vec4> m_vertexColors;
+    std::span<const vec4> m_vertexTangents;
     std::span<const TextureInfo> m_textures;
     std::span<const TextureSlot> m_textureSlots;
     std::span<const uvec2> m_texels;

@@ -206,13 +206,15 @@ uint64_t deviceBytes(const SceneTables& t) {
     return t.bvh.bytes() + bytes(t.materials) + bytes(t.lights) + bytes(t.lightAlias) + bytes(t.primitiveLight) +
            bytes(t.envAlias) + bytes(t.envRadiance) + bytes(t.surface.triangleVertices) +
            bytes(t.surface.vertexNormals) + bytes(t.surface.vertexTexcoords) + bytes(t.surface.vertexColors) +
+           bytes(t.surface.vertexTangents) +
            bytes(t.textures.textures) + bytes(t.textures.slots) + bytes(t.textures.texels);
 }
 
 uint64_t GpuScene::bytes() const {
     return bvh.bytes() + materials.size() + lights.size() + lightAlias.size() + primitiveLight.size() +
            envAlias.size() + envRadiance.size() + triangleVertices.size() + vertexNormals.size() +
-           vertexTexcoords.size() + vertexColors.size() + textures.size() + textureSlots.size() + texels.size();
+           vertexTexcoords.size() + vertexColors.size() + vertexTangents.size() + textures.size() +
+           textureSlots.size() + texels.size();
 }
 
 GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
@@ -231,6 +233,7 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
                                        extent("vertex normals", t.surface.vertexNormals),
                                        extent("vertex texture coordinates", t.surface.vertexTexcoords),
                                        extent("vertex colours", t.surface.vertexColors),
+                                       extent("vertex tangents", t.surface.vertexTangents),
                                        extent("texels", t.textures.texels)};
     const vk::BufferLimits limits = vk::bufferLimits(context.info());
     GpuScene g;
@@ -251,6 +254,7 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     g.vertexNormals = uploadOrPlaceholder(context, t.surface.vertexNormals, "vertexNormals");
     g.vertexTexcoords = uploadOrPlaceholder(context, t.surface.vertexTexcoords, "vertexTexcoords");
     g.vertexColors = uploadOrPlaceholder(context, t.surface.vertexColors, "vertexColors");
+    g.vertexTangents = uploadOrPlaceholder(context, t.surface.vertexTangents, "vertexTangents");
     g.textures = uploadOrPlaceholder(context, t.textures.textures, "textures");
     g.textureSlots = uploadOrPlaceholder(context, t.textures.slots, "textureSlots");
     g.texels = uploadOrPlaceholder(context, t.textures.texels, "texels");
@@ -263,7 +267,7 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
         addresses = {g.bvh.addresses(),      split(g.lights),           split(g.lightAlias),
                      split(g.primitiveLight), split(g.envAlias),         split(g.envRadiance),
                      split(g.triangleVertices), split(g.vertexNormals), split(g.vertexTexcoords),
-                     split(g.vertexColors), split(g.texels)};
+                     split(g.vertexColors), split(g.texels), split(g.vertexTangents)};
     }
     g.addresses = vk::Buffer::fromSpan(context, std::span(&addresses, 1), "sceneAddresses");
     return g;
@@ -275,9 +279,9 @@ std::string describeMemory(const GpuScene& g, const SceneTables& t) {
         surface = fmt::format("; vertex attributes: {} triangles, {} vertices ({:.1f} KiB)",
                               t.surface.triangleVertices.size(),
                               std::max({t.surface.vertexNormals.size(), t.surface.vertexTexcoords.size(),
-                                        t.surface.vertexColors.size()}),
+                                        t.surface.vertexColors.size(), t.surface.vertexTangents.size()}),
                               (g.triangleVertices.size() + g.vertexNormals.size() + g.vertexTexcoords.size() +
-                               g.vertexColors.size()) / 1024.0);
+                               g.vertexColors.size() + g.vertexTangents.size()) / 1024.0);
     if (!t.textures.textures.empty())
         surface += fmt::format("; textures: {} ({} texels, {:.1f} MiB)", t.textures.textures.size(),
                                t.textures.texels.size(), g.texels.size() / (1024.0 * 1024.0));

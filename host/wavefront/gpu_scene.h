@@ -66,6 +66,7 @@ struct GpuScene {
     vk::Buffer vertexNormals;
     vk::Buffer vertexTexcoords;
     vk::Buffer vertexColors;
+    vk::Buffer vertexTangents;
     vk::Buffer textures;      // TextureInfo[]: bound always (one per texture)
     vk::Buffer textureSlots;  // TextureSlot[]: bound always (a few per material)
     vk::Buffer texels;

@@ -32,6 +32,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_SHADING_NORMALS, "shading-normals"},
     {VKP_FEATURE_TEXTURES, "textures"},
     {VKP_FEATURE_VERTEX_COLORS, "vertex-colors"},
+    {VKP_FEATURE_NORMAL_MAPS, "normal-maps"},
 }};
 
 }  // namespace
@@ -52,6 +53,7 @@ uint32_t sceneFeatures(const SceneTables& t) {
     }
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
+    if (t.info.triangleAttributes & VKP_TRIANGLE_TANGENTS) f |= VKP_FEATURE_NORMAL_MAPS;
     // The environment is seen by escaping rays whether or not it is bright
     // enough to be in the light list.
     if (t.info.hasEnvironment != 0)

@@ -183,6 +183,7 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
         {VKP_WF_VERTEX_NORMALS, &g.binding(g.vertexNormals)},
         {VKP_WF_VERTEX_TEXCOORDS, &g.binding(g.vertexTexcoords)},
         {VKP_WF_VERTEX_COLORS, &g.binding(g.vertexColors)},
+        {VKP_WF_VERTEX_TANGENTS, &g.binding(g.vertexTangents)},
         {VKP_WF_TEXTURES, &g.textures},
         {VKP_WF_TEXTURE_SLOTS, &g.textureSlots},
         {VKP_WF_TEXELS, &g.binding(g.texels)},

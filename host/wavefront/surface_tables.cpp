@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "scene/tangents.h"
 #include "wavefront/texture_tables.h"
 
 namespace vkpath::wavefront {
@@ -48,25 +49,68 @@ uint32_t meshAttributes(const scene::Scene& scene, const scene::Mesh& mesh) {
     return bits;
 }
 
+// A mesh's vertices as the tables hold them: its own, or as tangent
+// generation split them, with tangents where its material has a normal map.
+struct MeshVertices {
+    std::vector<uint32_t> source;       // per table vertex its mesh vertex; empty: the mesh's own, in order
+    std::vector<glm::uvec3> triangles;  // the mesh's triangles over the table vertices; empty: its own
+    std::vector<glm::vec4> tangents;    // per table vertex; empty: no normal map
+
+    size_t count(const scene::Mesh& mesh) const { return source.empty() ? mesh.positions.size() : source.size(); }
+    uint32_t vertex(size_t i) const { return source.empty() ? uint32_t(i) : source[i]; }
+};
+
+MeshVertices meshVertices(const scene::Scene& scene, const scene::Mesh& mesh) {
+    MeshVertices v;
+    if (mesh.material >= scene.materials.size()) return v;
+    const scene::TextureRef& map = scene.materials[mesh.material].normalTexture;
+    const size_t n = mesh.positions.size();
+    const std::vector<glm::vec2>& uvs = map.texCoord == 0 ? mesh.texcoords0 : mesh.texcoords1;
+    if (!map.present() || n == 0 || uvs.size() != n) return v;  // no map, or nothing to read it at
+    // Tangents from the file, except without normals: glTF 2.0 (3.7.2.1)
+    // has flat shading then, and the file's tangents are to be ignored.
+    const bool hasNormals = mesh.normals.size() == n;
+    if (hasNormals && mesh.tangents.size() == n) {
+        v.tangents = mesh.tangents;
+        return v;
+    }
+    scene::MeshTangents generated =
+        scene::generateTangents(mesh.positions, hasNormals ? std::span<const glm::vec3>(mesh.normals)
+                                                           : std::span<const glm::vec3>(), uvs, mesh.triangles);
+    v.tangents = std::move(generated.tangents);
+    if (generated.sourceVertex.size() > n) {  // some vertices were split
+        v.source = std::move(generated.sourceVertex);
+        v.triangles = std::move(generated.triangles);
+    }
+    return v;
+}
+
 }  // namespace
 
 SurfaceTables buildSurfaceTables(const scene::Scene& scene) {
     SurfaceTables t;
     size_t triangles = 0, vertices = 0;
+    std::vector<MeshVertices> layouts;
+    layouts.reserve(scene.meshes.size());
     for (const scene::Mesh& mesh : scene.meshes) {
+        layouts.push_back(meshVertices(scene, mesh));
         triangles += mesh.triangles.size();
-        vertices += mesh.positions.size();
+        vertices += layouts.back().count(mesh);
     }
     std::vector<shared::TriangleVertices> triangleVertices;
     triangleVertices.reserve(triangles);
     uint32_t firstVertex = 0;
-    for (const scene::Mesh& mesh : scene.meshes) {
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const scene::Mesh& mesh = scene.meshes[m];
+        const MeshVertices& layout = layouts[m];
         const bool hasNormals = mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty();
-        const uint32_t attributes = meshAttributes(scene, mesh);
-        for (const glm::uvec3& tri : mesh.triangles) {
+        const uint32_t attributes =
+            meshAttributes(scene, mesh) | (layout.tangents.empty() ? 0u : VKP_TRIANGLE_TANGENTS);
+        for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+            const glm::uvec3& tri = mesh.triangles[i];
             shared::TriangleVertices v{};
             v.attributes = attributes;
-            v.vertex = glm::uvec3(firstVertex) + tri;
+            v.vertex = glm::uvec3(firstVertex) + (layout.triangles.empty() ? tri : layout.triangles[i]);
             const bool inRange = tri.x < mesh.positions.size() && tri.y < mesh.positions.size() &&
                                  tri.z < mesh.positions.size();
             if (hasNormals && inRange &&
@@ -76,36 +120,36 @@ SurfaceTables buildSurfaceTables(const scene::Scene& scene) {
             t.attributes |= v.attributes;
             triangleVertices.push_back(v);
         }
-        firstVertex += uint32_t(mesh.positions.size());
+        firstVertex += uint32_t(layout.count(mesh));
     }
     if (t.attributes == 0) return t;
     t.triangleVertices = std::move(triangleVertices);
-    if (t.attributes & VKP_TRIANGLE_SHADING_NORMALS) {
-        t.vertexNormals.reserve(vertices);
-        for (const scene::Mesh& mesh : scene.meshes) {
-            const bool hasNormals = mesh.normals.size() == mesh.positions.size();
-            for (size_t i = 0; i < mesh.positions.size(); ++i) {
-                const glm::vec3 n = hasNormals ? mesh.normals[i] : glm::vec3(0.0f);
-                t.vertexNormals.push_back(usable(n) ? glm::normalize(n) : glm::vec3(0.0f));
-            }
-        }
-    }
-    if (t.attributes & VKP_TRIANGLE_TEXCOORDS) {
-        t.vertexTexcoords.reserve(vertices);
-        for (const scene::Mesh& mesh : scene.meshes) {
+    // Each array holds every mesh's table vertices, copied from their mesh vertices.
+    auto fill = [&](auto& array, auto value) {
+        array.reserve(vertices);
+        for (size_t m = 0; m < scene.meshes.size(); ++m)
+            for (size_t k = 0; k < layouts[m].count(scene.meshes[m]); ++k)
+                array.push_back(value(scene.meshes[m], layouts[m], k, layouts[m].vertex(k)));
+    };
+    if (t.attributes & VKP_TRIANGLE_SHADING_NORMALS)
+        fill(t.vertexNormals, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {
+            const glm::vec3 n = mesh.normals.size() == mesh.positions.size() ? mesh.normals[i] : glm::vec3(0.0f);
+            return usable(n) ? glm::normalize(n) : glm::vec3(0.0f);
+        });
+    if (t.attributes & VKP_TRIANGLE_TEXCOORDS)
+        fill(t.vertexTexcoords, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {
             const size_t n = mesh.positions.size();
-            for (size_t i = 0; i < n; ++i)
-                t.vertexTexcoords.emplace_back(mesh.texcoords0.size() == n ? mesh.texcoords0[i] : glm::vec2(0.0f),
-                                               mesh.texcoords1.size() == n ? mesh.texcoords1[i] : glm::vec2(0.0f));
-        }
-    }
-    if (t.attributes & VKP_TRIANGLE_COLORS) {
-        t.vertexColors.reserve(vertices);
-        for (const scene::Mesh& mesh : scene.meshes) {
-            const size_t n = mesh.positions.size();
-            for (size_t i = 0; i < n; ++i) t.vertexColors.push_back(mesh.colors.size() == n ? mesh.colors[i] : glm::vec4(1));
-        }
-    }
+            return glm::vec4(mesh.texcoords0.size() == n ? mesh.texcoords0[i] : glm::vec2(0.0f),
+                             mesh.texcoords1.size() == n ? mesh.texcoords1[i] : glm::vec2(0.0f));
+        });
+    if (t.attributes & VKP_TRIANGLE_COLORS)
+        fill(t.vertexColors, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {
+            return mesh.colors.size() == mesh.positions.size() ? mesh.colors[i] : glm::vec4(1.0f);
+        });
+    if (t.attributes & VKP_TRIANGLE_TANGENTS)
+        fill(t.vertexTangents, [](const scene::Mesh&, const MeshVertices& layout, size_t k, uint32_t) {
+            return layout.tangents.empty() ? glm::vec4(0.0f) : layout.tangents[k];
+        });
     return t;
 }
 

@@ -4,7 +4,9 @@
 // attributes that change shading are kept: vertex normals of a triangle that
 // equal its face normal are dropped (a flat mesh costs nothing), texture
 // coordinates only where the mesh's material has a texture, colours only
-// where some vertex of the mesh is not white.
+// where some vertex of the mesh is not white, tangents only where its
+// material has a normal map (the file's TANGENT, else MikkTSpace-compatible
+// ones from host/scene/tangents, whose vertex splits the tables follow).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -23,6 +25,7 @@ struct SurfaceTables {
     std::vector<glm::vec3> vertexNormals;  // world space, unit; zero for vertices of meshes without normals
     std::vector<glm::vec4> vertexTexcoords;  // (TEXCOORD_0, TEXCOORD_1); zero where a mesh lacks a set
     std::vector<glm::vec4> vertexColors;     // COLOR_0, linear RGBA
+    std::vector<glm::vec4> vertexTangents;   // world space unit xyz, w = +-1 (B = w (N x T)); zero without a map
     uint32_t attributes = 0;               // VKP_TRIANGLE_* bits that some triangle has
 };
 

@@ -45,6 +45,7 @@ class Builder {
             m_tables.slots[first + VKP_SLOT_EMISSIVE] = slot(m.emissiveTexture, true, m.name);
             m_tables.slots[first + VKP_SLOT_METALLIC_ROUGHNESS] = slot(m.metallicRoughnessTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_NORMAL] = slot(m.normalTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_NORMAL].scale = m.normalScale;
             m_tables.materialSlots[i] = first;
         }
         return std::move(m_tables);
@@ -56,6 +57,7 @@ class Builder {
         s.texture = VKP_NO_TEXTURE;
         s.transformU = glm::vec3(1, 0, 0);
         s.transformV = glm::vec3(0, 1, 0);
+        s.scale = 1.0f;
         return s;
     }
 

@@ -38,7 +38,8 @@
 #define VKP_FEATURE_SHADING_NORMALS (1u << 16)        // a triangle with interpolated vertex normals
 #define VKP_FEATURE_TEXTURES (1u << 17)               // a material with a texture
 #define VKP_FEATURE_VERTEX_COLORS (1u << 18)          // a triangle with vertex colours
-#define VKP_FEATURE_COUNT 19u
+#define VKP_FEATURE_NORMAL_MAPS (1u << 19)            // a triangle with a normal map and tangents
+#define VKP_FEATURE_COUNT 20u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 #define VKP_FEATURES_MATERIALS (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS)

@@ -42,7 +42,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
     shading.material = materialAt(sceneMaterial(primitive.material), primitive, hit);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     shading.wo = -path.ray.direction;
-    shading.surface.shadingNormal = shadingNormal(primitive, hit, shading.surface.normal, shading.wo);
+    shading.surface.shadingNormal =
+        shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
         path.radiance += path.throughput * emittedRadiance(shading.material, hit.primitive, shading.surface,
                                                            path.ray.direction, path.previousPosition,

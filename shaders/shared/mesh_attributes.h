@@ -22,6 +22,9 @@
 #define VKP_TRIANGLE_TEXCOORDS 2u
 // Its vertices have colours (COLOR_0), which multiply the base colour.
 #define VKP_TRIANGLE_COLORS 4u
+// Its material has a normal map, and its vertices have tangents (TANGENT, or
+// MikkTSpace's: host/scene/tangents.h) and the map's texture coordinates.
+#define VKP_TRIANGLE_TANGENTS 8u
 
 VKP_NAMESPACE_BEGIN
 

@@ -16,6 +16,7 @@
 //   vec3 sceneVertexNormal(uint vertex);
 //   vec4 sceneVertexTexcoords(uint vertex);         // (TEXCOORD_0, TEXCOORD_1)
 //   vec4 sceneVertexColor(uint vertex);
+//   vec4 sceneVertexTangent(uint vertex);           // unit xyz, w = +-1: B = w (N x T)
 //   TextureInfo sceneTexture(uint index);           // shared/texture.h
 //   TextureSlot sceneTextureSlot(uint index);
 //   vec4 sceneTexel(uint index);                    // linear RGBA
@@ -91,26 +92,6 @@ VKP_FN float environmentPdf(vec3 worldDirection) VKP_SCENE_CONST {
     return envDirectionPdf(env, sceneEnvAlias(environmentTexel(worldDirection)).probability, worldDirection);
 }
 
-// ---- shading normals ------------------------------------------------------------------
-
-// The normal the BSDF uses at a hit on `primitive` whose geometric normal is
-// `geometric`, seen from wo: the triangle's vertex normals interpolated with
-// the hit's barycentrics (Phong's interpolation: glTF's NORMAL attribute,
-// Scotty3D's smooth meshes), adapted to wo (shared/bsdf.h); the geometric
-// normal itself for spheres and flat triangles.
-VKP_FN vec3 shadingNormal(BvhPrimitive primitive, Hit hit, vec3 geometric, vec3 wo) VKP_SCENE_CONST {
-    if (!hasFeature(VKP_FEATURE_SHADING_NORMALS) || isSphere(primitive)) return geometric;
-    if ((sceneInfo().triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) == 0u) return geometric;
-    TriangleVertices triangle = sceneTriangleVertices(primitive.id);
-    if ((triangle.attributes & VKP_TRIANGLE_SHADING_NORMALS) == 0u) return geometric;
-    float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
-    vec3 n = (1.0f - b1 - b2) * sceneVertexNormal(triangle.vertex.x) + b1 * sceneVertexNormal(triangle.vertex.y) +
-             b2 * sceneVertexNormal(triangle.vertex.z);
-    float length2 = dot(n, n);
-    if (!(length2 > 1e-12f)) return geometric;  // vertex normals that cancel out
-    return adaptShadingNormal(geometric, n / sqrt(length2), wo);
-}
-
 // ---- textures and vertex colours --------------------------------------------------------
 
 VKP_FN vec4 textureTexel(TextureInfo texture, int i, int j) VKP_SCENE_CONST {
@@ -177,6 +158,67 @@ VKP_FN Material materialAt(Material material, BvhPrimitive primitive, Hit hit) V
     else
         material.reflectance *= vec3(base);
     return material;
+}
+
+// ---- shading normals ------------------------------------------------------------------
+
+// The normal map's normal at barycentrics (b1, b2) of `triangle`, whose
+// material has a normal map and whose vertices have tangents; `n` is the
+// normal it perturbs (interpolated or geometric, unit). glTF 2.0, section
+// 3.9.3 (normalTexture): the texel's RGB is a tangent-space normal
+// 2 x - 1, its x and y scaled by normalTexture.scale, in the frame of the
+// tangent T (interpolated, made orthogonal to n: Gram-Schmidt), the
+// bitangent B = w (n x T) (section 3.7.2.1; +Y up the image, since T and w
+// were made for glTF's v-down coordinates) and n. `n` itself where the
+// frame or the map's normal is degenerate.
+VKP_FN vec3 normalMapNormal(Material material, TriangleVertices triangle, float b1, float b2, vec3 n) VKP_SCENE_CONST {
+    TextureSlot slot = sceneTextureSlot(material.textures + VKP_SLOT_NORMAL);
+    if (slot.texture == VKP_NO_TEXTURE) return n;
+    float b0 = 1.0f - b1 - b2;
+    uvec3 v = triangle.vertex;
+    vec4 texcoords = b0 * sceneVertexTexcoords(v.x) + b1 * sceneVertexTexcoords(v.y) + b2 * sceneVertexTexcoords(v.z);
+    vec3 mapped = 2.0f * vec3(textureSlotValue(material.textures + VKP_SLOT_NORMAL, texcoords)) - 1.0f;
+    vec4 tangent = b0 * sceneVertexTangent(v.x) + b1 * sceneVertexTangent(v.y) + b2 * sceneVertexTangent(v.z);
+    vec3 t = vec3(tangent) - dot(n, vec3(tangent)) * n;
+    float t2 = dot(t, t);
+    if (!(t2 > 1e-12f)) return n;
+    t /= sqrt(t2);
+    vec3 b = (tangent.w < 0.0f ? -1.0f : 1.0f) * cross(n, t);
+    vec3 world = (slot.scale * mapped.x) * t + (slot.scale * mapped.y) * b + mapped.z * n;
+    float length2 = dot(world, world);
+    if (!(length2 > 1e-12f)) return n;
+    return world / sqrt(length2);
+}
+
+// The normal the BSDF uses at a hit on `primitive` whose geometric normal is
+// `geometric`, seen from wo: the triangle's vertex normals interpolated with
+// the hit's barycentrics (Phong's interpolation: glTF's NORMAL attribute,
+// Scotty3D's smooth meshes), or the geometric normal, perturbed by the
+// material's normal map where it has one, then adapted to wo
+// (shared/bsdf.h); the geometric normal itself for spheres and for flat
+// triangles without a normal map.
+VKP_FN vec3 shadingNormal(Material material, BvhPrimitive primitive, Hit hit, vec3 geometric, vec3 wo) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_NORMAL_MAPS) || isSphere(primitive)) return geometric;
+    if ((sceneInfo().triangleAttributes & (VKP_TRIANGLE_SHADING_NORMALS | VKP_TRIANGLE_TANGENTS)) == 0u)
+        return geometric;
+    TriangleVertices triangle = sceneTriangleVertices(primitive.id);
+    bool mapped = hasFeature(VKP_FEATURE_NORMAL_MAPS) && (triangle.attributes & VKP_TRIANGLE_TANGENTS) != 0u;
+    bool interpolated =
+        hasFeature(VKP_FEATURE_SHADING_NORMALS) && (triangle.attributes & VKP_TRIANGLE_SHADING_NORMALS) != 0u;
+    if (!mapped && !interpolated) return geometric;
+    float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
+    vec3 n = geometric;
+    if (interpolated) {
+        vec3 sum = (1.0f - b1 - b2) * sceneVertexNormal(triangle.vertex.x) + b1 * sceneVertexNormal(triangle.vertex.y) +
+                   b2 * sceneVertexNormal(triangle.vertex.z);
+        float length2 = dot(sum, sum);
+        if (length2 > 1e-12f)
+            n = sum / sqrt(length2);
+        else if (!mapped)
+            return geometric;  // vertex normals that cancel out
+    }
+    if (mapped) n = normalMapNormal(material, triangle, b1, b2, n);
+    return adaptShadingNormal(geometric, n, wo);
 }
 
 // ---- emission seen by a path ----------------------------------------------------------

@@ -26,12 +26,13 @@ struct SceneAddresses {
     uvec2 vertexTexcoords;   // vec4[vertices]: TEXCOORD_0, TEXCOORD_1
     uvec2 vertexColors;      // vec4[vertices]
     uvec2 texels;            // uvec2[texels]: the texture store (shared/texture.h)
+    uvec2 vertexTangents;    // vec4[vertices]
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneAddresses) == 96);
+static_assert(sizeof(vkpath::shared::SceneAddresses) == 104);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_ADDRESSES_H

@@ -53,6 +53,7 @@ struct TextureSlot {
     uint texture;   // index into TextureInfo[], VKP_NO_TEXTURE: the slot is empty (value 1)
     vec3 transformV;
     uint texCoord;  // 0 or 1: TEXCOORD_0 or TEXCOORD_1
+    float scale;    // VKP_SLOT_NORMAL: glTF's normalTexture.scale; 1 in the other slots
 };
 
 // Texel index `i` (any integer) wrapped into [0, n).

@@ -25,6 +25,7 @@ layout(binding = VKP_WF_TRIANGLE_VERTICES, scalar) readonly buffer TriangleVerte
 layout(binding = VKP_WF_VERTEX_NORMALS, scalar) readonly buffer VertexNormalBuffer { vec3 vertexNormals[]; };
 layout(binding = VKP_WF_VERTEX_TEXCOORDS, scalar) readonly buffer VertexTexcoordBuffer { vec4 vertexTexcoords[]; };
 layout(binding = VKP_WF_VERTEX_COLORS, scalar) readonly buffer VertexColorBuffer { vec4 vertexColors[]; };
+layout(binding = VKP_WF_VERTEX_TANGENTS, scalar) readonly buffer VertexTangentBuffer { vec4 vertexTangents[]; };
 layout(binding = VKP_WF_TEXTURES, scalar) readonly buffer TextureBuffer { TextureInfo textures[]; };
 layout(binding = VKP_WF_TEXTURE_SLOTS, scalar) readonly buffer TextureSlotBuffer { TextureSlot textureSlots[]; };
 layout(binding = VKP_WF_TEXELS, scalar) readonly buffer TexelBuffer { uvec2 texels[]; };
@@ -77,6 +78,10 @@ vec4 sceneVertexTexcoords(uint i) {
 vec4 sceneVertexColor(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexColors).v[i];
     return vertexColors[i];
+}
+vec4 sceneVertexTangent(uint i) {
+    if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTangents).v[i];
+    return vertexTangents[i];
 }
 TextureInfo sceneTexture(uint i) { return textures[i]; }
 TextureSlot sceneTextureSlot(uint i) { return textureSlots[i]; }
