@@ -45,8 +45,18 @@ class MaterialConverter {
             m_warnings.addCounted("metallicRoughnessTexture is ignored until vkpath has microfacet materials; the "
                                   "factors are used",
                                   "material", name);
-        if (m.normalTexture.index >= 0)
-            m_warnings.addCounted("normal maps (normalTexture) are not applied yet; vertex normals are used",
+        out.normalTexture = m_textures.reference(m.normalTexture.index, m.normalTexture.texCoord,
+                                                 m.normalTexture.extensions, name, "normalTexture");
+        if (!std::isfinite(m.normalTexture.scale))
+            fail("material '{}': normalTexture.scale is not a finite number", name);
+        out.normalScale = float(m.normalTexture.scale);
+        // The tangent frame follows the texture coordinates themselves (glTF
+        // 2.0, 3.7.2.1), not KHR_texture_transform's: a turned or unevenly
+        // scaled normal map tilts its normals the wrong way.
+        const TextureRef& normal = out.normalTexture;
+        if (normal.present() && (normal.rotation != 0.0f || normal.scale.x != normal.scale.y))
+            m_warnings.addCounted("normal maps turned or unevenly scaled by KHR_texture_transform are approximated: "
+                                  "the tangent frame does not follow the transform",
                                   "material", name);
         if (m.occlusionTexture.index >= 0)
             m_warnings.addCounted("occlusionTexture is not applied: a path tracer computes occlusion itself",
