@@ -11,9 +11,11 @@
 #include <glm/gtc/packing.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "reference/reference_renderer.h"
+#include "scene/load.h"
 #include "support/binding_limit.h"
 #include "support/test_context.h"
 #include "wavefront/kernel_features.h"
@@ -276,6 +278,35 @@ TEST(NormalMaps, ByAddressEqualsBound) {
     ASSERT_TRUE(addressed.scene().byAddress);
     const auto r = addressed.render();
     for (size_t i = 0; i < r.image.pixels.size(); ++i) ASSERT_EQ(r.image.pixels[i], bound.image.pixels[i]) << i;
+}
+
+// A file made by others: the ClearCoat test model of glTF-Sample-Models
+// (Debian's assimp-testmodels), whose normal maps come without TANGENT. Its
+// normal-mapped meshes get generated tangents, the kernels the normal-map
+// code, and a render under a white sky has no NaN or infinite sample and a
+// finite, non-negative image.
+TEST(NormalMaps, SampleModelWithoutTangentsRenders) {
+    const std::filesystem::path file = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    ASSERT_TRUE(std::filesystem::exists(file)) << file << " is missing: run tools/install-deps";
+    testing::internal::CaptureStderr();  // the file's warnings (clearcoat, glossy materials...)
+    scene::Scene s = scene::loadScene(file);
+    testing::internal::GetCapturedStderr();
+    size_t mapped = 0;
+    for (const scene::Mesh& m : s.meshes) mapped += s.materials.at(m.material).normalTexture.present();
+    EXPECT_GE(mapped, 5u);
+    scene::Environment sky;
+    sky.color = glm::vec3(1.0f);
+    s.environment = sky;
+    const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
+    EXPECT_NE(wavefront::sceneFeatures(tables) & VKP_FEATURE_NORMAL_MAPS, 0u);
+    wavefront::RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    settings.samplesPerPixel = 2;
+    const auto r = wavefront::GpuRenderer(test::context(), s, settings).render();
+    EXPECT_EQ(r.nonFiniteSamples, 0u);
+    for (const glm::vec3& p : r.image.pixels)
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(p[c]) && p[c] >= 0.0f);
 }
 
 }  // namespace

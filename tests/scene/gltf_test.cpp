@@ -180,7 +180,8 @@ TEST(GltfAssets, GeneratorReproducesCommittedAssets) {
     const std::string command = "python3 '" + test::sourcePath("tools/make-assets").string() +
                                 "' --out '" + dir.path().string() + "'";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    for (const char* name : {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr", "sky_spheres.gltf"}) {
+    for (const char* name :
+         {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr", "sky_spheres.gltf", "normal_maps.gltf"}) {
         SCOPED_TRACE(name);
         const auto generated = readBytes(dir / name);
         const auto committed = readBytes(test::sourcePath(std::string("assets/") + name));
