@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -160,6 +161,41 @@ std::string gltfWithAttributes() {
         accessorList, viewList, bin.size(), base64(bin));
 }
 
+// A 4 x 4 RGBA PNG (OpenImageIO writes it to `scratch`, which is removed).
+std::vector<uint8_t> smallPng(const fs::path& scratch) {
+    std::vector<uint8_t> pixels(4 * 4 * 4);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t(i * 37);
+    auto out = OIIO::ImageOutput::create(scratch.string());
+    if (!out || !out->open(scratch.string(), OIIO::ImageSpec(4, 4, 4, OIIO::TypeDesc::UINT8)) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
+        return {};
+    std::ifstream in(scratch, std::ios::binary);
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    fs::remove(scratch);
+    return bytes;
+}
+
+// The vertex-attribute triangle with a textured material: a data-URI PNG as
+// base colour (read from TEXCOORD_1 through KHR_texture_transform) and
+// emissive texture, a sampler with two wrap modes and nearest filtering.
+std::string gltfWithTexture(const std::vector<uint8_t>& png) {
+    std::string gltf = gltfWithAttributes();
+    const std::string primitiveEnd = R"("indices":6,"mode":4})";
+    gltf.replace(gltf.find(primitiveEnd), primitiveEnd.size(), R"("indices":6,"mode":4,"material":0})");
+    gltf.replace(gltf.find(R"("extensionsUsed":["KHR_mesh_quantization"])"),
+                 std::string(R"("extensionsUsed":["KHR_mesh_quantization"])").size(),
+                 R"("extensionsUsed":["KHR_mesh_quantization","KHR_texture_transform"])");
+    gltf.pop_back();  // the closing brace
+    gltf += fmt::format(
+        R"(,"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"texCoord":1,)"
+        R"("extensions":{{"KHR_texture_transform":{{"offset":[0.5,0],"rotation":0.3,"scale":[2,2]}}}}}}}},)"
+        R"("emissiveTexture":{{"index":0}},"emissiveFactor":[1,1,1]}}],)"
+        R"("textures":[{{"source":0,"sampler":0}}],"samplers":[{{"wrapS":33648,"wrapT":33071,"magFilter":9728}}],)"
+        R"("images":[{{"uri":"data:image/png;base64,{}"}}]}})",
+        base64(png));
+    return gltf;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -202,5 +238,8 @@ int main(int argc, char** argv) {
     writeText(gltfDir / "escape_image.gltf",
               gltfWithBuffer("buffer.bin", "escape_dir/secret.txt"));
     writeText(gltfDir / "vertex_attributes.gltf", gltfWithAttributes());
+    const std::vector<uint8_t> png = smallPng(gltfDir / "scratch.png");
+    ok = !png.empty() && ok;
+    writeText(gltfDir / "textured.gltf", gltfWithTexture(png));
     return ok ? 0 : 1;
 }
