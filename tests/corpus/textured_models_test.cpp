@@ -1,7 +1,7 @@
-// Textured models of Debian's assimp-testmodels (made by others; read where
-// the package puts them), rendered by `vkpath render` as a user would, and
-// judged against what their texture files say, decoded here with OpenImageIO
-// and the sRGB rule written out (not the renderer's decoder).
+// Textured glTF models of Debian's assimp-testmodels (made by others; read
+// where the package puts them), rendered by `vkpath render` as a user would,
+// and judged against what their texture files say, decoded in the test
+// (tests/support/textured_render.h), not by the renderer's decoder.
 //
 // BoxTextured: a diffuse box under a constant white sky. The box is convex,
 // so every direction above a face sees the sky: a face of albedo a (the
@@ -15,24 +15,21 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "image/image.h"
-#include "image/statistics.h"
 #include "scene/camera.h"
 #include "scene/load.h"
 #include "shared/camera.h"
-#include "support/run_vkpath.h"
 #include "support/temp_dir.h"
+#include "support/textured_render.h"
 
 namespace {
 
@@ -40,47 +37,10 @@ using namespace vkpath;
 namespace fs = std::filesystem;
 
 const fs::path MODELS = "/usr/share/assimp/models";
-constexpr int TIMEOUT_SECONDS = 120;
 
 #define SKIP_WITHOUT_PACKAGE()                                                                             \
     if (!fs::is_directory(MODELS))                                                                        \
     GTEST_SKIP() << MODELS << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)"
-
-// IEC 61966-2-1, in double: the rule glTF 2.0 gives for base colour textures.
-double srgbToLinear(double v) {
-    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
-
-// An image file's texels as 8-bit RGB, rows from the top.
-struct Texels {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
-};
-
-Texels readTexels(const fs::path& path) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    Texels t;
-    t.width = spec.width;
-    t.height = spec.height;
-    std::vector<uint8_t> all(size_t(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, all.data()))
-        throw std::runtime_error(path.string() + ": " + in->geterror());
-    for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i)
-        for (int c = 0; c < 3; ++c) t.rgb.push_back(all[i * spec.nchannels + std::min(c, spec.nchannels - 1)]);
-    return t;
-}
-
-// The mean texel over [x0, x1) x [y0, y1), per channel, each texel decoded
-// by `decode` (sRGB to linear, or not, for the power checks).
-glm::dvec3 meanTexel(const Texels& t, int x0, int y0, int x1, int y1, double (*decode)(double)) {
-    glm::dvec3 sum(0.0);
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x)
-            for (int c = 0; c < 3; ++c) sum[c] += decode(t.rgb[(size_t(y) * t.width + x) * 3 + c] / 255.0);
-    return sum / double(size_t(x1 - x0) * size_t(y1 - y0));
-}
 
 double identity(double v) { return v; }
 
@@ -94,38 +54,6 @@ scene::Scene loadQuiet(const fs::path& path) {
         testing::internal::GetCapturedStderr();
         throw;
     }
-}
-
-// Where a world point lands on the film, in pixels from the top-left corner
-// (shared/camera.h's generateCameraRay inverted).
-glm::dvec2 project(const shared::Camera& c, glm::dvec3 p) {
-    const glm::dvec3 d = p - glm::dvec3(c.origin);
-    const glm::dvec3 forward(c.forward), right(c.right), up(c.up);
-    const double t = glm::dot(d, forward);
-    const double ndcX = glm::dot(d, right) / (t * glm::dot(right, right));
-    const double ndcY = glm::dot(d, up) / (t * glm::dot(up, up));
-    return {(ndcX + 1.0) * 0.5 * c.width, (1.0 - ndcY) * 0.5 * c.height};
-}
-
-struct Render {
-    image::Image image, variance;  // variance of each pixel's mean
-};
-
-// `vkpath render` with a white sky and the variance AOV; fails the test on
-// anything but exit 0.
-Render render(const fs::path& scene, uint32_t width, uint32_t height, int spp, const fs::path& outputDir) {
-    const fs::path exr = outputDir / (scene.stem().string() + ".exr");
-    const test::CommandResult r = test::runVkpath(
-        "--validation render '" + scene.string() + "' -d " + std::to_string(width) + "x" + std::to_string(height) +
-            " -s " + std::to_string(spp) + " --env-color 1,1,1 --aov variance -o '" + exr.string() + "'",
-        TIMEOUT_SECONDS);
-    Render out;
-    EXPECT_EQ(r.exitCode, 0) << scene << ":\n" << r.err;
-    EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
-    if (r.exitCode != 0) return out;
-    out.image = image::readImage(exr);
-    out.variance = image::readImage(image::aovPath(exr, "variance"));
-    return out;
 }
 
 // ---------------------------------------------------------------------------
@@ -159,46 +87,27 @@ TEST_P(BoxTextured, FaceShowsTheTexturesMeanColour) {
 
     // The face's rectangle on the film: a plane parallel to the film maps to
     // it by a similarity, so its area in pixels is exact.
-    const glm::dvec2 lo = project(camera, {-0.5, 0.5, 0.5}), hi = project(camera, {0.5, -0.5, 0.5});
-    const double faceArea = (hi.x - lo.x) * (hi.y - lo.y);
-    // Every pixel the face touches plus a margin of sky (radiance exactly 1,
-    // seen directly), well inside the film.
-    const int x0 = int(std::floor(lo.x)) - 2, x1 = int(std::ceil(hi.x)) + 2;
-    const int y0 = int(std::floor(lo.y)) - 2, y1 = int(std::ceil(hi.y)) + 2;
-    ASSERT_GE(x0, 0);
-    ASSERT_GE(y0, 0);
-    ASSERT_LE(x1, int(W));
-    ASSERT_LE(y1, int(H));
-    ASSERT_GT(faceArea, 500.0) << "the face covers " << faceArea << " pixels";
+    const glm::dvec2 lo = test::project(camera, {-0.5, 0.5, 0.5}), hi = test::project(camera, {0.5, -0.5, 0.5});
 
     const test::TempDir dir;
-    const Render r = render(file, W, H, SPP, dir.path());
+    const test::Render r = test::renderOnWhiteSky(file, W, H, SPP, dir.path());
     ASSERT_EQ(r.image.width, W);
-    ASSERT_EQ(r.variance.width, W);
+    const test::FaceMean face = test::faceMeanOnWhiteSky(r, lo, hi);
+    ASSERT_TRUE(face.inside) << "the face and its margin lie on the film";
+    ASSERT_GT(face.area, 500.0);
 
-    // Sum over the region = faceArea x (face mean) + (the rest) x 1.
-    glm::dvec3 sum(0.0), variance(0.0);
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) {
-            sum += glm::dvec3(r.image.at(uint32_t(x), uint32_t(y)));
-            variance += glm::dvec3(r.variance.at(uint32_t(x), uint32_t(y)));
-        }
-    const double regionArea = double(x1 - x0) * double(y1 - y0);
-    const glm::dvec3 faceMean = (sum - (regionArea - faceArea)) / faceArea;
-    const glm::dvec3 standardError = glm::sqrt(variance) / faceArea;
-
-    const Texels texture = readTexels(folder / "BoxTextured-glTF" / "CesiumLogoFlat.png");
-    const glm::dvec3 expected = meanTexel(texture, 0, 0, texture.width, texture.height, srgbToLinear);
-    const glm::dvec3 undecoded = meanTexel(texture, 0, 0, texture.width, texture.height, identity);
+    const test::Texels texture = test::readTexels(folder / "BoxTextured-glTF" / "CesiumLogoFlat.png");
+    const glm::dvec3 expected = test::meanTexel(texture, test::srgbToLinear);
+    const glm::dvec3 undecoded = test::meanTexel(texture, identity);
     for (int c = 0; c < 3; ++c) {
         // 5 standard errors (false alarm 6e-7 per channel), plus the texel
         // store's rounding to half floats (at most 2^-11 of each texel, so
         // of their mean).
-        const double bound = 5.0 * standardError[c] + std::ldexp(expected[c], -11);
-        EXPECT_NEAR(faceMean[c], expected[c], bound)
-            << "channel " << c << ": " << faceArea << " pixels of face, standard error " << standardError[c];
+        const double bound = 5.0 * face.standardError[c] + std::ldexp(expected[c], -11);
+        EXPECT_NEAR(face.mean[c], expected[c], bound)
+            << "channel " << c << ": " << face.area << " pixels of face, standard error " << face.standardError[c];
         // Power: the texels' mean without sRGB decoding is far outside it.
-        EXPECT_GT(std::abs(faceMean[c] - undecoded[c]), 4.0 * bound) << "channel " << c;
+        EXPECT_GT(std::abs(face.mean[c] - undecoded[c]), 4.0 * bound) << "channel " << c;
     }
 }
 
@@ -250,7 +159,7 @@ std::vector<std::pair<std::string, Rect>> layout(const scene::Scene& s, uint32_t
     for (const scene::Mesh& m : s.meshes) {
         Rect r;
         for (const glm::vec3& p : m.positions) {
-            const glm::dvec2 f = project(camera, glm::dvec3(p));
+            const glm::dvec2 f = test::project(camera, glm::dvec3(p));
             r.x0 = std::min(r.x0, f.x);
             r.y0 = std::min(r.y0, f.y);
             r.x1 = std::max(r.x1, f.x);
@@ -358,7 +267,7 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
     constexpr uint32_t W = 320, H = 240;
     TransformVerdict verdict;
     const scene::Scene s = loadQuiet(file);
-    const Render r = render(file, W, H, 4, outputDir);
+    const test::Render r = test::renderOnWhiteSky(file, W, H, 4, outputDir);
     if (r.image.width != W) {
         verdict.problems.push_back("no render");
         return verdict;
@@ -372,13 +281,13 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
     if (count != model) verdict.problems.push_back("the scene is not the model this test knows");
 
     // The top row: each quad's mean colour is nearest its quarter of UV.png.
-    const Texels uv = readTexels(file.parent_path() / "UV.png");
+    const test::Texels uv = test::readTexels(file.parent_path() / "UV.png");
     const int hw = uv.width / 2, hh = uv.height / 2;
     const std::vector<std::pair<std::string, glm::dvec3>> quarters = {
-        {"not supported (top left)", meanTexel(uv, 0, 0, hw, hh, srgbToLinear)},
-        {"U (top right)", meanTexel(uv, hw, 0, uv.width, hh, srgbToLinear)},
-        {"V (bottom left)", meanTexel(uv, 0, hh, hw, uv.height, srgbToLinear)},
-        {"UV (bottom right)", meanTexel(uv, hw, hh, uv.width, uv.height, srgbToLinear)}};
+        {"not supported (top left)", test::meanTexel(uv, 0, 0, hw, hh, test::srgbToLinear)},
+        {"U (top right)", test::meanTexel(uv, hw, 0, uv.width, hh, test::srgbToLinear)},
+        {"V (bottom left)", test::meanTexel(uv, 0, hh, hw, uv.height, test::srgbToLinear)},
+        {"UV (bottom right)", test::meanTexel(uv, hw, hh, uv.width, uv.height, test::srgbToLinear)}};
     const std::map<std::string, size_t> expectedQuarter = {{"Offset U", 1}, {"Offset V", 2}, {"Offset UV", 3}};
     for (const auto& [name, rect] : rects) {
         const auto expected = expectedQuarter.find(name);
