@@ -115,6 +115,10 @@ int32_t TextureImporter::image(pugi::xml_node image, const std::string& what) {
                               "image", name);
         return -1;
     }
+    if (uri.rfind("data:", 0) == 0)
+        m_document.fail(fmt::format("{}: image '{}': data: URIs are not read from COLLADA; give the image as a file "
+                                    "beside the .dae",
+                                    what, name));
     // The glTF importer's rule for external files. Its URI decoding is
     // tinygltf's, which reads '+' as a space; in a COLLADA URI '+' is '+'.
     std::string escaped;

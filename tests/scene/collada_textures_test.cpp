@@ -243,6 +243,11 @@ TEST(ColladaTextures, BadImageReferencesAreOneErrorLine) {
         EXPECT_EQ(error.find('\n'), std::string::npos) << "one line: " << error;
     }
 
+    Doc dataUri;
+    dataUri.images = R"(<image id="tex" name="tex"><init_from>data:image/png;base64,iVBORw0KGgo=</init_from></image>)";
+    const std::string data = loadError(dir.write("scene/data.dae", xml(dataUri)));
+    EXPECT_NE(data.find("image 'tex': data: URIs are not read from COLLADA"), std::string::npos) << data;
+
     Doc noImage;
     noImage.newparams = "";
     noImage.diffuse = R"(<texture texture="nosuch" texcoord="UV0"/>)";
