@@ -84,6 +84,13 @@ TEST_P(BoxTextured, FaceShowsTheTexturesMeanColour) {
     ASSERT_NEAR(camera.origin.y, 0.0f, 1e-6f);
     ASSERT_GT(camera.origin.z, 0.5f);
     ASSERT_NEAR(camera.forward.z, -1.0f, 1e-6f);
+    // Lambertian, albedo = the texture (base colour factor 1, metallic 0, roughness 1).
+    ASSERT_EQ(s.meshes.size(), 1u);
+    const scene::Material& m = s.materials.at(s.meshes[0].material);
+    ASSERT_EQ(m.kind, scene::MaterialKind::Diffuse);
+    ASSERT_EQ(m.reflectance, glm::vec3(1.0f));
+    ASSERT_TRUE(m.baseColorTexture.present());
+    ASSERT_FALSE(m.emissive());
 
     // The face's rectangle on the film: a plane parallel to the film maps to
     // it by a similarity, so its area in pixels is exact.
