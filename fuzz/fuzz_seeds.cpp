@@ -1,6 +1,6 @@
 // Writes the seeds that the fuzz scripts cannot copy from the project:
 //
-//   fuzz_seeds ENV_DIR GLTF_DIR
+//   fuzz_seeds ENV_DIR GLTF_DIR [COLLADA_DIR]
 //
 // ENV_DIR: small environment maps in every OpenEXR compression OpenImageIO
 // writes (half and float, scanline and tiled, 1, 3 and 4 channels, a negative
@@ -13,6 +13,10 @@
 // triangle carries every vertex attribute the importer reads, in the
 // quantized encodings of KHR_mesh_quantization, so the fuzzer starts inside
 // those accessors.
+// COLLADA_DIR: a textured square whose <image> is the fuzz folder's
+// texture.png, or buffer.bin (not an image), or a file through each kind of
+// URI that leaves the folder, so collada_fuzz starts inside the texture
+// resolution and the folder rule.
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
@@ -20,6 +24,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -160,11 +165,78 @@ std::string gltfWithAttributes() {
         accessorList, viewList, bin.size(), base64(bin));
 }
 
+// A 4 x 4 RGBA PNG (OpenImageIO writes it to `scratch`, which is removed).
+std::vector<uint8_t> smallPng(const fs::path& scratch) {
+    std::vector<uint8_t> pixels(4 * 4 * 4);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t(i * 37);
+    auto out = OIIO::ImageOutput::create(scratch.string());
+    if (!out || !out->open(scratch.string(), OIIO::ImageSpec(4, 4, 4, OIIO::TypeDesc::UINT8)) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
+        return {};
+    std::ifstream in(scratch, std::ios::binary);
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    fs::remove(scratch);
+    return bytes;
+}
+
+// The vertex-attribute triangle with a textured material: a data-URI PNG as
+// base colour (read from TEXCOORD_1 through KHR_texture_transform) and
+// emissive texture, a sampler with two wrap modes and nearest filtering.
+std::string gltfWithTexture(const std::vector<uint8_t>& png) {
+    std::string gltf = gltfWithAttributes();
+    const std::string primitiveEnd = R"("indices":6,"mode":4})";
+    gltf.replace(gltf.find(primitiveEnd), primitiveEnd.size(), R"("indices":6,"mode":4,"material":0})");
+    gltf.replace(gltf.find(R"("extensionsUsed":["KHR_mesh_quantization"])"),
+                 std::string(R"("extensionsUsed":["KHR_mesh_quantization"])").size(),
+                 R"("extensionsUsed":["KHR_mesh_quantization","KHR_texture_transform"])");
+    gltf.pop_back();  // the closing brace
+    gltf += fmt::format(
+        R"(,"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"texCoord":1,)"
+        R"("extensions":{{"KHR_texture_transform":{{"offset":[0.5,0],"rotation":0.3,"scale":[2,2]}}}}}}}},)"
+        R"("emissiveTexture":{{"index":0}},"emissiveFactor":[1,1,1]}}],)"
+        R"("textures":[{{"source":0,"sampler":0}}],"samplers":[{{"wrapS":33648,"wrapT":33071,"magFilter":9728}}],)"
+        R"("images":[{{"uri":"data:image/png;base64,{}"}}]}})",
+        base64(png));
+    return gltf;
+}
+
+// A unit square with texture coordinates whose diffuse texture is the file
+// `uri`, through duck.dae's sampler2D and surface newparams.
+std::string colladaWithTexture(const std::string& uri) {
+    return fmt::format(R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><up_axis>Y_UP</up_axis></asset>
+<library_images><image id="img" name="img"><init_from>{}</init_from></image></library_images>
+<library_effects><effect id="fx"><profile_COMMON>
+<newparam sid="surface"><surface type="2D"><init_from>img</init_from></surface></newparam>
+<newparam sid="sampler"><sampler2D><source>surface</source><wrap_s>MIRROR</wrap_s><wrap_t>CLAMP</wrap_t>
+<magfilter>NEAREST</magfilter></sampler2D></newparam>
+<technique sid="common"><lambert><diffuse><texture texture="sampler" texcoord="UV"/></diffuse></lambert>
+</technique></profile_COMMON></effect></library_effects>
+<library_materials><material id="mat" name="mat"><instance_effect url="#fx"/></material></library_materials>
+<library_geometries><geometry id="square"><mesh>
+<source id="p"><float_array id="pa" count="12">0 0 0 1 0 0 1 1 0 0 1 0</float_array>
+<technique_common><accessor source="#pa" count="4" stride="3"/></technique_common></source>
+<source id="t"><float_array id="ta" count="8">0 0 1 0 1 1 0 1</float_array>
+<technique_common><accessor source="#ta" count="4" stride="2"/></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<triangles material="mat" count="2"><input semantic="VERTEX" source="#v" offset="0"/>
+<input semantic="TEXCOORD" source="#t" offset="1" set="0"/><p>0 0 1 1 2 2 0 0 2 2 3 3</p></triangles>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#square"><bind_material>
+<technique_common><instance_material symbol="mat" target="#mat"/></technique_common></bind_material>
+</instance_geometry></node></visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)",
+                       uri);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 3) {
-        std::fprintf(stderr, "usage: fuzz_seeds ENV_DIR GLTF_DIR\n");
+    if (argc != 3 && argc != 4) {
+        std::fprintf(stderr, "usage: fuzz_seeds ENV_DIR GLTF_DIR [COLLADA_DIR]\n");
         return 2;
     }
     const fs::path envDir = argv[1], gltfDir = argv[2];
@@ -202,5 +274,20 @@ int main(int argc, char** argv) {
     writeText(gltfDir / "escape_image.gltf",
               gltfWithBuffer("buffer.bin", "escape_dir/secret.txt"));
     writeText(gltfDir / "vertex_attributes.gltf", gltfWithAttributes());
+    const std::vector<uint8_t> png = smallPng(gltfDir / "scratch.png");
+    ok = !png.empty() && ok;
+    writeText(gltfDir / "textured.gltf", gltfWithTexture(png));
+    if (argc == 4) {
+        const fs::path colladaDir = argv[3];
+        fs::create_directories(colladaDir);
+        writeText(colladaDir / "textured.dae", colladaWithTexture(vkpath::fuzz::TEXTURE_PNG));
+        writeText(colladaDir / "texture_not_an_image.dae", colladaWithTexture("./buffer.bin"));
+        writeText(colladaDir / "texture_escape_link.dae", colladaWithTexture("escape.bin"));
+        writeText(colladaDir / "texture_escape_linked_dir.dae", colladaWithTexture("escape_dir/secret.txt"));
+        writeText(colladaDir / "texture_escape_dotdot.dae", colladaWithTexture("../outside/buffer.bin"));
+        writeText(colladaDir / "texture_escape_encoded.dae", colladaWithTexture("%2e%2e/outside/buffer.bin"));
+        writeText(colladaDir / "texture_escape_absolute.dae", colladaWithTexture("/etc/hostname"));
+        writeText(colladaDir / "texture_escape_scheme.dae", colladaWithTexture("file:///etc/hostname"));
+    }
     return ok ? 0 : 1;
 }

@@ -7,6 +7,7 @@
 //
 //   vkpath-fuzz-XXXXXX/scene/     the input (input.<ext>), buffer.bin (a valid
 //                                 external glTF buffer, BUFFER_BYTES below),
+//                                 texture.png (a 2 x 2 RGB image),
 //                                 escape.bin -> ../outside/buffer.bin and
 //                                 escape_dir -> ../outside (links that leave)
 //   vkpath-fuzz-XXXXXX/outside/   buffer.bin and secret.txt: a loader that
@@ -38,6 +39,10 @@ inline constexpr size_t BUFFER_POSITIONS_OFFSET = 0;
 inline constexpr size_t BUFFER_INDICES_OFFSET = 36;
 inline constexpr size_t BUFFER_BYTES = 44;
 void writeBufferBin(const std::filesystem::path& path);
+
+// texture.png in the scene's folder: a valid 2 x 2 PNG for the COLLADA seeds'
+// <image> to decode.
+inline constexpr const char* TEXTURE_PNG = "texture.png";
 
 // Sets up the folder and the watch; call from LLVMFuzzerInitialize (before
 // libFuzzer closes stderr).

@@ -74,7 +74,11 @@ int runCli(int argc, char** argv) {
         prepareHeadlessEnvironment();
         return commands.run();
     } catch (const InputError& e) {
-        std::fprintf(stderr, "vkpath: %s\n", e.what());
+        // One line whatever the file said: a name or URI read from it may hold a newline.
+        std::string message = e.what();
+        for (char& c : message)
+            if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+        std::fprintf(stderr, "vkpath: %s\n", message.c_str());
         return 2;
     } catch (const vk::VulkanError& e) {
         std::fprintf(stderr, "vkpath: Vulkan error: %s\n", e.what());

@@ -23,6 +23,7 @@ namespace {
 
 struct SceneCounts {
     size_t diffuse = 0, mirror = 0, glass = 0, emissive = 0;  // materials by kind
+    size_t texels = 0;                                        // of all decoded images
     size_t emissiveMeshes = 0, emissiveSpheres = 0, emissiveTriangles = 0;
     bool hasBounds = false;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // meshes and spheres, world space
@@ -52,6 +53,7 @@ KernelPlan planKernels(const scene::Scene& s) {
 
 SceneCounts countScene(const scene::Scene& s) {
     SceneCounts c;
+    for (const scene::TextureImage& image : s.images) c.texels += image.texels.size();
     for (const scene::Material& m : s.materials) {
         c.diffuse += m.kind == scene::MaterialKind::Diffuse;
         c.mirror += m.kind == scene::MaterialKind::Mirror;
@@ -138,6 +140,7 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
         {"bounds", c.hasBounds ? nlohmann::json{{"min", vecJson(c.boundsMin)},
                                                 {"max", vecJson(c.boundsMax)}}
                                : nlohmann::json(nullptr)},
+        {"textures", {{"images", s.images.size()}, {"textures", s.textures.size()}, {"texels", c.texels}}},
         {"features", features},
         {"kernelFeatures", wavefront::describeFeatures(k.features)},
         {"deviceBytes",
@@ -170,6 +173,7 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
                     vecText(c.boundsMax).c_str());
     else
         std::printf("bounds      empty\n");
+    std::printf("textures    %zu (%zu images, %zu texels)\n", s.textures.size(), s.images.size(), c.texels);
     std::string features;
     for (const auto& [name, value] : featureList(s.features()))
         if (value) features += (features.empty() ? "" : " ") + std::string(name);

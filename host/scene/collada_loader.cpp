@@ -68,7 +68,7 @@ class ColladaLoader {
           m_options(options),
           m_warnings(m_document.file()),
           m_geometry(m_document, m_warnings),
-          m_materials(m_document, m_warnings, m_scene.materials) {}
+          m_materials(m_document, m_warnings, m_scene) {}
 
     Scene load(std::vector<std::string>* warningLines);
 
@@ -494,6 +494,15 @@ Scene ColladaLoader::load(std::vector<std::string>* warningLines) {
         m_warnings.addExample(
             "normals", fmt::format("{} zero or non-finite normals replaced by face normals",
                                    m_geometry.replacedNormals()));
+
+    for (const Mesh& mesh : m_scene.meshes)
+        if (m_scene.materials[mesh.material].baseColorTexture.present() && mesh.texcoords0.empty())
+            m_warnings.addCounted("textured meshes without texture coordinates take one texel, at (0, 0)",
+                                  "mesh", mesh.name);
+    for (const Sphere& sphere : m_scene.spheres)
+        if (m_scene.materials[sphere.material].baseColorTexture.present())
+            m_warnings.addCounted("spheres have no texture coordinates: textured ones are white", "sphere",
+                                  sphere.name);
 
     // Bounds of the file's meshes and spheres: lights (and the quads made
     // from them below) excluded, as SOURCE.md's framing rule says.

@@ -116,9 +116,9 @@ Material Materials::readMaterial(pugi::xml_node material) {
     if (const pugi::xml_node diffuse = shading.child("diffuse")) {
         if (diffuse.child("color")) {
             m.reflectance = m_document.color(diffuse.child("color"), what + " <diffuse><color>");
-        } else if (diffuse.child("texture")) {
-            m_warnings.addExample(
-                "texture", fmt::format("{}: textures are not supported; using grey 0.5", what));
+        } else if (const pugi::xml_node texture = diffuse.child("texture")) {
+            m.baseColorTexture = m_textures.reference(texture, effect, what);
+            if (m.baseColorTexture.present()) m.reflectance = glm::vec3(1.0f);  // the texture is the albedo
         }
     }
     if (glm::any(glm::greaterThan(m.reflectance, glm::vec3(1.0f)))) {

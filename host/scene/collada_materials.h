@@ -4,7 +4,9 @@
 //   profile_COMMON material; otherwise the Phong/Lambert <diffuse> colour is
 //   a Lambertian albedo (specular ignored), 0.5 grey without one;
 // - an <emission>-only material reflects nothing (Scotty3D's EmissionBSDF),
-//   so its reflectance is 0.
+//   so its reflectance is 0;
+// - a <diffuse><texture> is the albedo (reflectance 1 times the texture,
+//   collada_textures.h); Scotty3D reads no textures.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "scene/collada_document.h"
+#include "scene/collada_textures.h"
 #include "scene/import_warnings.h"
 #include "scene/scene.h"
 
@@ -25,9 +28,13 @@ using Bindings = std::vector<std::pair<std::string, std::string>>;
 
 class Materials {
   public:
-    // Materials are appended to `materials` (the scene's) as first used.
-    Materials(const Document& document, ImportWarnings& warnings, std::vector<Material>& materials)
-        : m_document(document), m_warnings(warnings), m_materials(materials) {}
+    // Materials are appended to the scene's as first used, with the images
+    // and textures they use.
+    Materials(const Document& document, ImportWarnings& warnings, Scene& scene)
+        : m_document(document),
+          m_warnings(warnings),
+          m_materials(scene.materials),
+          m_textures(document, scene, warnings) {}
 
     // The scene material that `symbol` is bound to in `bindings`; as in
     // Scotty3D, an unbound or empty symbol takes the instance's first binding,
@@ -43,6 +50,7 @@ class Materials {
     const Document& m_document;
     ImportWarnings& m_warnings;
     std::vector<Material>& m_materials;
+    TextureImporter m_textures;
     std::map<std::string, uint32_t> m_materialsById;
     std::optional<uint32_t> m_defaultMaterial;
 };

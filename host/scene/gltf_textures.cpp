@@ -5,16 +5,11 @@
 #include <cmath>
 #include <span>
 
-#include "image/image.h"
 #include "input_error.h"
+#include "scene/texture_images.h"
 
 namespace vkpath::scene::gltf {
 namespace {
-
-// Pixels of one image, and texels of all a scene's textures together: 2^28
-// texels are 2 GiB in the device's texel store (8 bytes each), the budget.
-constexpr uint64_t MAX_IMAGE_PIXELS = uint64_t(1) << 26;
-constexpr uint64_t MAX_SCENE_TEXELS = uint64_t(1) << 28;
 
 // glTF 2.0 section 5.26 (sampler): the OpenGL enums.
 TextureWrap wrapMode(int gl) {
@@ -47,33 +42,7 @@ glm::vec2 pair(const tinygltf::Value& object, const char* key, glm::vec2 fallbac
     return glm::vec2(d);
 }
 
-bool startsWith(const std::vector<uint8_t>& bytes, std::initializer_list<int> magic, size_t at = 0) {
-    if (bytes.size() < at + magic.size()) return false;
-    size_t i = at;
-    for (int m : magic)
-        if (bytes[i++] != uint8_t(m)) return false;
-    return true;
-}
-
 }  // namespace
-
-std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mimeType, const std::string& uri) {
-    if (startsWith(bytes, {0x89, 'P', 'N', 'G'})) return "png";
-    if (startsWith(bytes, {0xFF, 0xD8, 0xFF})) return "jpg";
-    if (startsWith(bytes, {'R', 'I', 'F', 'F'}) && startsWith(bytes, {'W', 'E', 'B', 'P'}, 8)) return "webp";
-    if (startsWith(bytes, {0xAB, 'K', 'T', 'X', ' ', '2', '0'})) return "ktx2";
-    if (mimeType == "image/png") return "png";
-    if (mimeType == "image/jpeg") return "jpg";
-    if (mimeType == "image/webp") return "webp";
-    if (mimeType == "image/ktx2") return "ktx2";
-    const size_t dot = uri.find_last_of('.');
-    if (dot != std::string::npos && uri.rfind("data:", 0) != 0) {
-        std::string extension = uri.substr(dot + 1);
-        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-        return extension;
-    }
-    return "";
-}
 
 TextureImporter::TextureImporter(const Document& document, const std::string& file, Scene& scene,
                                  ImportWarnings& warnings)
@@ -149,32 +118,8 @@ int32_t TextureImporter::image(int index) {
     static const std::vector<uint8_t> none;
     const std::vector<uint8_t>& bytes =
         size_t(index) < m_document.imageBytes.size() ? m_document.imageBytes[size_t(index)] : none;
-    int32_t result = -1;
-    const std::string format = imageFormat(bytes, source.mimeType, source.uri);
-    try {
-        if (bytes.empty()) throw InputError("it has no data");
-        if (format.empty()) throw InputError("its format is unknown");
-        const image::Rgba16Image decoded = image::decodeImage(bytes, format, MAX_IMAGE_PIXELS);
-        uint64_t texels = decoded.texels.size();
-        for (const TextureImage& i : m_scene.images) texels += i.texels.size();
-        if (texels > MAX_SCENE_TEXELS)
-            throw InputError(fmt::format("{}: textures need more than {} MiB on the device, vkpath's budget for "
-                                         "textures ({} texels); image '{}' is past it",
-                                         m_file, MAX_SCENE_TEXELS * 8 >> 20, MAX_SCENE_TEXELS, name));
-        TextureImage image;
-        image.name = name;
-        image.width = decoded.width;
-        image.height = decoded.height;
-        image.texels = std::move(decoded.texels);
-        result = int32_t(m_scene.images.size());
-        m_scene.images.push_back(std::move(image));
-    } catch (const InputError& e) {
-        const std::string message = e.what();
-        if (message.rfind(m_file + ":", 0) == 0) throw;  // the budget: an error, not a warning
-        m_warnings.addCounted(fmt::format("images that cannot be decoded ({}) leave their textures out",
-                                          format.empty() ? "unknown format" : format),
-                              "image", fmt::format("{} ({})", name, message));
-    }
+    const int32_t result =
+        addTextureImage(m_scene, bytes, imageFormat(bytes, source.mimeType, source.uri), name, m_file, m_warnings);
     m_images[index] = result;
     return result;
 }

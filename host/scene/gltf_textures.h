@@ -40,9 +40,4 @@ class TextureImporter {
     std::map<int, int32_t> m_images;    // glTF image -> scene image (or -1)
 };
 
-// The format an image's bytes are in, as a file extension OpenImageIO knows
-// ("png", "jpg", "webp", "ktx2"): from their magic number, else the MIME type,
-// else the URI's extension; "" when none says.
-std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mimeType, const std::string& uri);
-
 }  // namespace vkpath::scene::gltf

@@ -114,9 +114,7 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id)
     }
 }
 
-// The material reference, the area emitter of an emissive material, and,
-// since vkpath shades with geometric normals only (shared/intersect.h), face
-// normals for meshes.
+// The material reference and the area emitter of an emissive material.
 void finishShape(pugi::xml_node shape, const Scene& scene, uint32_t material) {
     child(shape, "ref").append_attribute("id") = fmt::format("mat{}", material).c_str();
     if (material < scene.materials.size() && scene.materials[material].emissive()) {
@@ -239,7 +237,10 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
         shape.append_attribute("type") = "ply";
         shape.append_attribute("id") = id.c_str();
         addValue(shape, "string", "filename", file.generic_string());
-        addValue(shape, "boolean", "face_normals", "true");
+        // vkpath interpolates vertex normals where a mesh has them (and shades
+        // flat triangles with their face normal, which interpolating equal
+        // normals gives too); without them both use face normals.
+        addValue(shape, "boolean", "face_normals", mesh.normals.empty() ? "true" : "false");
         finishShape(shape, s, mesh.material);
     }
     size_t emissiveSpheres = 0;

@@ -7,6 +7,7 @@
 
 #include "image/image.h"
 #include "support/run_vkpath.h"
+#include "support/temp_dir.h"
 #include "support/test_context.h"
 
 namespace {
@@ -55,6 +56,19 @@ TEST(Cli, BadFilmSizeWritesNothing) {
                              " -d 0x5 -o " + (dir / "x.exr").string());
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lineCount(r.err), 1);
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
+}
+
+// A scene's bad input is one line even where the message quotes a URI or a
+// name from the file that holds a newline (here a glTF buffer's URI).
+TEST(Cli, BadInputQuotingANewlineIsStillOneLine) {
+    const vkpath::test::TempDir dir;
+    const auto scene =
+        dir.write("newline.gltf", R"({"asset":{"version":"2.0"},"buffers":[{"uri":"a\nb.bin","byteLength":4}]})");
+    const auto r = runVkpath("render '" + scene.string() + "' -d 8x6 -s 1 -o '" + (dir / "x.exr").string() + "'");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("uri 'a?b.bin' contains control characters"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
 }
 

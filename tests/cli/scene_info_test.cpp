@@ -58,6 +58,20 @@ TEST(SceneInfo, CBspheresSummary) {
     EXPECT_EQ(lineCount(r.err), 1) << r.err;
 }
 
+// A textured glTF made by others (Debian's assimp-testmodels): its one image
+// (211 x 211, CesiumLogoFlat.png) decoded, and kernels with the texture code.
+TEST(SceneInfo, TexturedSceneCountsItsTextures) {
+    const std::filesystem::path file = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "assimp-testmodels is not installed (tools/install-deps)";
+    const auto r = runVkpath("scene-info " + quoted(file));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(field(r.out, "textures"), "1 (1 images, 44521 texels)") << r.out;
+    EXPECT_NE(field(r.out, "kernels").find("textures"), std::string::npos) << r.out;
+    const auto flat = runVkpath("scene-info " + quoted(vkpath::test::sharedScene("CBspheres.dae")));
+    EXPECT_EQ(field(flat.out, "textures"), "0 (0 images, 0 texels)") << flat.out;
+    EXPECT_EQ(field(flat.out, "kernels").find("textures"), std::string::npos) << flat.out;
+}
+
 TEST(SceneInfo, JsonMatchesTheText) {
     const auto r =
         runVkpath("scene-info --json " + quoted(vkpath::test::sharedScene("CBspheres.dae")));

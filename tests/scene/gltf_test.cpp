@@ -634,10 +634,10 @@ INSTANTIATE_TEST_SUITE_P(
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [0.5, 0.5, 0.5]})",
             DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0.5f), ""},
         MaterialRow{
-            "TexturedUsesFactors",
+            "UndecodableTextureLeavesTheFactors",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 1], "metallicFactor": 0,
                         "baseColorTexture": {"index": 0}}})",
-            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "textures are ignored"},
+            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "images that cannot be decoded"},
         MaterialRow{
             "AlphaBlendOpaque",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.5], "metallicFactor": 0},
@@ -816,7 +816,7 @@ TEST(GltfEnvironment, BadEnvironmentsAreOneLineErrors) {
 TEST(GltfWarnings, OneLinePerKind) {
     TempDir dir;
     GltfBuilder g;
-    g.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_texture_transform"};
+    g.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_materials_sheen"};
     g.doc["textures"] = {{{"source", 0}}};
     g.doc["images"] = {{{"uri", "wood.png"}}};
     writeText(dir / "wood.png", "not decoded");
@@ -837,10 +837,11 @@ TEST(GltfWarnings, OneLinePerKind) {
     const std::string prefix = "vkpath: warning: " + (dir / "warnings.gltf").string() + ": ";
     for (const std::string& line : lines(loaded.warnings))
         EXPECT_EQ(line.rfind(prefix, 0), 0u) << line;
-    EXPECT_EQ(countLinesContaining(loaded.warnings, "textures are ignored"), 1u);
-    EXPECT_EQ(countLinesContaining(loaded.warnings, "(3 materials, first: textured0)"), 1u);
+    // Three materials use the one image that cannot be decoded: one line, one image.
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "images that cannot be decoded (png)"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "(1 image, first: image 0 (cannot decode"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_clearcoat'"), 1u);
-    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_texture_transform'"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_sheen'"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "degenerate triangles"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "(5 triangles"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "default camera"), 1u);

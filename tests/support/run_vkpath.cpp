@@ -22,17 +22,21 @@ std::string slurp(const std::filesystem::path& path) {
 
 }  // namespace
 
-CommandResult runVkpath(const std::string& args) {
+CommandResult runVkpath(const std::string& args, int timeoutSeconds) {
     static int counter = 0;
     const auto dir = std::filesystem::temp_directory_path() /
                      ("vkpath-run-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
     std::filesystem::create_directories(dir);
     const auto out = dir / "out", err = dir / "err";
-    const std::string command = std::string("'") + VKPATH_BINARY + "' " + args + " >'" + out.string() + "' 2>'" +
+    const std::string limit =
+        timeoutSeconds > 0 ? "timeout -k 5 " + std::to_string(timeoutSeconds) + " " : std::string();
+    const std::string command = limit + "'" + VKPATH_BINARY + "' " + args + " >'" + out.string() + "' 2>'" +
                                 err.string() + "' </dev/null";
     const int status = std::system(command.c_str());
     CommandResult result;
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    // timeout's own codes: 124 after its SIGTERM, 137 after its SIGKILL.
+    result.timedOut = timeoutSeconds > 0 && (result.exitCode == 124 || result.exitCode == 137);
     result.out = slurp(out);
     result.err = slurp(err);
     std::filesystem::remove_all(dir);

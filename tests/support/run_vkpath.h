@@ -9,10 +9,13 @@ struct CommandResult {
     int exitCode = -1;
     std::string out;  // stdout
     std::string err;  // stderr
+    bool timedOut = false;
 };
 
-// `args` is appended to the vkpath path as-is (shell syntax).
-CommandResult runVkpath(const std::string& args);
+// `args` is appended to the vkpath path as-is (shell syntax). With a
+// `timeoutSeconds` > 0, vkpath is killed past it (coreutils `timeout`, SIGKILL
+// 5 s after a SIGTERM it ignores) and `timedOut` is set.
+CommandResult runVkpath(const std::string& args, int timeoutSeconds = 0);
 
 // vkpath started in the background (for tests that signal it while it runs).
 class RunningVkpath {
