@@ -85,7 +85,7 @@ void writePly(const fs::path& path, const Mesh& mesh) {
     if (!out.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
 }
 
-// vkpath's diffuse and mirror surfaces reflect on both sides (shared/bsdf.h);
+// vkpath's diffuse and mirror surfaces reflect on both sides (shared/lobes.h);
 // Mitsuba's only on the front unless wrapped in `twosided`. The dielectric is
 // one-sided in both: the normal tells inside from outside.
 void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id) {

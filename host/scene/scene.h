@@ -17,14 +17,19 @@
 #include <vector>
 
 #include "image/image.h"
+#include "shared/material.h"
 
 namespace vkpath::scene {
 
+// The kernels' numbers (VKP_MATERIAL_*, shaders/shared/material.h), defined there once.
 enum class MaterialKind : uint32_t {
-    Diffuse = 0,     // Lambertian with albedo `reflectance`
-    Mirror = 1,      // perfect specular reflection scaled by `reflectance`
-    Dielectric = 2,  // smooth glass: exact Fresnel between ior 1 and `ior`
+    Diffuse = VKP_MATERIAL_DIFFUSE,       // Lambertian with albedo `reflectance`
+    Mirror = VKP_MATERIAL_MIRROR,         // perfect specular reflection scaled by `reflectance`
+    Dielectric = VKP_MATERIAL_DIELECTRIC,  // smooth glass: exact Fresnel between ior 1 and `ior`
 };
+// Every kernel kind is a scene kind: a kind added to material.h without a
+// name here fails to compile.
+static_assert(uint32_t(MaterialKind::Dielectric) + 1 == VKP_MATERIAL_KIND_COUNT);
 
 // How a texture is read outside [0, 1] (glTF sampler wrapS / wrapT); the
 // same numbers as VKP_WRAP_* (shaders/shared/texture.h).

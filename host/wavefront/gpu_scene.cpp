@@ -46,6 +46,75 @@ std::pair<glm::dvec3, double> boundingSphere(const scene::Scene& scene) {
     return {(lo + hi) * 0.5, std::max(1e-30, glm::length(hi - lo) * 0.5)};
 }
 
+// A light's device record and its power (luminance-weighted watts), by which
+// the alias table picks lights: one function per light type.
+struct LightEntry {
+    shared::Light record{};
+    double power = 0;
+};
+
+// Emits from its front face only.
+LightEntry triangleLight(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 emission) {
+    LightEntry e;
+    e.record.type = VKP_LIGHT_TRIANGLE;
+    e.record.p0 = p0;
+    e.record.p1 = p1;
+    e.record.p2 = p2;
+    e.record.emission = emission;
+    const double area = 0.5 * glm::length(glm::cross(glm::dvec3(p1 - p0), glm::dvec3(p2 - p0)));
+    e.power = scene::luminance(emission) * area * PI;
+    return e;
+}
+
+LightEntry sphereLight(const scene::Sphere& s, glm::vec3 emission) {
+    LightEntry e;
+    e.record.type = VKP_LIGHT_SPHERE;
+    e.record.p0 = s.center;
+    e.record.radius = s.radius;
+    e.record.emission = emission;
+    e.power = scene::luminance(emission) * 4.0 * PI * double(s.radius) * s.radius * PI;
+    return e;
+}
+
+LightEntry pointLight(const scene::PointLight& p) {
+    LightEntry e;
+    e.record.type = VKP_LIGHT_POINT;
+    e.record.p0 = p.position;
+    e.record.emission = p.intensity;
+    e.power = 4.0 * PI * scene::luminance(p.intensity);
+    return e;
+}
+
+LightEntry spotLight(const scene::SpotLight& s) {
+    LightEntry e;
+    e.record.type = VKP_LIGHT_SPOT;
+    e.record.p0 = s.position;
+    e.record.p1 = glm::normalize(s.direction);
+    e.record.emission = s.intensity;
+    e.record.cosInner = std::cos(s.innerConeAngle);
+    e.record.cosOuter = std::cos(s.outerConeAngle);
+    e.power = 2.0 * PI * (1.0 - 0.5 * (e.record.cosInner + e.record.cosOuter)) * scene::luminance(s.intensity);
+    return e;
+}
+
+// Its power is what falls on the scene's bounding sphere (radius sceneRadius).
+LightEntry directionalLight(const scene::DirectionalLight& d, double sceneRadius) {
+    LightEntry e;
+    e.record.type = VKP_LIGHT_DIRECTIONAL;
+    e.record.p1 = glm::normalize(d.direction);
+    e.record.emission = d.irradiance;
+    e.power = scene::luminance(d.irradiance) * PI * sceneRadius * sceneRadius;
+    return e;
+}
+
+// radiantIntensity: the integral of the environment's luminance over the sphere.
+LightEntry environmentLight(double radiantIntensity, float strength, double sceneRadius) {
+    LightEntry e;
+    e.record.type = VKP_LIGHT_ENVIRONMENT;
+    e.power = PI * sceneRadius * sceneRadius * radiantIntensity * strength;
+    return e;
+}
+
 template <typename T>
 vk::Buffer uploadOrPlaceholder(vk::Context& context, const std::vector<T>& data, const char* name) {
     if (data.empty()) return vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, name);
@@ -87,6 +156,10 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
 
     std::vector<double> power;
+    auto addLight = [&](const LightEntry& e) {
+        t.lights.push_back(e.record);
+        power.push_back(e.power);
+    };
     // Emissive surfaces, keyed by (kind, BvhPrimitive::id) for the leaf map.
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> surfaceLight;
     uint32_t triangleId = 0;
@@ -100,30 +173,16 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             if (!m.emissive() || m.emissiveTexture.present()) continue;
             const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y), p2 = mesh.positions.at(tri.z);
             if (bvh::isDegenerateTriangle(p0, p1, p2)) continue;
-            shared::Light light{};
-            light.type = VKP_LIGHT_TRIANGLE;
-            light.p0 = p0;
-            light.p1 = p1;
-            light.p2 = p2;
-            light.emission = m.emission;
-            const double area = 0.5 * glm::length(glm::cross(glm::dvec3(p1 - p0), glm::dvec3(p2 - p0)));
             surfaceLight[{VKP_PRIMITIVE_TRIANGLE, id}] = uint32_t(t.lights.size());
-            t.lights.push_back(light);
-            power.push_back(scene::luminance(m.emission) * area * PI);  // the front face emits
+            addLight(triangleLight(p0, p1, p2, m.emission));
         }
     }
     for (uint32_t i = 0; i < scene.spheres.size(); ++i) {
         const scene::Sphere& s = scene.spheres[i];
         const scene::Material& m = scene.materials.at(s.material);
         if (!m.emissive() || bvh::isDegenerateSphere(s.center, s.radius)) continue;
-        shared::Light light{};
-        light.type = VKP_LIGHT_SPHERE;
-        light.p0 = s.center;
-        light.radius = s.radius;
-        light.emission = m.emission;
         surfaceLight[{VKP_PRIMITIVE_SPHERE, i}] = uint32_t(t.lights.size());
-        t.lights.push_back(light);
-        power.push_back(scene::luminance(m.emission) * 4.0 * PI * double(s.radius) * s.radius * PI);
+        addLight(sphereLight(s, m.emission));
     }
     if (!surfaceLight.empty()) {
         t.primitiveLight.assign(t.bvh.primitives.size(), VKP_NO_LIGHT);
@@ -132,34 +191,10 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             if (it != surfaceLight.end()) t.primitiveLight[i] = it->second;
         }
     }
-    for (const auto& p : scene.pointLights) {
-        shared::Light light{};
-        light.type = VKP_LIGHT_POINT;
-        light.p0 = p.position;
-        light.emission = p.intensity;
-        t.lights.push_back(light);
-        power.push_back(4.0 * PI * scene::luminance(p.intensity));
-    }
-    for (const auto& s : scene.spotLights) {
-        shared::Light light{};
-        light.type = VKP_LIGHT_SPOT;
-        light.p0 = s.position;
-        light.p1 = glm::normalize(s.direction);
-        light.emission = s.intensity;
-        light.cosInner = std::cos(s.innerConeAngle);
-        light.cosOuter = std::cos(s.outerConeAngle);
-        t.lights.push_back(light);
-        power.push_back(2.0 * PI * (1.0 - 0.5 * (light.cosInner + light.cosOuter)) * scene::luminance(s.intensity));
-    }
+    for (const auto& p : scene.pointLights) addLight(pointLight(p));
+    for (const auto& s : scene.spotLights) addLight(spotLight(s));
     const auto [center, radius] = boundingSphere(scene);
-    for (const auto& d : scene.directionalLights) {
-        shared::Light light{};
-        light.type = VKP_LIGHT_DIRECTIONAL;
-        light.p1 = glm::normalize(d.direction);
-        light.emission = d.irradiance;
-        t.lights.push_back(light);
-        power.push_back(scene::luminance(d.irradiance) * PI * radius * radius);
-    }
+    for (const auto& d : scene.directionalLights) addLight(directionalLight(d, radius));
 
     t.info.environmentLight = VKP_NO_LIGHT;
     if (scene.environment) {
@@ -184,11 +219,8 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             radiantIntensity = 4 * PI * scene::luminance(env.color);
         }
         if (radiantIntensity > 0 && env.strength > 0) {
-            shared::Light light{};
-            light.type = VKP_LIGHT_ENVIRONMENT;
             t.info.environmentLight = uint32_t(t.lights.size());
-            t.lights.push_back(light);
-            power.push_back(PI * radius * radius * radiantIntensity * env.strength);
+            addLight(environmentLight(radiantIntensity, env.strength, radius));
         }
     }
     t.lightAlias = scene::buildAliasTable(power);

@@ -6,10 +6,14 @@
 #include "shared/features.h"
 #include "shared/texture.h"
 
-// Values of Material::kind; the same numbers as scene::MaterialKind.
+// Values of Material::kind, defined here only: scene::MaterialKind takes its
+// values from these (host/scene/scene.h). A new kind is a number here, its
+// feature bit in materialFeature, and one case in each of bsdf.h's dispatch
+// functions.
 #define VKP_MATERIAL_DIFFUSE 0u
 #define VKP_MATERIAL_MIRROR 1u
 #define VKP_MATERIAL_DIELECTRIC 2u
+#define VKP_MATERIAL_KIND_COUNT 3u
 
 VKP_NAMESPACE_BEGIN
 
@@ -25,9 +29,23 @@ struct Material {
 
 // The feature bit of material kind `kind` (shared/features.h).
 VKP_FN uint materialFeature(uint kind) {
-    if (kind == VKP_MATERIAL_DIFFUSE) return VKP_FEATURE_DIFFUSE;
-    if (kind == VKP_MATERIAL_MIRROR) return VKP_FEATURE_MIRROR;
-    return VKP_FEATURE_GLASS;
+    switch (kind) {
+        case VKP_MATERIAL_DIFFUSE: return VKP_FEATURE_DIFFUSE;
+        case VKP_MATERIAL_MIRROR: return VKP_FEATURE_MIRROR;
+        case VKP_MATERIAL_DIELECTRIC: return VKP_FEATURE_GLASS;
+        default: return 0u;
+    }
+}
+
+// Whether the kernel may meet material kind `kind`.
+VKP_FN bool materialMayBe(uint kind) { return hasFeature(materialFeature(kind)); }
+
+// material.kind, or the constant kind when the kernel meets only one (so a
+// switch over it folds to that case).
+VKP_FN uint materialKind(Material material) {
+    for (uint kind = 0u; kind < VKP_MATERIAL_KIND_COUNT; ++kind)
+        if (onlyFeature(VKP_FEATURES_MATERIALS, materialFeature(kind))) return kind;
+    return material.kind;
 }
 
 // Whether `material` is of kind `kind`; known without reading it when the

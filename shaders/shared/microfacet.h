@@ -2,8 +2,8 @@
 // height-correlated Smith masking-shadowing term, sampling of its visible
 // normals, and from them a rough conductor and a rough dielectric.
 //
-// BsdfSample is bsdf.h's, so bsdf.h's dispatch must include this header after
-// its definition (or the struct move to a header of its own).
+// BsdfSample and the smooth glass of the delta case are shared/lobes.h's;
+// shared/bsdf.h dispatches materials to these lobes.
 //
 // Everything here works in the LOCAL shading frame: the macro-surface normal
 // is +z, wo and wi are unit vectors pointing away from the surface (wo toward
@@ -18,9 +18,9 @@
 #ifndef VKPATH_SHARED_MICROFACET_H
 #define VKPATH_SHARED_MICROFACET_H
 
-#include "shared/bsdf.h"
 #include "shared/compat.h"
 #include "shared/constants.h"
+#include "shared/lobes.h"
 
 // Lobes with max(alpha.x, alpha.y) below this are the delta case: pbrt-v4's
 // threshold (TrowbridgeReitzDistribution::EffectivelySmooth), so that scenes
@@ -257,7 +257,7 @@ VKP_FN float conductorPdf(Conductor c, vec3 wo, vec3 wi) {
 // which turns the inside into the outside and the relative index into
 // 1 / ior: D, Lambda and G depend only on squares and |z|, so the lobe from
 // below is the same formula. In that frame eta = n(wi side) / n(wo side)
-// for transmission, the bsdf.h convention.
+// for transmission, the lobes.h convention.
 //
 // A visible normal m is sampled; reflection is chosen with probability
 // F(wo.m), refraction through m otherwise. pdf is the solid-angle density of

@@ -741,7 +741,7 @@ TEST(RoughDielectric, WhiteFurnaceLosesOnlyTheMultipleScattering) {
 // 0.69 alpha), the flux albedo approaches 1 within 0.05 alpha (measured
 // 0.012 alpha). Below VKP_MICROFACET_SMOOTH_ALPHA, and at index
 // 1 whatever alpha, it IS the smooth glass: the same direction, pdf, weight
-// and etaSquared as bsdf.h's sampleDielectric given the same random number
+// and etaSquared as lobes.h's sampleDielectric given the same random number
 // (recomputed here in C++ from the shared RNG), to 1e-5.
 TEST(RoughDielectric, ApproachesSmoothGlassAsAlphaGoesToZero) {
     for (double cosTheta : {0.6, -0.9})
