@@ -308,6 +308,12 @@ class Importer {
             if (m != std::floor(m) || m < 0.0 || m >= double(m_model.materials.size()))
                 fail("{}: material is not the index of a material", what);
             sphere.material = uint32_t(m);
+            // The traversal tests alpha on triangles only: a sphere has no
+            // texture coordinates, and a BLEND sphere would need both of its
+            // surfaces tested apart.
+            if (m_scene.materials[sphere.material].alphaMode != AlphaMode::Opaque)
+                m_warnings.addCounted("alphaMode is ignored on VKPATH_sphere: spheres are opaque", "sphere",
+                                      sphere.name.empty() ? nodeName(nodeIndex) : sphere.name);
         } else {
             sphere.material = defaultMaterial();
         }

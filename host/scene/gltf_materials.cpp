@@ -26,7 +26,7 @@ class MaterialConverter {
         const glm::vec3 base(factor(pbr.baseColorFactor[0], "baseColorFactor", name),
                              factor(pbr.baseColorFactor[1], "baseColorFactor", name),
                              factor(pbr.baseColorFactor[2], "baseColorFactor", name));
-        factor(pbr.baseColorFactor[3], "baseColorFactor", name);
+        out.alpha = float(factor(pbr.baseColorFactor[3], "baseColorFactor", name));
         const double metallic = factor(pbr.metallicFactor, "metallicFactor", name);
         const double roughness = factor(pbr.roughnessFactor, "roughnessFactor", name);
         const double transmission =
@@ -64,7 +64,8 @@ class MaterialConverter {
         if (usesExtensionTexture(m))
             m_warnings.addCounted("textures of material extensions are ignored; their factors are used",
                                   "material", name);
-        if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
+        readAlphaMode(m, out);
+        if (out.alphaMode != AlphaMode::Opaque)
             m_warnings.addCounted("alpha (alphaMode MASK or BLEND) is ignored; surfaces are opaque",
                                   "material", name);
         if (metallic > 0.0 && metallic < 1.0)
@@ -124,6 +125,24 @@ class MaterialConverter {
     }
 
   private:
+    // glTF 2.0 section 3.9.4 "Alpha Coverage": alphaMode (default OPAQUE,
+    // which ignores alpha) and, for MASK, alphaCutoff (default 0.5, at least 0;
+    // above 1 nothing is left).
+    void readAlphaMode(const tinygltf::Material& m, Material& out) const {
+        if (m.alphaMode == "OPAQUE") {
+            out.alphaMode = AlphaMode::Opaque;
+        } else if (m.alphaMode == "MASK") {
+            out.alphaMode = AlphaMode::Mask;
+        } else if (m.alphaMode == "BLEND") {
+            out.alphaMode = AlphaMode::Blend;
+        } else {
+            fail("material '{}': alphaMode '{}' is not OPAQUE, MASK or BLEND", out.name, m.alphaMode);
+        }
+        if (!std::isfinite(m.alphaCutoff) || m.alphaCutoff < 0.0)
+            fail("material '{}': alphaCutoff {} is not a finite number >= 0", out.name, m.alphaCutoff);
+        out.alphaCutoff = float(m.alphaCutoff);
+    }
+
     // A factor in [0, 1]: NaN is an error, anything outside is clamped.
     double factor(double value, const char* what, const std::string& material) {
         if (!std::isfinite(value)) fail("material '{}': {} is not a finite number", material, what);

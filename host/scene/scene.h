@@ -31,6 +31,15 @@ enum class MaterialKind : uint32_t {
 // name here fails to compile.
 static_assert(uint32_t(MaterialKind::Dielectric) + 1 == VKP_MATERIAL_KIND_COUNT);
 
+// How a material's alpha covers its surface (glTF 2.0 section 3.9.4 "Alpha
+// Coverage", material.alphaMode); the same numbers as VKP_ALPHA_*
+// (shaders/shared/alpha.h).
+enum class AlphaMode : uint32_t {
+    Opaque = 0,  // alpha is ignored
+    Mask = 1,    // a point is there where its alpha >= alphaCutoff, else a hole
+    Blend = 2,   // a point is there with probability alpha (stochastic transparency)
+};
+
 // How a texture is read outside [0, 1] (glTF sampler wrapS / wrapT); the
 // same numbers as VKP_WRAP_* (shaders/shared/texture.h).
 enum class TextureWrap : uint32_t { Repeat = 0, ClampToEdge = 1, MirroredRepeat = 2 };
@@ -81,6 +90,11 @@ struct Material {
     TextureRef metallicRoughnessTexture;  // G: roughness, B: metalness
     TextureRef normalTexture;             // tangent-space normals
     float normalScale = 1.0f;             // glTF normalTexture.scale: scales the map's x and y
+    // Alpha (glTF): a point's alpha is `alpha` x the base-colour texture's
+    // alpha x COLOR_0's alpha. Spheres are opaque whatever the mode.
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;  // Mask only
+    float alpha = 1.0f;        // baseColorFactor[3]
 
     bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };

@@ -501,6 +501,9 @@ struct MaterialRow {
     float ior;
     glm::vec3 emission;
     const char* warning;  // a phrase of the one expected warning line; "" for none
+    scene::AlphaMode alphaMode = scene::AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;
+    float alpha = 1.0f;
 };
 
 void PrintTo(const MaterialRow& row, std::ostream* os) {
@@ -529,6 +532,9 @@ TEST_P(GltfMaterialTable, MapsAsDocumented) {
     expectVec3Near(m.transmittance, row.transmittance, 1e-6f);
     EXPECT_FLOAT_EQ(m.ior, row.ior);
     expectVec3Near(m.emission, row.emission, 1e-5f);
+    EXPECT_EQ(m.alphaMode, row.alphaMode);
+    EXPECT_FLOAT_EQ(m.alphaCutoff, row.alphaCutoff);
+    EXPECT_FLOAT_EQ(m.alpha, row.alpha);
     if (*row.warning) {
         EXPECT_EQ(lines(loaded.warnings).size(), 1u) << loaded.warnings;
         EXPECT_CONTAINS(loaded.warnings, row.warning);
@@ -639,10 +645,23 @@ INSTANTIATE_TEST_SUITE_P(
                         "baseColorTexture": {"index": 0}}})",
             DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "images that cannot be decoded"},
         MaterialRow{
-            "AlphaBlendOpaque",
+            "AlphaBlend",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.5], "metallicFactor": 0},
                         "alphaMode": "BLEND"})",
-            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "alpha"},
+            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "alpha", scene::AlphaMode::Blend, 0.5f, 0.5f},
+        MaterialRow{
+            "AlphaMaskWithCutoff",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.25], "metallicFactor": 0},
+                        "alphaMode": "MASK", "alphaCutoff": 0.2})",
+            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "alpha", scene::AlphaMode::Mask, 0.2f, 0.25f},
+        MaterialRow{
+            "AlphaMaskDefaultCutoff",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "alphaMode": "MASK"})",
+            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "alpha", scene::AlphaMode::Mask, 0.5f, 1.0f},
+        MaterialRow{
+            "AlphaOpaqueByDefault",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5], "metallicFactor": 0}})",
+            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Opaque, 0.5f, 0.5f},
         MaterialRow{
             "FactorsClamped",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [1.5, 0.5, 0.5, 1], "metallicFactor": 0}})",
@@ -728,6 +747,25 @@ TEST(GltfSpheres, CentreAndRadiusFollowTheNode) {
     EXPECT_EQ(loaded.scene.materials[s.material].kind, scene::MaterialKind::Dielectric);
     EXPECT_TRUE(loaded.scene.features().spheres);
     EXPECT_FALSE(loaded.scene.features().triangles);
+}
+
+// Alpha is tested on triangles only: a sphere whose material has an
+// alphaMode renders opaque, and says so once.
+TEST(GltfSpheres, AlphaIsIgnoredWithAWarning) {
+    TempDir dir;
+    GltfBuilder g;
+    const int blend = g.material(
+        Json::parse(R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "alphaMode": "BLEND"})"));
+    for (int i = 0; i < 2; ++i)
+        g.node({{"name", "ball" + std::to_string(i)},
+                {"translation", {3 * i, 0, 0}},
+                {"extensions", {{"VKPATH_sphere", {{"radius", 1}, {"material", blend}}}}}});
+    g.node({{"mesh", g.triangle(blend)}});
+    g.camera();
+    const Loaded loaded = load(g.writeGltf(dir / "spheres.gltf"));
+    EXPECT_EQ(lines(loaded.warnings).size(), 2u) << loaded.warnings;
+    EXPECT_CONTAINS(loaded.warnings, "alphaMode is ignored on VKPATH_sphere: spheres are opaque (2 spheres, first: ball0)");
+    EXPECT_EQ(loaded.scene.materials.at(loaded.scene.meshes.at(0).material).alphaMode, scene::AlphaMode::Blend);
 }
 
 TEST(GltfSpheres, NonUniformScaleWarnsAndBadRadiusFails) {
@@ -1084,6 +1122,21 @@ TEST(GltfLayouts, TriangleStripsAndFansBecomeTriangles) {
                 EXPECT_GT(n.z, 0.0f) << "mode " << c.mode << ": a triangle faces away";
             }
         }
+    }
+}
+
+TEST(GltfBadInput, UnknownAlphaModeOrNegativeCutoff) {
+    TempDir dir;
+    for (const auto& [material, phrase] :
+         {std::pair{R"({"name": "glassy", "alphaMode": "TRANSLUCENT"})",
+                    "material 'glassy': alphaMode 'TRANSLUCENT' is not OPAQUE, MASK or BLEND"},
+          std::pair{R"({"name": "cut", "alphaMode": "MASK", "alphaCutoff": -0.5})",
+                    "material 'cut': alphaCutoff -0.5 is not a finite number >= 0"}}) {
+        GltfBuilder g;
+        g.node({{"mesh", g.triangle(g.material(Json::parse(material)))}});
+        const std::string error = loadError(g.writeGltf(dir / "alpha.gltf"));
+        EXPECT_CONTAINS(error, phrase);
+        EXPECT_CONTAINS(error, "alpha.gltf");
     }
 }
 
