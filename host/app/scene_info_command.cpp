@@ -23,6 +23,7 @@ namespace {
 
 struct SceneCounts {
     size_t diffuse = 0, mirror = 0, glass = 0, emissive = 0;  // materials by kind
+    size_t conductor = 0, roughGlass = 0, metallicRoughness = 0;
     size_t texels = 0;                                        // of all decoded images
     size_t emissiveMeshes = 0, emissiveSpheres = 0, emissiveTriangles = 0;
     bool hasBounds = false;
@@ -58,6 +59,9 @@ SceneCounts countScene(const scene::Scene& s) {
         c.diffuse += m.kind == scene::MaterialKind::Diffuse;
         c.mirror += m.kind == scene::MaterialKind::Mirror;
         c.glass += m.kind == scene::MaterialKind::Dielectric;
+        c.conductor += m.kind == scene::MaterialKind::Conductor;
+        c.roughGlass += m.kind == scene::MaterialKind::RoughDielectric;
+        c.metallicRoughness += m.kind == scene::MaterialKind::MetallicRoughness;
         c.emissive += m.emissive();
     }
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -94,6 +98,9 @@ std::vector<std::pair<const char*, bool>> featureList(const scene::FeatureSummar
             {"diffuse", f.diffuse},
             {"mirror", f.mirror},
             {"glass", f.glass},
+            {"conductor", f.conductor},
+            {"roughGlass", f.roughGlass},
+            {"metallicRoughness", f.metallicRoughness},
             {"emissiveSurfaces", f.emissiveSurfaces},
             {"pointLights", f.pointLights},
             {"spotLights", f.spotLights},
@@ -120,6 +127,9 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
           {"diffuse", c.diffuse},
           {"mirror", c.mirror},
           {"glass", c.glass},
+          {"conductor", c.conductor},
+          {"roughGlass", c.roughGlass},
+          {"metallicRoughness", c.metallicRoughness},
           {"emissive", c.emissive}}},
         {"emitters",
          {{"meshes", c.emissiveMeshes},
@@ -156,8 +166,10 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
     std::printf("triangles   %zu\n", s.triangleCount());
     std::printf("meshes      %zu\n", s.meshes.size());
     std::printf("spheres     %zu\n", s.spheres.size());
-    std::printf("materials   %zu (diffuse %zu, mirror %zu, glass %zu; emissive %zu)\n",
-                s.materials.size(), c.diffuse, c.mirror, c.glass, c.emissive);
+    std::printf("materials   %zu (diffuse %zu, mirror %zu, glass %zu, conductor %zu, rough glass %zu, "
+                "metallic-roughness %zu; emissive %zu)\n",
+                s.materials.size(), c.diffuse, c.mirror, c.glass, c.conductor, c.roughGlass, c.metallicRoughness,
+                c.emissive);
     std::printf("emitters    %zu (meshes %zu, spheres %zu; emissive triangles %zu)\n",
                 c.emissiveMeshes + c.emissiveSpheres, c.emissiveMeshes, c.emissiveSpheres,
                 c.emissiveTriangles);

@@ -12,6 +12,7 @@
 
 #include "image/image.h"
 #include "scene/camera.h"
+#include "shared/microfacet.h"
 
 namespace vkpath::scene {
 namespace {
@@ -85,14 +86,40 @@ void writePly(const fs::path& path, const Mesh& mesh) {
     if (!out.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
 }
 
-// vkpath's diffuse and mirror surfaces reflect on both sides (shared/lobes.h);
-// Mitsuba's only on the front unless wrapped in `twosided`. The dielectric is
-// one-sided in both: the normal tells inside from outside.
-void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id) {
-    if (m.kind == MaterialKind::Dielectric) {
+// The kinds of a scene's materials that Mitsuba renders differently, each
+// reported once by exportMitsuba.
+struct MaterialNotes {
+    size_t separableMasking = 0;  // GGX lobes: Mitsuba's G1 G1 against vkpath's height-correlated G2
+    size_t schlickConductors = 0;
+    size_t metallicRoughness = 0;
+};
+
+// Mitsuba's GGX parameters for vkpath's roughness (alpha = roughness^2), with
+// visible-normal sampling as vkpath's.
+void addGgx(pugi::xml_node bsdf, float roughness) {
+    addValue(bsdf, "string", "distribution", "ggx");
+    addValue(bsdf, "float", "alpha", num(roughness * roughness));
+    addValue(bsdf, "boolean", "sample_visible", "true");
+}
+
+// vkpath's microfacet lobes are their delta limits below this alpha
+// (VKP_MICROFACET_SMOOTH_ALPHA, shared/microfacet.h): Mitsuba's smooth BSDFs.
+bool smoothLobe(float roughness) { return roughness * roughness < VKP_MICROFACET_SMOOTH_ALPHA; }
+
+// vkpath's diffuse, mirror, conductor and metallic-roughness surfaces reflect
+// on both sides (shared/lobes.h, shared/microfacet.h); Mitsuba's only on the
+// front unless wrapped in `twosided`. The dielectrics are one-sided in both:
+// the normal tells inside from outside.
+void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id, MaterialNotes& notes) {
+    if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::RoughDielectric) {
+        const bool rough = m.kind == MaterialKind::RoughDielectric && !smoothLobe(m.roughness);
         pugi::xml_node bsdf = scene.append_child("bsdf");
-        bsdf.append_attribute("type") = "dielectric";
+        bsdf.append_attribute("type") = rough ? "roughdielectric" : "dielectric";
         bsdf.append_attribute("id") = id.c_str();
+        if (rough) {
+            addGgx(bsdf, m.roughness);
+            ++notes.separableMasking;
+        }
         addValue(bsdf, "float", "int_ior", num(m.ior));
         addValue(bsdf, "float", "ext_ior", "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
         addRgb(bsdf, "specular_reflectance", m.reflectance);
@@ -108,6 +135,31 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id)
         bsdf.append_attribute("type") = "conductor";
         addValue(bsdf, "string", "material", "none");
         addRgb(bsdf, "specular_reflectance", m.reflectance);
+    } else if (m.kind == MaterialKind::Conductor) {
+        const bool rough = !smoothLobe(m.roughness);
+        bsdf.append_attribute("type") = rough ? "roughconductor" : "conductor";
+        if (rough) {
+            addGgx(bsdf, m.roughness);
+            ++notes.separableMasking;
+        }
+        if (m.conductorEta != glm::vec3(0.0f)) {
+            addRgb(bsdf, "eta", m.conductorEta);
+            addRgb(bsdf, "k", m.conductorK);
+        } else {
+            // Mitsuba's conductors have no Schlick Fresnel: the perfect
+            // conductor tinted by F0 (reported).
+            addValue(bsdf, "string", "material", "none");
+            addRgb(bsdf, "specular_reflectance", m.reflectance);
+            ++notes.schlickConductors;
+        }
+    } else if (m.kind == MaterialKind::MetallicRoughness) {
+        // The nearest Mitsuba has: its Disney-style `principled` (reported).
+        bsdf.append_attribute("type") = "principled";
+        addRgb(bsdf, "base_color", m.reflectance);
+        addValue(bsdf, "float", "roughness", num(m.roughness));
+        addValue(bsdf, "float", "metallic", num(m.metallic));
+        addValue(bsdf, "float", "eta", num(m.ior));
+        ++notes.metallicRoughness;
     } else {
         bsdf.append_attribute("type") = "diffuse";
         addRgb(bsdf, "reflectance", m.reflectance);
@@ -224,7 +276,9 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
     MitsubaExportResult result;
     fs::create_directories(outDir / "meshes");
 
-    for (size_t i = 0; i < s.materials.size(); ++i) addMaterial(root, s.materials[i], fmt::format("mat{}", i));
+    MaterialNotes notes;
+    for (size_t i = 0; i < s.materials.size(); ++i)
+        addMaterial(root, s.materials[i], fmt::format("mat{}", i), notes);
 
     for (size_t i = 0; i < s.meshes.size(); ++i) {
         const Mesh& mesh = s.meshes[i];
@@ -289,6 +343,25 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
             "(outer cone), vkpath's is KHR_lights_punctual's squared ramp in cosine: the cones' edges differ "
             "({} spot lights)",
             s.spotLights.size()));
+    if (notes.separableMasking > 0)
+        result.warnings.push_back(fmt::format(
+            "rough conductors and dielectrics: written as Mitsuba's roughconductor / roughdielectric with GGX, "
+            "the same alpha and visible-normal sampling, but Mitsuba masks with the separable G1(wo) G1(wi), "
+            "vkpath with the height-correlated G2 (Heitz 2014): Mitsuba's rough surfaces are slightly darker "
+            "({} materials)",
+            notes.separableMasking));
+    if (notes.schlickConductors > 0)
+        result.warnings.push_back(fmt::format(
+            "conductors with Schlick's Fresnel (glTF metals, F0 = base colour): Mitsuba has no Schlick conductor; "
+            "written as its perfect conductor tinted by F0, whose reflectance does not rise toward 1 at grazing "
+            "angles ({} materials)",
+            notes.schlickConductors));
+    if (notes.metallicRoughness > 0)
+        result.warnings.push_back(fmt::format(
+            "glTF metallic-roughness materials: written as Mitsuba's principled BSDF (base colour, metallic, "
+            "roughness, eta), whose diffuse lobe (Disney's, with retro-reflection), Fresnel and masking differ "
+            "from glTF 2.0 Appendix B's, and which has no KHR_materials_specular weight or colour ({} materials)",
+            notes.metallicRoughness));
     if (emissiveSpheres > 0)
         result.warnings.push_back(fmt::format(
             "emissive spheres: Mitsuba's emit outward only, vkpath's to both sides (the same unless something "

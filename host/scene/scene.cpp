@@ -33,6 +33,9 @@ FeatureSummary Scene::features() const {
         f.diffuse |= m.kind == MaterialKind::Diffuse;
         f.mirror |= m.kind == MaterialKind::Mirror;
         f.glass |= m.kind == MaterialKind::Dielectric;
+        f.conductor |= m.kind == MaterialKind::Conductor;
+        f.roughGlass |= m.kind == MaterialKind::RoughDielectric;
+        f.metallicRoughness |= m.kind == MaterialKind::MetallicRoughness;
         f.emissiveSurfaces |= m.emissive();
     };
     for (const Mesh& m : meshes) {

@@ -26,10 +26,21 @@ enum class MaterialKind : uint32_t {
     Diffuse = VKP_MATERIAL_DIFFUSE,       // Lambertian with albedo `reflectance`
     Mirror = VKP_MATERIAL_MIRROR,         // perfect specular reflection scaled by `reflectance`
     Dielectric = VKP_MATERIAL_DIELECTRIC,  // smooth glass: exact Fresnel between ior 1 and `ior`
+    // GGX reflection of `roughness` (shared/microfacet.h): Schlick's Fresnel
+    // with F0 = `reflectance`, or the exact Fresnel of a complex index
+    // (`conductorEta`, `conductorK`)
+    Conductor = VKP_MATERIAL_CONDUCTOR,
+    // GGX reflection and refraction of `roughness` between ior 1 and `ior`
+    // (Walter et al. 2007), tinted by `reflectance` and `transmittance`
+    RoughDielectric = VKP_MATERIAL_ROUGH_DIELECTRIC,
+    // glTF 2.0's material (Appendix B, shared/metallic_roughness.h): base colour
+    // `reflectance`, `metallic`, `roughness`, the dielectric layer's index `ior`
+    // and KHR_materials_specular's `specular` and `specularColor`
+    MetallicRoughness = VKP_MATERIAL_METALLIC_ROUGHNESS,
 };
 // Every kernel kind is a scene kind: a kind added to material.h without a
 // name here fails to compile.
-static_assert(uint32_t(MaterialKind::Dielectric) + 1 == VKP_MATERIAL_KIND_COUNT);
+static_assert(uint32_t(MaterialKind::MetallicRoughness) + 1 == VKP_MATERIAL_KIND_COUNT);
 
 // How a material's alpha covers its surface (glTF 2.0 section 3.9.4 "Alpha
 // Coverage", material.alphaMode); the same numbers as VKP_ALPHA_*
@@ -78,10 +89,20 @@ struct TextureRef {
 struct Material {
     std::string name;
     MaterialKind kind = MaterialKind::Diffuse;
-    glm::vec3 reflectance{0.8f};    // albedo (diffuse) or specular tint (mirror, glass)
-    glm::vec3 transmittance{1.0f};  // glass only: tint of refracted light
-    float ior = 1.5f;               // glass only: index of refraction inside / outside
+    glm::vec3 reflectance{0.8f};    // albedo (diffuse), specular tint (mirror, glass), F0 (conductor), base colour
+                                    // (metallic-roughness)
+    glm::vec3 transmittance{1.0f};  // glass, rough glass: tint of refracted light
+    float ior = 1.5f;               // glass, rough glass, metallic-roughness: index of refraction inside / outside
     glm::vec3 emission{0.0f};       // emitted radiance, W/(m^2 sr); > 0 makes the surface an area light
+    // The microfacet kinds (Conductor, RoughDielectric, MetallicRoughness):
+    float roughness = 0.0f;         // glTF's perceptual roughness in [0, 1]; GGX alpha = roughness^2
+    float metallic = 0.0f;          // MetallicRoughness: metalness in [0, 1]
+    float specular = 1.0f;          // MetallicRoughness: KHR_materials_specular specularFactor, in [0, 1]
+    glm::vec3 specularColor{1.0f};  // MetallicRoughness: KHR_materials_specular specularColorFactor
+    // Conductor: a complex index of refraction eta + i k per channel, relative
+    // to the outside; eta all 0 (the default): Schlick's Fresnel with F0 = reflectance.
+    glm::vec3 conductorEta{0.0f};
+    glm::vec3 conductorK{0.0f};
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
     // `emission`; both are sRGB-encoded. The others hold linear data.
@@ -164,6 +185,9 @@ struct FeatureSummary {
     bool diffuse = false;
     bool mirror = false;
     bool glass = false;
+    bool conductor = false;
+    bool roughGlass = false;
+    bool metallicRoughness = false;
     bool emissiveSurfaces = false;
     bool pointLights = false;
     bool spotLights = false;

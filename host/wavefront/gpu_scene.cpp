@@ -26,6 +26,21 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
     g.transmittance = m.transmittance;
     g.ior = m.ior;
     g.emission = m.emission;
+    g.roughness = m.roughness;
+    g.metallic = m.metallic;
+    g.specular = m.specular;
+    g.flags = 0;
+    if (m.kind == scene::MaterialKind::Conductor && m.conductorEta != glm::vec3(0.0f)) {
+        g.flags = VKP_MATERIAL_COMPLEX_FRESNEL;
+        g.reflectance = m.conductorEta;
+        g.transmittance = m.conductorK;
+    }
+    if (m.kind == scene::MaterialKind::MetallicRoughness) {
+        // The dielectric layer's Fresnel at normal incidence (KHR_materials_specular,
+        // "Implementation"): min(((ior - 1) / (ior + 1))^2 specularColor, 1) x specular.
+        const float r = (m.ior - 1.0f) / (m.ior + 1.0f);
+        g.transmittance = glm::min(r * r * m.specularColor, glm::vec3(1.0f)) * m.specular;
+    }
     return g;
 }
 

@@ -33,6 +33,9 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_TEXTURES, "textures"},
     {VKP_FEATURE_VERTEX_COLORS, "vertex-colors"},
     {VKP_FEATURE_NORMAL_MAPS, "normal-maps"},
+    {VKP_FEATURE_CONDUCTOR, "conductor"},
+    {VKP_FEATURE_ROUGH_GLASS, "rough-glass"},
+    {VKP_FEATURE_METALLIC_ROUGHNESS, "metallic-roughness"},
 }};
 
 }  // namespace
@@ -73,8 +76,10 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
 }
 
 uint32_t shadowRaysPerVertex(uint32_t features, uint32_t lightSamples) {
-    // shared/bsdf.h hasNonDeltaLobe: only Lambertian has one.
-    const bool traces = (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 && (features & VKP_FEATURE_DIFFUSE) != 0;
+    // shared/bsdf.h hasNonDeltaLobe: Lambertian and the microfacet kinds
+    // (unless smooth: a set bit means "may occur") have one.
+    const bool traces = (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 &&
+                        (features & (VKP_FEATURE_DIFFUSE | VKP_FEATURES_MICROFACET)) != 0;
     return traces ? lightSamples : 0;
 }
 

@@ -10,6 +10,8 @@
 #include "shared/constants.h"
 #include "shared/lobes.h"
 #include "shared/material.h"
+#include "shared/metallic_roughness.h"
+#include "shared/microfacet.h"
 #include "shared/sampling.h"
 
 VKP_NAMESPACE_BEGIN
@@ -60,6 +62,47 @@ VKP_FN vec3 adaptShadingNormal(vec3 ng, vec3 ns, vec3 wo) {
     return dot(bent, ng) < 0.0f ? -bent : bent;
 }
 
+// ---- the microfacet kinds' lobes ------------------------------------------------------
+// Their lobes work in the local frame of the shading normal (microfacet.h);
+// alpha = roughness^2 (glTF 2.0 Appendix B, and the Disney convention).
+
+VKP_FN vec2 materialAlpha(Material material) { return vec2(material.roughness * material.roughness); }
+
+VKP_FN Conductor materialConductor(Material material) {
+    Conductor c;
+    c.alpha = materialAlpha(material);
+    c.complexFresnel = (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) != 0u;
+    c.f0 = material.reflectance;
+    c.eta = material.reflectance;
+    c.k = material.transmittance;
+    return c;
+}
+
+VKP_FN RoughDielectric materialRoughDielectric(Material material) {
+    RoughDielectric d;
+    d.alpha = materialAlpha(material);
+    d.ior = material.ior;
+    d.reflectance = material.reflectance;
+    d.transmittance = material.transmittance;
+    return d;
+}
+
+VKP_FN MetallicRoughness materialMetallicRoughness(Material material) {
+    MetallicRoughness p;
+    p.baseColor = material.reflectance;
+    p.metallic = material.metallic;
+    p.alpha = materialAlpha(material);
+    p.specularF0 = material.transmittance;
+    p.specularF90 = material.specular;
+    return p;
+}
+
+// A sample drawn in `frame` as a world-space one.
+VKP_FN BsdfSample sampleToWorld(Frame frame, BsdfSample s) {
+    if (s.valid) s.direction = normalize(frameToWorld(frame, s.direction));
+    return s;
+}
+
 // ---- a material's BSDF: one dispatch over the kinds --------------------------------
 // Each function is one switch over the kind (materialKind folds it to one
 // case where the kernel meets one kind); each case is guarded by its feature
@@ -68,8 +111,11 @@ VKP_FN vec3 adaptShadingNormal(vec3 ng, vec3 ns, vec3 wo) {
 // (adaptShadingNormal; ns == ng on flat surfaces), both world space, unit,
 // oriented alike.
 
-// Samples wi for `material`; u uniform in [0, 1)^2.
-VKP_FN BsdfSample sampleBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec2 u) {
+// Samples wi for `material`; u uniform in [0, 1)^2 picks the direction, uc
+// uniform in [0, 1) the lobe where a kind chooses between lobes with a number
+// of its own (rough glass, metallic-roughness; the smooth glass chooses with
+// u.x).
+VKP_FN BsdfSample sampleBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec2 u, float uc) {
     BsdfSample s = invalidBsdfSample();
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE:
@@ -82,10 +128,39 @@ VKP_FN BsdfSample sampleBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec2 
             if (materialMayBe(VKP_MATERIAL_DIELECTRIC))
                 s = sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo, u.x);
             break;
+        case VKP_MATERIAL_CONDUCTOR:
+            if (materialMayBe(VKP_MATERIAL_CONDUCTOR)) {
+                Frame frame = makeFrame(ns);
+                s = sampleToWorld(frame, sampleConductor(materialConductor(material), frameToLocal(frame, wo), u));
+            }
+            break;
+        case VKP_MATERIAL_ROUGH_DIELECTRIC:
+            if (materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC)) {
+                Frame frame = makeFrame(ns);
+                s = sampleToWorld(frame, sampleRoughDielectric(materialRoughDielectric(material),
+                                                               frameToLocal(frame, wo), u, uc));
+            }
+            break;
+        case VKP_MATERIAL_METALLIC_ROUGHNESS:
+            if (materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS)) {
+                Frame frame = makeFrame(ns);
+                s = sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material),
+                                                                 frameToLocal(frame, wo), u, uc));
+            }
+            break;
         default: break;
     }
     if (s.valid && !bsdfSidesAgree(ng, ns, wo, s.direction)) return invalidBsdfSample();
     return s;
+}
+
+// Whether sampleBsdf reads uc for `material` (so the caller draws it only then).
+VKP_FN bool bsdfNeedsLobeChoice(Material material) {
+    switch (materialKind(material)) {
+        case VKP_MATERIAL_ROUGH_DIELECTRIC: return materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC);
+        case VKP_MATERIAL_METALLIC_ROUGHNESS: return materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS);
+        default: return false;
+    }
 }
 
 // f * |cos| of the non-delta lobes.
@@ -94,6 +169,26 @@ VKP_FN vec3 evalBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE:
             if (materialMayBe(VKP_MATERIAL_DIFFUSE)) return evalLambertian(material.reflectance, ns, wo, wi);
+            break;
+        case VKP_MATERIAL_CONDUCTOR:
+            if (materialMayBe(VKP_MATERIAL_CONDUCTOR)) {
+                Frame frame = makeFrame(ns);
+                return evalConductor(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+            }
+            break;
+        case VKP_MATERIAL_ROUGH_DIELECTRIC:
+            if (materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC)) {
+                Frame frame = makeFrame(ns);
+                return evalRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo),
+                                           frameToLocal(frame, wi));
+            }
+            break;
+        case VKP_MATERIAL_METALLIC_ROUGHNESS:
+            if (materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS)) {
+                Frame frame = makeFrame(ns);
+                return evalMetallicRoughness(materialMetallicRoughness(material), frameToLocal(frame, wo),
+                                             frameToLocal(frame, wi));
+            }
             break;
         default: break;  // delta lobes only
     }
@@ -107,6 +202,26 @@ VKP_FN float bsdfPdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
         case VKP_MATERIAL_DIFFUSE:
             if (materialMayBe(VKP_MATERIAL_DIFFUSE)) return lambertianPdf(ns, wo, wi);
             break;
+        case VKP_MATERIAL_CONDUCTOR:
+            if (materialMayBe(VKP_MATERIAL_CONDUCTOR)) {
+                Frame frame = makeFrame(ns);
+                return conductorPdf(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+            }
+            break;
+        case VKP_MATERIAL_ROUGH_DIELECTRIC:
+            if (materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC)) {
+                Frame frame = makeFrame(ns);
+                return roughDielectricPdf(materialRoughDielectric(material), frameToLocal(frame, wo),
+                                          frameToLocal(frame, wi));
+            }
+            break;
+        case VKP_MATERIAL_METALLIC_ROUGHNESS:
+            if (materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS)) {
+                Frame frame = makeFrame(ns);
+                return metallicRoughnessPdf(materialMetallicRoughness(material), frameToLocal(frame, wo),
+                                            frameToLocal(frame, wi));
+            }
+            break;
         default: break;
     }
     return 0.0f;
@@ -114,9 +229,19 @@ VKP_FN float bsdfPdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
 
 // Whether light sampling can reach the material (it has a non-delta lobe);
 // host/wavefront/kernel_features.cpp shadowRaysPerVertex says the same per feature.
+// The microfacet kinds are deltas below VKP_MICROFACET_SMOOTH_ALPHA, but
+// metallic-roughness keeps its diffuse lobe unless it is wholly metal.
 VKP_FN bool hasNonDeltaLobe(Material material) {
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE: return materialMayBe(VKP_MATERIAL_DIFFUSE);
+        case VKP_MATERIAL_CONDUCTOR:
+            return materialMayBe(VKP_MATERIAL_CONDUCTOR) && !microfacetIsSmooth(materialAlpha(material));
+        case VKP_MATERIAL_ROUGH_DIELECTRIC:
+            return materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC) && !microfacetIsSmooth(materialAlpha(material)) &&
+                   material.ior != 1.0f;
+        case VKP_MATERIAL_METALLIC_ROUGHNESS:
+            return materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS) &&
+                   (!microfacetIsSmooth(materialAlpha(material)) || material.metallic < 1.0f);
         default: return false;
     }
 }

@@ -39,10 +39,17 @@
 #define VKP_FEATURE_TEXTURES (1u << 17)               // a material with a texture
 #define VKP_FEATURE_VERTEX_COLORS (1u << 18)          // a triangle with vertex colours
 #define VKP_FEATURE_NORMAL_MAPS (1u << 19)            // a triangle with a normal map and tangents
-#define VKP_FEATURE_COUNT 20u
+#define VKP_FEATURE_CONDUCTOR (1u << 20)              // a primitive with a rough conductor
+#define VKP_FEATURE_ROUGH_GLASS (1u << 21)            // ... with a rough dielectric
+#define VKP_FEATURE_METALLIC_ROUGHNESS (1u << 22)     // ... with glTF's metallic-roughness material
+#define VKP_FEATURE_COUNT 23u
 
 #define VKP_FEATURES_ALL 0xffffffffu
-#define VKP_FEATURES_MATERIALS (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS)
+#define VKP_FEATURES_MATERIALS                                                               \
+    (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS | VKP_FEATURE_CONDUCTOR | \
+     VKP_FEATURE_ROUGH_GLASS | VKP_FEATURE_METALLIC_ROUGHNESS)
+// The materials with a GGX lobe: they read Material::roughness (and the metallic-roughness texture).
+#define VKP_FEATURES_MICROFACET (VKP_FEATURE_CONDUCTOR | VKP_FEATURE_ROUGH_GLASS | VKP_FEATURE_METALLIC_ROUGHNESS)
 #define VKP_FEATURES_PRIMITIVES (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES)
 #define VKP_FEATURES_ENVIRONMENT (VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_ENVIRONMENT_MAP)
 

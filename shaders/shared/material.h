@@ -13,18 +13,33 @@
 #define VKP_MATERIAL_DIFFUSE 0u
 #define VKP_MATERIAL_MIRROR 1u
 #define VKP_MATERIAL_DIELECTRIC 2u
-#define VKP_MATERIAL_KIND_COUNT 3u
+#define VKP_MATERIAL_CONDUCTOR 3u           // rough conductor: GGX (shared/microfacet.h)
+#define VKP_MATERIAL_ROUGH_DIELECTRIC 4u    // rough glass: GGX, Walter et al. 2007 (shared/microfacet.h)
+#define VKP_MATERIAL_METALLIC_ROUGHNESS 5u  // glTF 2.0's material (shared/metallic_roughness.h)
+#define VKP_MATERIAL_KIND_COUNT 6u
 
 VKP_NAMESPACE_BEGIN
 
+// Material::flags: a conductor with the exact Fresnel equations of a complex
+// index (eta in `reflectance`, k in `transmittance`) instead of Schlick's.
+#define VKP_MATERIAL_COMPLEX_FRESNEL 1u
+
+// Each field serves the kinds its comment names and is ignored by the others
+// (64 bytes for every kind; scene::Material has a field per meaning).
 struct Material {
-    vec3 reflectance;    // diffuse albedo, or the specular tint of mirror and glass reflection
+    vec3 reflectance;    // diffuse: albedo; mirror, glass, rough glass: reflection tint; conductor: Schlick's F0, or
+                         // the complex index's real part eta; metallic-roughness: base colour
     uint kind;           // VKP_MATERIAL_*
-    vec3 transmittance;  // glass: tint of refracted light
-    float ior;           // glass: index of refraction of the inside relative to the outside
+    vec3 transmittance;  // glass, rough glass: tint of refracted light; conductor: the complex index's imaginary part
+                         // k; metallic-roughness: the dielectric layer's Fresnel at normal incidence (weight included)
+    float ior;           // glass, rough glass: index of refraction of the inside relative to the outside
     vec3 emission;       // emitted radiance, W/(m^2 sr), from the front face
     uint textures;       // index of the first of its VKP_SLOTS_PER_MATERIAL TextureSlots (shared/texture.h), or
                          // VKP_NO_TEXTURE
+    float roughness;     // conductor, rough glass, metallic-roughness: GGX alpha = roughness^2
+    float metallic;      // metallic-roughness: 0 dielectric, 1 metal
+    float specular;      // metallic-roughness: the dielectric layer's weight, its Fresnel at grazing incidence
+    uint flags;          // VKP_MATERIAL_COMPLEX_FRESNEL
 };
 
 // The feature bit of material kind `kind` (shared/features.h).
@@ -33,6 +48,9 @@ VKP_FN uint materialFeature(uint kind) {
         case VKP_MATERIAL_DIFFUSE: return VKP_FEATURE_DIFFUSE;
         case VKP_MATERIAL_MIRROR: return VKP_FEATURE_MIRROR;
         case VKP_MATERIAL_DIELECTRIC: return VKP_FEATURE_GLASS;
+        case VKP_MATERIAL_CONDUCTOR: return VKP_FEATURE_CONDUCTOR;
+        case VKP_MATERIAL_ROUGH_DIELECTRIC: return VKP_FEATURE_ROUGH_GLASS;
+        case VKP_MATERIAL_METALLIC_ROUGHNESS: return VKP_FEATURE_METALLIC_ROUGHNESS;
         default: return 0u;
     }
 }
@@ -60,7 +78,7 @@ VKP_FN bool materialIs(Material material, uint kind) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::Material) == 48);
+static_assert(sizeof(vkpath::shared::Material) == 64);
 #endif
 
 #endif  // VKPATH_SHARED_MATERIAL_H

@@ -41,8 +41,10 @@
 // VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * lightSamples numbers.
 // Every 2-D quantity starts at an even dimension, the pairs that the Sobol'
 // sampler stratifies together (shared/rng.h); roulette's single number is
-// padded to a pair for that.
-#define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), padding (1)
+// paired with the lobe choice of the materials that choose between lobes
+// with a number of their own (sampleBsdf's uc), which no other material
+// draws, so adding it changed no other material's numbers.
+#define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), lobe choice (1)
 #define VKP_DIMS_PER_LIGHT_SAMPLE 6u  // light choice (2 words), environment texel (2 words), position (2)
 
 // SceneInfo::lightSamples, a constant when the kernel's features fix it.
@@ -130,7 +132,8 @@ VKP_FN vec4 textureSlotValue(uint slot, vec4 texcoords) VKP_SCENE_CONST {
 // `material` as it is at a hit on `primitive`: its base colour times the
 // base-colour texture and the vertex colour (glTF 2.0 section 3.9.2; a
 // glass's base colour tints its transmission, scene::Material), its
-// emission times the emissive texture. Spheres have no texture coordinates.
+// emission times the emissive texture, its roughness and metalness times the
+// metallic-roughness texture. Spheres have no texture coordinates.
 VKP_FN Material materialAt(Material material, BvhPrimitive primitive, Hit hit) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_TEXTURES | VKP_FEATURE_VERTEX_COLORS) || isSphere(primitive)) return material;
     bool textured = hasFeature(VKP_FEATURE_TEXTURES) && material.textures != VKP_NO_TEXTURE;
@@ -152,11 +155,18 @@ VKP_FN Material materialAt(Material material, BvhPrimitive primitive, Hit hit) V
         base *= textureSlotValue(material.textures + VKP_SLOT_BASE_COLOR, texcoords);
         if (material.emission != vec3(0.0f))
             material.emission *= vec3(textureSlotValue(material.textures + VKP_SLOT_EMISSIVE, texcoords));
+        // glTF 2.0 section 3.9.2: roughness in G, metalness in B, each
+        // multiplying its factor (an empty slot is 1).
+        if (hasFeature(VKP_FEATURES_MICROFACET)) {
+            vec4 metallicRoughness = textureSlotValue(material.textures + VKP_SLOT_METALLIC_ROUGHNESS, texcoords);
+            material.roughness *= metallicRoughness.y;
+            material.metallic *= metallicRoughness.z;
+        }
     }
-    if (materialIs(material, VKP_MATERIAL_DIELECTRIC))
+    if (materialIs(material, VKP_MATERIAL_DIELECTRIC) || materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC))
         material.transmittance *= vec3(base);
-    else
-        material.reflectance *= vec3(base);
+    else if (!materialIs(material, VKP_MATERIAL_CONDUCTOR) || (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) == 0u)
+        material.reflectance *= vec3(base);  // (a complex index is no colour)
     return material;
 }
 
@@ -367,7 +377,9 @@ VKP_FN PathStep continuePath(Material material, SurfacePoint surface, vec3 wo, v
     step.ray.pixel = key.pixel;
 
     uint dim = bounceDimension(bounce);
-    BsdfSample s = sampleBsdf(material, surface.normal, surface.shadingNormal, wo, rngUniform2(key, dim));
+    float lobeChoice = bsdfNeedsLobeChoice(material) ? rngUniform(key, dim + 3u) : 0.0f;
+    BsdfSample s =
+        sampleBsdf(material, surface.normal, surface.shadingNormal, wo, rngUniform2(key, dim), lobeChoice);
     if (!s.valid) return step;
     vec3 beta = throughput * s.weight;
     // Kept within [2^-100, 2^100]: never 0 or infinite, so its sign can be

@@ -58,6 +58,11 @@ std::string expectedBsdf(const scene::Material& m) {
         case scene::MaterialKind::Diffuse: return "twosided/diffuse";
         case scene::MaterialKind::Mirror: return "twosided/conductor";
         case scene::MaterialKind::Dielectric: return "dielectric";
+        case scene::MaterialKind::Conductor:
+            return m.roughness * m.roughness < 1e-3f ? "twosided/conductor" : "twosided/roughconductor";
+        case scene::MaterialKind::RoughDielectric:
+            return m.roughness * m.roughness < 1e-3f ? "dielectric" : "roughdielectric";
+        case scene::MaterialKind::MetallicRoughness: return "twosided/principled";
     }
     return "";
 }

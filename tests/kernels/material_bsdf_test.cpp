@@ -1,0 +1,386 @@
+// The microfacet material kinds through shared/bsdf.h's dispatch (sampleBsdf,
+// evalBsdf, bsdfPdf in the shading frame, world space), sampled on the GPU by
+// tests/kernels/bsdf_dispatch.comp with the path tracer's random numbers:
+// glTF's metallic-roughness material follows its mixture density (chi-square,
+// 10^6 samples each, 1% Sidak-corrected over the file's statistical tests),
+// every non-delta sample of every new kind has weight f |cos| / pdf through
+// the dispatch, the layered material is reciprocal, and its smooth limit is a
+// delta specular lobe beside the diffuse one. The lobes themselves are
+// microfacet_test.cpp's. Materials are made by the host's own conversion
+// (wavefront::buildSceneTables), so scene::Material's fields are what is tested.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <vector>
+
+#include "image/statistics.h"
+#include "kernels/bsdf_dispatch.h"
+#include "kernels/microfacet_routines.h"
+#include "scene/scene.h"
+#include "shared/bsdf.h"
+#include "support/direction_chi2.h"
+#include "support/test_context.h"
+#include "vk/buffer.h"
+#include "vk/kernel.h"
+#include "wavefront/gpu_scene.h"
+
+namespace {
+
+using namespace vkpath;
+using shared::MicrofacetResult;
+
+constexpr uint32_t SAMPLES = 1000000;
+constexpr double PI = 3.14159265358979323846;
+// Statistical tests in this file: chi-square of the layered material 8;
+// binomial z-tests of its smooth limit's lobe choice 2.
+constexpr int STATISTICAL_TESTS = 10;
+const double ALPHA = test::sidakAlpha(0.01, STATISTICAL_TESTS);
+const double Z_CRITICAL = image::normalCritical(ALPHA);
+
+// The kernels' record of `m`, as the renderer makes it.
+shared::Material gpuMaterial(const scene::Material& m) {
+    scene::Scene s;
+    s.materials.push_back(m);
+    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
+    return wavefront::buildSceneTables(s).materials.at(0);
+}
+
+scene::Material metallicRoughness(glm::vec3 base, float metallic, float roughness) {
+    scene::Material m;
+    m.kind = scene::MaterialKind::MetallicRoughness;
+    m.reflectance = base;
+    m.metallic = metallic;
+    m.roughness = roughness;
+    return m;
+}
+
+// A tilted shading frame, so that the dispatch's frame is exercised.
+const glm::vec3 NORMAL = glm::normalize(glm::vec3(0.3f, -0.2f, 0.93f));
+
+// The world direction at cosine cosTheta to NORMAL, azimuth phi in its frame.
+glm::vec3 worldDirection(double cosTheta, double phi = 0.4) {
+    const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
+    const glm::vec3 local(float(sinTheta * std::cos(phi)), float(sinTheta * std::sin(phi)), float(cosTheta));
+    return glm::normalize(shared::frameToWorld(shared::makeFrame(NORMAL), local));
+}
+
+std::vector<MicrofacetResult> runDispatch(const shared::Material& material, glm::vec3 wo, uint32_t seed = 1,
+                                          uint32_t count = SAMPLES) {
+    vk::Context& context = test::context();
+    vk::Buffer results(context, count * sizeof(MicrofacetResult));
+    vk::Buffer materials = vk::Buffer::fromSpan(context, std::span(&material, 1), "material");
+    vk::Kernel kernel(context, "bsdf_dispatch");
+    shared::BsdfDispatchPush push{};
+    push.count = count;
+    push.seed = seed;
+    push.wo = wo;
+    push.ng = NORMAL;
+    push.ns = NORMAL;
+    kernel.dispatch(count, {{0, &results}, {1, &materials}}, push);
+    return results.download<MicrofacetResult>();
+}
+
+// ---- the layered material's density, written from the papers in double ------------
+// GGX (Walter et al. 2007, eq. 33) and Smith's G1 (Heitz 2014) for an
+// isotropic alpha; the visible-normal density D_wo(h) = G1(wo) max(0, wo.h)
+// D(h) / wo.z (Heitz 2018) and the reflection Jacobian 1 / (4 wo.h) (Walter
+// eq. 14); the cosine density i.z / pi. Only the lobe probability is the
+// header's (specularProbability: the sampler's choice, whose value any
+// density would have to take).
+
+double ggxD(glm::dvec3 m, double alpha) {
+    if (m.z <= 0) return 0;
+    const double tan2 = (m.x * m.x + m.y * m.y) / (m.z * m.z);
+    const double c4 = m.z * m.z * m.z * m.z;
+    return 1 / (PI * alpha * alpha * c4 * (1 + tan2 / (alpha * alpha)) * (1 + tan2 / (alpha * alpha)));
+}
+
+double smithG1(glm::dvec3 w, double alpha) {
+    const double tan2 = (w.x * w.x + w.y * w.y) / (w.z * w.z);
+    return 2 / (1 + std::sqrt(1 + alpha * alpha * tan2));
+}
+
+// The density of wi (world) given wo (world) for the layered material.
+double layeredDensity(const shared::Material& m, glm::vec3 wo, glm::vec3 wi) {
+    const shared::Frame frame = shared::makeFrame(NORMAL);
+    glm::dvec3 o(shared::frameToLocal(frame, wo)), i(shared::frameToLocal(frame, wi));
+    if (o.z < 0) {
+        o = -o;
+        i = -i;
+    }
+    if (i.z <= 0) return 0;
+    const shared::MetallicRoughness p = shared::materialMetallicRoughness(m);
+    const double pSpec = shared::specularProbability(p, float(o.z));
+    const double alpha = double(m.roughness) * m.roughness;
+    const glm::dvec3 h = glm::normalize(o + i);
+    const double oh = glm::dot(o, h);
+    const double visible = oh > 0 ? smithG1(o, alpha) * oh * ggxD(h, alpha) / o.z : 0;
+    return pSpec * visible / (4 * oh) + (1 - pSpec) * i.z / PI;
+}
+
+struct LayeredCase {
+    const char* name;
+    scene::Material material;
+    double cosTheta;  // of wo with the normal; < 0: from below (two-sided)
+};
+
+std::vector<LayeredCase> layeredCases() {
+    scene::Material specular = metallicRoughness({0.3f, 0.6f, 0.2f}, 0.0f, 0.45f);
+    specular.specular = 0.6f;
+    specular.specularColor = {1.0f, 0.4f, 0.1f};
+    specular.ior = 1.8f;
+    return {
+        {"plastic", metallicRoughness({0.8f, 0.3f, 0.1f}, 0.0f, 0.5f), 0.8},
+        {"glossy plastic at normal incidence", metallicRoughness({0.2f, 0.2f, 0.7f}, 0.0f, 0.3f), 1.0},
+        {"half metal", metallicRoughness({0.9f, 0.6f, 0.3f}, 0.5f, 0.4f), 0.3},
+        {"metal", metallicRoughness({0.95f, 0.64f, 0.54f}, 1.0f, 0.6f), 0.9},
+        {"grazing", metallicRoughness({0.5f, 0.5f, 0.5f}, 0.2f, 0.7f), 0.05},
+        {"from below", metallicRoughness({0.7f, 0.7f, 0.2f}, 0.3f, 0.5f), -0.6},
+        {"rough white plastic", metallicRoughness(glm::vec3(1.0f), 0.0f, 1.0f), 0.5},
+        {"specular colour and weight, ior 1.8", specular, 0.7},
+    };
+}
+
+// Samples through the dispatch follow the mixture of the GGX visible-normal
+// reflection and the cosine lobe, each weighted by the lobe probability at
+// wo (chi-square on the whole sphere, samples reflected below the surface
+// their own cell); each sample's pdf equals the test's to 1e-3 relative; the
+// mixture integrates to at most 1 (less by the specular lobe's losses).
+TEST(MetallicRoughness, SamplesFollowTheMixtureDensity) {
+    const auto cases = layeredCases();
+    ASSERT_EQ(int(cases.size()), STATISTICAL_TESTS - 2);
+    for (const LayeredCase& c : cases) {
+        SCOPED_TRACE(c.name);
+        const shared::Material m = gpuMaterial(c.material);
+        const glm::vec3 wo = worldDirection(c.cosTheta);
+        const auto results = runDispatch(m, wo, 7);
+        test::DirectionGrid grid;
+        grid.frame = shared::makeFrame(NORMAL);
+        const double alpha = double(c.material.roughness) * c.material.roughness;
+        grid.polarExponent = alpha <= 0.1 ? 2 : 1;
+        auto pdf = [&](glm::vec3 wi) { return layeredDensity(m, wo, wi); };
+        std::vector<glm::vec3> valid;
+        double worstPdf = 0;
+        for (const MicrofacetResult& r : results) {
+            if (!(r.flags & 1u)) continue;
+            EXPECT_EQ(r.flags & 2u, 0u) << "a rough lobe's sample marked delta";
+            valid.push_back(r.direction);
+            worstPdf = std::max(worstPdf, std::abs(r.pdf / pdf(r.direction) - 1));
+        }
+        EXPECT_LT(worstPdf, 1e-3) << "sample pdf against the test's density";
+        EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
+        const auto result = test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
+        EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+    }
+}
+
+// Power: the same samples judged against the mixture with the lobe
+// probability moved by 0.05 (too much of the specular lobe), and against the
+// cosine lobe alone, are rejected.
+TEST(MetallicRoughness, ChiSquareRejectsAWrongMixture) {
+    const scene::Material material = metallicRoughness({0.8f, 0.3f, 0.1f}, 0.3f, 0.5f);
+    const shared::Material m = gpuMaterial(material);
+    const glm::vec3 wo = worldDirection(0.7);
+    const auto results = runDispatch(m, wo, 11);
+    test::DirectionGrid grid;
+    grid.frame = shared::makeFrame(NORMAL);
+    std::vector<glm::vec3> valid;
+    for (const MicrofacetResult& r : results)
+        if (r.flags & 1u) valid.push_back(r.direction);
+    const size_t lost = results.size() - valid.size();
+    const shared::Frame frame = shared::makeFrame(NORMAL);
+    const double pSpec = shared::specularProbability(shared::materialMetallicRoughness(m), 0.7f);
+    auto shifted = [&](glm::vec3 wi) {
+        const double cosine = std::max(0.0, double(shared::frameToLocal(frame, wi).z)) / PI;
+        const double right = layeredDensity(m, wo, wi);
+        const double specular = (right - (1 - pSpec) * cosine) / pSpec;
+        return (pSpec + 0.05) * specular + (1 - pSpec - 0.05) * cosine;
+    };
+    EXPECT_LT(test::chiSquareDirectionsWithLosses(grid, valid, lost, shifted).pValue, 1e-10);
+    auto cosineOnly = [&](glm::vec3 wi) { return std::max(0.0, double(shared::frameToLocal(frame, wi).z)) / PI; };
+    EXPECT_LT(test::chiSquareDirectionsWithLosses(grid, valid, lost, cosineOnly).pValue, 1e-10);
+}
+
+// ---- f |cos| / pdf = weight through the dispatch ----------------------------------------
+
+struct WeightCase {
+    const char* name;
+    scene::Material material;
+    double cosTheta;
+};
+
+std::vector<WeightCase> weightCases() {
+    auto conductor = [](glm::vec3 f0, float roughness) {
+        scene::Material m;
+        m.kind = scene::MaterialKind::Conductor;
+        m.reflectance = f0;
+        m.roughness = roughness;
+        return m;
+    };
+    scene::Material gold = conductor(glm::vec3(1.0f), 0.4f);
+    gold.conductorEta = {0.18f, 0.42f, 1.37f};  // gold at 650, 550, 450 nm (Johnson and Christy 1972)
+    gold.conductorK = {3.42f, 2.35f, 1.77f};
+    auto roughGlass = [](float ior, float roughness) {
+        scene::Material m;
+        m.kind = scene::MaterialKind::RoughDielectric;
+        m.ior = ior;
+        m.roughness = roughness;
+        m.reflectance = glm::vec3(1.0f);
+        m.transmittance = {0.9f, 0.8f, 0.7f};
+        return m;
+    };
+    scene::Material smooth = metallicRoughness({0.6f, 0.3f, 0.2f}, 0.3f, 0.0f);
+    return {
+        {"conductor, Schlick", conductor({0.95f, 0.64f, 0.54f}, 0.5f), 0.6},
+        {"conductor, complex index of gold", gold, 0.8},
+        {"conductor, from below", conductor({0.9f, 0.9f, 0.9f}, 0.3f), -0.4},
+        {"rough glass from outside", roughGlass(1.5f, 0.4f), 0.7},
+        {"rough glass from inside", roughGlass(1.5f, 0.6f), -0.9},
+        {"rough glass 1.33, narrow", roughGlass(1.33f, 0.2f), 0.4},
+        {"metallic-roughness", metallicRoughness({0.8f, 0.3f, 0.1f}, 0.4f, 0.5f), 0.5},
+        {"metallic-roughness, grazing", metallicRoughness({0.5f, 0.9f, 0.5f}, 0.0f, 0.8f), 0.1},
+        {"metallic-roughness, smooth (delta layer)", smooth, 0.6},
+    };
+}
+
+// The rough glass's Fresnel has an infinite slope at the critical angle
+// (1 - F grows like sqrt(cos - cos_c)): there a change of wo.m by its
+// rounding (bounded by 1e-6, as in microfacet_test.cpp) changes F, or 1 - F
+// for transmission, by this relative amount; elsewhere it is ~1e-6.
+double fresnelRounding(const shared::Material& material, glm::vec3 worldWo, glm::vec3 worldWi) {
+    if (material.kind != VKP_MATERIAL_ROUGH_DIELECTRIC) return 0;
+    const shared::Frame frame = shared::makeFrame(NORMAL);
+    const glm::vec3 wo = shared::frameToLocal(frame, worldWo), wi = shared::frameToLocal(frame, worldWi);
+    const float side = wo.z > 0 ? 1.0f : -1.0f;
+    const float eta = wo.z > 0 ? material.ior : 1 / material.ior;
+    glm::vec3 m;
+    if (!shared::roughDielectricHalfVector(side * wo, side * wi, eta, m)) return 0;
+    const float om = glm::dot(side * wo, m);
+    const double f = shared::fresnelDielectric(om, eta);
+    const double change = std::max(std::abs(shared::fresnelDielectric(om + 1e-6f, eta) - f),
+                                   std::abs(shared::fresnelDielectric(om - 1e-6f, eta) - f));
+    const double part = wo.z * wi.z > 0 ? f : 1 - f;
+    return part > 0 ? change / part : 0;
+}
+
+// Every valid non-delta sample's weight equals the dispatch's own
+// evalBsdf / bsdfPdf at the sampled direction (GPU), and bsdfPdf equals the
+// sample's pdf. The sample computes f and pdf at its local direction, the
+// evaluation at that direction after its round trip through the world frame
+// (frameToWorld, normalize, frameToLocal), which moves the direction by float
+// rounding, ~1e-7. Near the horizon the ratios f / pdf of a mixture or a
+// Fresnel-weighted lobe change relative to cos theta_i, and a narrow lobe's D
+// changes by up to 2 / alpha relative per radian the half vector moves (more
+// for refraction, whose half vector wo + eta wi is shorter). So the bound is
+// 1e-5 + 1e-7 / |cos theta_i| + 4e-6 / alpha relative (measured: at most
+// 3.8e-6 where |cos theta_i| > 0.05 and alpha >= 0.09; near the horizon the
+// error times |cos theta_i| is at most 6e-8; refraction at alpha 0.04 at most
+// 1.0e-6 / alpha), plus for the rough glass the relative change of its
+// Fresnel term by rounding (fresnelRounding). Where transmission is sampled,
+// etaSquared is the ratio of the indices squared, else 1.
+TEST(MaterialDispatch, WeightIsEvalOverPdf) {
+    for (const WeightCase& c : weightCases()) {
+        SCOPED_TRACE(c.name);
+        const shared::Material m = gpuMaterial(c.material);
+        const glm::vec3 wo = worldDirection(c.cosTheta);
+        const auto results = runDispatch(m, wo, 5, 200000);
+        const double alpha = double(c.material.roughness) * c.material.roughness;
+        double worst = 0;  // the largest error over its bound
+        size_t nonDelta = 0;
+        for (const MicrofacetResult& r : results) {
+            if (!(r.flags & 1u) || (r.flags & 2u)) continue;
+            ++nonDelta;
+            ASSERT_GT(r.evalPdf, 0.0f);
+            const double cosI = std::abs(glm::dot(r.direction, NORMAL));
+            const double bound = 1e-5 + 1e-7 / cosI + 4e-6 / alpha + fresnelRounding(m, wo, r.direction);
+            worst = std::max(worst, std::abs(double(r.evalPdf) / r.pdf - 1) / bound);
+            const glm::vec3 expected = r.eval / r.evalPdf;
+            for (int k = 0; k < 3; ++k)
+                worst = std::max(worst, std::abs(double(r.weight[k]) - expected[k]) /
+                                            std::max(1e-6, std::abs(double(expected[k]))) / bound);
+            const bool transmitted = glm::dot(r.direction, NORMAL) * c.cosTheta < 0;
+            if (transmitted) {
+                const float eta = c.cosTheta > 0 ? c.material.ior : 1.0f / c.material.ior;
+                EXPECT_NEAR(r.etaSquared, eta * eta, 1e-5f * eta * eta);
+            } else {
+                EXPECT_EQ(r.etaSquared, 1.0f);
+            }
+        }
+        EXPECT_GT(nonDelta, 1000u);
+        EXPECT_LT(worst, 1.0) << "the worst error, in units of its bound";
+    }
+}
+
+// f(wo, wi) = f(wi, wo) for the layered material (f = evalBsdf / |cos wi|,
+// C++): its diffuse part's Fresnel weight and its GGX lobe depend on wo and wi
+// only through the half vector and both cosines symmetrically. 20000 random
+// pairs on either side, random parameters; 1e-5 relative (float rounding:
+// the two evaluations differ in the order of operations).
+TEST(MetallicRoughness, Reciprocity) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    auto randomDirection = [&]() {
+        const float z = 2 * u(rng) - 1, phi = float(2 * PI) * u(rng);
+        const float r = std::sqrt(std::max(0.0f, 1 - z * z));
+        return glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
+    };
+    int compared = 0;
+    for (int n = 0; n < 20000; ++n) {
+        scene::Material sm = metallicRoughness({u(rng), u(rng), u(rng)}, u(rng), 0.05f + u(rng));
+        sm.specular = u(rng);
+        sm.specularColor = {u(rng), u(rng), u(rng)};
+        const shared::Material m = gpuMaterial(sm);
+        const glm::vec3 wo = randomDirection(), wi = randomDirection();
+        const float co = std::abs(glm::dot(wo, NORMAL)), ci = std::abs(glm::dot(wi, NORMAL));
+        if (co < 1e-3f || ci < 1e-3f) continue;
+        const glm::vec3 f1 = shared::evalBsdf(m, NORMAL, NORMAL, wo, wi) / ci;
+        const glm::vec3 f2 = shared::evalBsdf(m, NORMAL, NORMAL, wi, wo) / co;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(f1[k], f2[k], 1e-5f * std::max(f1[k], 1e-3f));
+        compared += f1 != glm::vec3(0.0f);
+        if (testing::Test::HasFailure()) return;
+    }
+    EXPECT_GT(compared, 5000);
+}
+
+// Roughness below the smooth threshold: the specular lobe is a delta. The
+// dispatch picks it with probability specularProbability (binomial z-test),
+// in exactly the mirror direction, pdf that probability, weight the Fresnel
+// terms at wo.n over it (to 1e-5 of the C++ value); the other samples are the
+// diffuse lobe's, whose eval and pdf the dispatch's functions return (the
+// delta direction's too: the delta has no density to add). At roughness 0.03
+// (alpha 9e-4) and 0.
+TEST(MetallicRoughness, SmoothLayerIsADeltaBesideTheDiffuseLobe) {
+    for (float roughness : {0.0f, 0.03f}) {
+        SCOPED_TRACE(testing::Message() << "roughness " << roughness);
+        const shared::Material m = gpuMaterial(metallicRoughness({0.6f, 0.3f, 0.2f}, 0.3f, roughness));
+        const float cosTheta = 0.6f;
+        const glm::vec3 wo = worldDirection(cosTheta);
+        const shared::MetallicRoughness p = shared::materialMetallicRoughness(m);
+        const double pSpec = shared::specularProbability(p, cosTheta);
+        const glm::vec3 weight = shared::metallicRoughnessSpecularFresnel(p, cosTheta) / float(pSpec);
+        const glm::vec3 mirror = shared::reflectAbout(wo, NORMAL);
+        const auto results = runDispatch(m, wo, 9, 200000);
+        size_t delta = 0;
+        for (const MicrofacetResult& r : results) {
+            ASSERT_TRUE(r.flags & 1u);
+            if (r.flags & 2u) {
+                ++delta;
+                EXPECT_LT(glm::length(r.direction - mirror), 1e-5f);
+                EXPECT_NEAR(r.pdf, pSpec, 1e-6);
+                for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.weight[k], weight[k], 1e-5f * weight[k]);
+            } else {
+                EXPECT_NEAR(r.evalPdf / r.pdf, 1.0f, 1e-4f);
+                EXPECT_NEAR(r.pdf, (1 - pSpec) * glm::dot(r.direction, NORMAL) / PI, 1e-4 * r.pdf);
+            }
+            if (testing::Test::HasFailure()) return;
+        }
+        const double n = double(results.size());
+        const double z = (double(delta) - n * pSpec) / std::sqrt(n * pSpec * (1 - pSpec));
+        EXPECT_LT(std::abs(z), Z_CRITICAL) << delta << " delta samples of " << n << ", expected p " << pSpec;
+    }
+}
+
+}  // namespace
