@@ -23,9 +23,12 @@ struct BvhView {
     std::span<const BvhNode> nodes;            // depth-first, as bvh::BvhBuild::nodes
     std::span<const BvhPrimitive> primitives;  // leaf order, as bvh::BvhBuild::primitives
 
-    // The accessors shared/bvh_traverse.h reads through.
+    // The accessors shared/bvh_traverse.h reads through, and its alpha test:
+    // a BVH alone has no materials, so every candidate hit stands
+    // (reference/path_tracer_view.h tests alpha).
     BvhNode bvhNode(uint index) const { return nodes[index]; }
     BvhPrimitive bvhPrimitive(uint index) const { return primitives[index]; }
+    bool bvhAlphaTest(BvhPrimitive, vec2, uint) const { return true; }
 
 #include "shared/bvh_traverse.h"
 };

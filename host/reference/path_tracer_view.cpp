@@ -22,7 +22,8 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
       m_vertexTangents(tables.surface.vertexTangents),
       m_textures(tables.textures.textures),
       m_textureSlots(tables.textures.slots),
-      m_texels(tables.textures.texels) {
+      m_texels(tables.textures.texels),
+      m_materialAlpha(tables.materialAlpha) {
     auto require = [](bool ok, const std::string& what) {
         if (!ok) throw std::invalid_argument("scene tables: " + what);
     };
@@ -49,6 +50,11 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
     for (const Material& m : m_materials)
         require(m.textures == VKP_NO_TEXTURE || m.textures + VKP_SLOTS_PER_MATERIAL <= m_textureSlots.size(),
                 "material texture slots out of range");
+    require(info.alphaTested == 0u || m_materialAlpha.size() == m_materials.size(),
+            fmt::format("{} alpha records for {} materials", m_materialAlpha.size(), m_materials.size()));
+    for (const MaterialAlpha& a : m_materialAlpha)
+        require(a.baseColorSlot == VKP_NO_TEXTURE || a.baseColorSlot < m_textureSlots.size(),
+                "alpha texture slot out of range");
     for (const TextureSlot& slot : m_textureSlots)
         require(slot.texture == VKP_NO_TEXTURE || slot.texture < m_textures.size(), "texture index out of range");
     for (const TextureInfo& t : m_textures)

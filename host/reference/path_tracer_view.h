@@ -3,7 +3,10 @@
 // PathTracerView, which reads the scene tables (wavefront::SceneTables, what
 // the GPU buffers hold) through std::span where the shade kernel reads its
 // storage buffers (shaders/stages/lib/scene_access.glsl). Traversal comes
-// from BvhView, so one object answers everything a path vertex asks:
+// from BvhView's accessors, its code included again here so that it asks
+// this view's alpha test (path_tracer.h bvhAlphaTest, which reads materials
+// and textures) rather than BvhView's, so one object answers everything a
+// path vertex asks:
 //
 //   shared::PathTracerView view(tables, info);
 //   shared::Hit hit = view.bvhClosestHit(ray);
@@ -17,6 +20,7 @@
 
 #include "bvh/bvh_view.h"
 #include "shared/alias.h"
+#include "shared/alpha.h"
 #include "shared/bsdf.h"
 #include "shared/path_state.h"
 #include "shared/constants.h"
@@ -61,7 +65,9 @@ struct PathTracerView : BvhView {
         const uvec2 packed = m_texels[index];
         return vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));
     }
+    MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
 
+#include "shared/bvh_traverse.h"
 #include "shared/path_tracer.h"
 #include "shared/integrator.h"
 
@@ -81,6 +87,7 @@ struct PathTracerView : BvhView {
     std::span<const TextureInfo> m_textures;
     std::span<const TextureSlot> m_textureSlots;
     std::span<const uvec2> m_texels;
+    std::span<const MaterialAlpha> m_materialAlpha;
 };
 
 }  // namespace vkpath::shared

@@ -65,9 +65,6 @@ class MaterialConverter {
             m_warnings.addCounted("textures of material extensions are ignored; their factors are used",
                                   "material", name);
         readAlphaMode(m, out);
-        if (out.alphaMode != AlphaMode::Opaque)
-            m_warnings.addCounted("alpha (alphaMode MASK or BLEND) is ignored; surfaces are opaque",
-                                  "material", name);
         if (metallic > 0.0 && metallic < 1.0)
             m_warnings.addCounted(
                 "partly metallic materials are approximated: metallicFactor >= 0.5 as metal, below "

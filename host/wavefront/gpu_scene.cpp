@@ -169,6 +169,8 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     for (size_t i = 0; i < scene.materials.size(); ++i)
         t.materials.push_back(toGpu(scene.materials[i], t.textures.materialSlots[i]));
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
+    t.materialAlpha = buildMaterialAlpha(scene, t.textures);
+    t.info.alphaTested = t.materialAlpha.empty() ? 0u : 1u;
 
     std::vector<double> power;
     auto addLight = [&](const LightEntry& e) {
@@ -185,7 +187,9 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             // A textured emitter is not light-sampled (its emission varies over
             // the triangle, which the light's constant record cannot say): it
             // is found by BSDF samples alone, with weight 1, which is unbiased.
-            if (!m.emissive() || m.emissiveTexture.present()) continue;
+            // So is one with holes (alpha): a light sample could land in one.
+            const bool holes = !t.materialAlpha.empty() && t.materialAlpha[mesh.material].mode != VKP_ALPHA_OPAQUE;
+            if (!m.emissive() || m.emissiveTexture.present() || holes) continue;
             const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y), p2 = mesh.positions.at(tri.z);
             if (bvh::isDegenerateTriangle(p0, p1, p2)) continue;
             surfaceLight[{VKP_PRIMITIVE_TRIANGLE, id}] = uint32_t(t.lights.size());
@@ -253,15 +257,15 @@ uint64_t deviceBytes(const SceneTables& t) {
     return t.bvh.bytes() + bytes(t.materials) + bytes(t.lights) + bytes(t.lightAlias) + bytes(t.primitiveLight) +
            bytes(t.envAlias) + bytes(t.envRadiance) + bytes(t.surface.triangleVertices) +
            bytes(t.surface.vertexNormals) + bytes(t.surface.vertexTexcoords) + bytes(t.surface.vertexColors) +
-           bytes(t.surface.vertexTangents) +
-           bytes(t.textures.textures) + bytes(t.textures.slots) + bytes(t.textures.texels);
+           bytes(t.surface.vertexTangents) + bytes(t.textures.textures) + bytes(t.textures.slots) +
+           bytes(t.textures.texels) + bytes(t.materialAlpha);
 }
 
 uint64_t GpuScene::bytes() const {
     return bvh.bytes() + materials.size() + lights.size() + lightAlias.size() + primitiveLight.size() +
            envAlias.size() + envRadiance.size() + triangleVertices.size() + vertexNormals.size() +
            vertexTexcoords.size() + vertexColors.size() + vertexTangents.size() + textures.size() +
-           textureSlots.size() + texels.size();
+           textureSlots.size() + texels.size() + materialAlpha.size();
 }
 
 GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
@@ -305,6 +309,7 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     g.textures = uploadOrPlaceholder(context, t.textures.textures, "textures");
     g.textureSlots = uploadOrPlaceholder(context, t.textures.slots, "textureSlots");
     g.texels = uploadOrPlaceholder(context, t.textures.texels, "texels");
+    g.materialAlpha = uploadOrPlaceholder(context, t.materialAlpha, "materialAlpha");
     shared::SceneAddresses addresses{};
     if (g.byAddress) {
         auto split = [](const vk::Buffer& b) {

@@ -19,6 +19,7 @@
 #include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
 #include "vk/buffer.h"
+#include "wavefront/alpha_tables.h"
 #include "wavefront/surface_tables.h"
 #include "wavefront/texture_tables.h"
 
@@ -36,6 +37,7 @@ struct SceneTables {
     std::vector<glm::vec3> envRadiance;
     SurfaceTables surface;     // vertex attributes for shading (empty when the scene is flat)
     TextureTables textures;    // empty when no material has a texture
+    std::vector<shared::MaterialAlpha> materialAlpha;  // per material; empty unless info.alphaTested
     shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
     // Everything above is in render space: world space moved so that the
     // centre of the geometry's bounding box is the origin (computed in
@@ -70,6 +72,7 @@ struct GpuScene {
     vk::Buffer textures;      // TextureInfo[]: bound always (one per texture)
     vk::Buffer textureSlots;  // TextureSlot[]: bound always (a few per material)
     vk::Buffer texels;
+    vk::Buffer materialAlpha;  // MaterialAlpha[]: bound always (one per material) when the scene tests alpha
     // Whether the stage kernels read the BVH and the arrays that grow with the
     // scene (lights, lightAlias, primitiveLight, envAlias, envRadiance,
     // triangleVertices and the vertex attributes, texels) by address, through `addresses`

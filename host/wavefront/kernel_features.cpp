@@ -3,6 +3,7 @@
 #include <array>
 #include <utility>
 
+#include "shared/alpha.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
@@ -36,6 +37,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_CONDUCTOR, "conductor"},
     {VKP_FEATURE_ROUGH_GLASS, "rough-glass"},
     {VKP_FEATURE_METALLIC_ROUGHNESS, "metallic-roughness"},
+    {VKP_FEATURE_ALPHA, "alpha"},
 }};
 
 }  // namespace
@@ -48,6 +50,9 @@ uint32_t sceneFeatures(const SceneTables& t) {
         f |= shared::materialFeature(m.kind);
         if (m.emission != glm::vec3(0.0f)) f |= VKP_FEATURE_EMISSIVE_SURFACES;
         if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE) f |= VKP_FEATURE_TEXTURES;
+        if (!t.materialAlpha.empty() && t.materialAlpha[p.material].mode != VKP_ALPHA_OPAQUE &&
+            p.kind == VKP_PRIMITIVE_TRIANGLE)
+            f |= VKP_FEATURE_ALPHA;
     }
     for (const shared::Light& light : t.lights) {
         if (light.type == VKP_LIGHT_POINT) f |= VKP_FEATURE_POINT_LIGHTS;

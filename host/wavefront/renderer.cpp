@@ -187,6 +187,7 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
         {VKP_WF_TEXTURES, &g.textures},
         {VKP_WF_TEXTURE_SLOTS, &g.textureSlots},
         {VKP_WF_TEXELS, &g.binding(g.texels)},
+        {VKP_WF_MATERIAL_ALPHA, &g.materialAlpha},
         {VKP_WF_CAMERA, &r->camera},
         {VKP_WF_COUNTERS, &r->counters},
         {VKP_WF_FILM, &r->film.front()},

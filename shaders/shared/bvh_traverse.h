@@ -1,13 +1,22 @@
 // BVH traversal: closest hit and any hit (shadow rays), the same code on GPU
 // and CPU. GLSL has neither pointers nor recursion, and a GLSL function cannot
 // take a buffer, so this file reads the BVH through two accessors that its
-// includer defines before including it:
+// includer defines before including it, and asks it one question:
 //
 //   BvhNode bvhNode(uint index);            // shared/bvh.h layouts
 //   BvhPrimitive bvhPrimitive(uint index);
+//   bool bvhAlphaTest(BvhPrimitive triangle, vec2 barycentrics, uint alphaKey);
+//
+// bvhAlphaTest says whether a triangle's candidate hit in [0, tMax) stands
+// (alpha coverage, shared/alpha.h; only kernels with VKP_FEATURE_ALPHA ask).
+// A rejected candidate is passed through: it neither shortens tMax nor ends
+// an any-hit trace, so the result is the nearest candidate that stands, in
+// whatever order the tree presents them. Includers without materials (the
+// BVH test kernels, host/bvh/bvh_view.h) answer true.
 //
 // GLSL: a kernel declares its two storage buffers and the accessors over them
-//   (shared/bvh_buffers.h does both), then includes this file at global scope.
+//   (shared/bvh_buffers.h does both) and declares bvhAlphaTest (a prototype
+//   will do), then includes this file at global scope.
 // C++: host/bvh/bvh_view.h includes it inside the body of struct BvhView,
 //   whose member accessors read std::spans; the functions below become const
 //   member functions (VKP_BVH_CONST).
@@ -37,7 +46,8 @@
 #endif
 
 // anyHit: stop at the first hit in [0, ray.tMax) (it need not be the closest).
-VKP_FN Hit bvhTrace(Ray ray, bool anyHit) VKP_BVH_CONST {
+// alphaKey: passed to bvhAlphaTest (shared/alpha.h alphaRayKey).
+VKP_FN Hit bvhTrace(Ray ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
     Hit hit;
     hit.t = ray.tMax;
     hit.primitive = VKP_NO_HIT;
@@ -100,6 +110,8 @@ VKP_FN Hit bvhTrace(Ray ray, bool anyHit) VKP_BVH_CONST {
             } else {
                 found = intersectTriangle(triangleRay, primitive.p0, primitive.p1, primitive.p2, hit.t,
                                           t, barycentrics);
+                if (found && hasFeature(VKP_FEATURE_ALPHA))
+                    found = bvhAlphaTest(primitive, barycentrics, alphaKey);
             }
             if (found) {
                 hit.t = t;
@@ -117,8 +129,15 @@ VKP_FN Hit bvhTrace(Ray ray, bool anyHit) VKP_BVH_CONST {
 }
 
 // The nearest hit in [0, ray.tMax), or Hit::primitive == VKP_NO_HIT.
-VKP_FN Hit bvhClosestHit(Ray ray) VKP_BVH_CONST { return bvhTrace(ray, false); }
+VKP_FN Hit bvhClosestHit(Ray ray, uint alphaKey) VKP_BVH_CONST { return bvhTrace(ray, false, alphaKey); }
 
 // Whether anything lies in [0, ray.tMax): for shadow rays, whose tMax is the
 // distance to the light (a surface exactly at tMax does not occlude).
-VKP_FN bool bvhOccluded(Ray ray) VKP_BVH_CONST { return bvhTrace(ray, true).primitive != VKP_NO_HIT; }
+VKP_FN bool bvhOccluded(Ray ray, uint alphaKey) VKP_BVH_CONST {
+    return bvhTrace(ray, true, alphaKey).primitive != VKP_NO_HIT;
+}
+
+// The same for rays that belong to no path (the BVH tests and benchmarks,
+// whose geometry is opaque): alpha key 0.
+VKP_FN Hit bvhClosestHit(Ray ray) VKP_BVH_CONST { return bvhTrace(ray, false, 0u); }
+VKP_FN bool bvhOccluded(Ray ray) VKP_BVH_CONST { return bvhOccluded(ray, 0u); }

@@ -71,7 +71,7 @@ VKP_FN bool scatter(VKP_INOUT(PathState) path, Shading shading, RngKey key, uint
 // ray. Returns whether the path goes on to bounce + 1.
 VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce, VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
     // ---- intersect ------------------------------------------------------------------
-    Hit hit = bvhClosestHit(path.ray);
+    Hit hit = bvhClosestHit(path.ray, pathAlphaKey(key, alphaClosestRay(bounce, lightSampleCount())));
     tally.closestRays += 1u;
 
     // ---- shade: what the ray sees ------------------------------------------------------
@@ -89,7 +89,8 @@ VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce, VKP_
         queued = queued || request.valid;
         if (!request.valid || request.contribution == vec3(0.0f)) continue;
         tally.shadowRays += 1u;
-        if (!bvhOccluded(request.ray)) unoccluded += request.contribution;
+        uint alphaKey = pathAlphaKey(key, alphaShadowRay(bounce, lightSampleCount(), j));
+        if (!bvhOccluded(request.ray, alphaKey)) unoccluded += request.contribution;
     }
     if (queued) path.radiance += unoccluded;
 

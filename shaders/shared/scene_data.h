@@ -28,12 +28,14 @@ struct SceneInfo {
     uint samplerKind;             // VKP_SAMPLER_* (shared/rng.h): where the random numbers come from
     uint triangleAttributes;      // VKP_TRIANGLE_* bits some triangle has (shared/mesh_attributes.h): the
                                   // per-triangle and per-vertex arrays exist only if non-zero
+    uint alphaTested;             // 1: some triangle's material may leave holes (alphaMode MASK or BLEND) and
+                                  // the MaterialAlpha[] table exists (shared/alpha.h); 0: all is opaque
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 84);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 88);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -39,6 +39,7 @@
 #define VKP_WF_TEXTURE_SLOTS 26      // TextureSlot[]
 #define VKP_WF_TEXELS 27             // uvec2[]: RGBA texels, two packHalf2x16 words each
 #define VKP_WF_VERTEX_TANGENTS 28    // vec4[vertices]: world-space unit tangent (xyz), bitangent sign (w)
+#define VKP_WF_MATERIAL_ALPHA 29     // MaterialAlpha[materials] (shared/alpha.h), when SceneInfo::alphaTested
 
 VKP_NAMESPACE_BEGIN
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <random>
 
@@ -43,6 +44,20 @@ std::vector<StageScene> stageScenes() {
     addTriangleSoup(mixed, 3000, 0.1f, 5);
     addSphereField(mixed, 300, 0.01f, 0.1f, 6);
     return {{"bunny", scene::loadScene(test::sharedScene("bunny.dae"))}, {"mixed", std::move(mixed)}};
+}
+
+// Dispatches a stage with `given` bound, and a placeholder at every other
+// binding it declares: the scene's materials and textures, which only the
+// alpha test reads, and a SceneInfo of zeros (alphaTested 0) turns it off.
+void dispatchStage(vk::Kernel& kernel, uint32_t invocations, std::map<uint32_t, const vk::Buffer*> given,
+                   const shared::WavePush& push) {
+    vk::Context& context = test::context();
+    const vk::Buffer placeholder(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
+    for (const vk::SpirvBinding& b : kernel.reflection().bindings) given.try_emplace(b.binding, &placeholder);
+    const vk::DescriptorSet set = kernel.bindDeclared(given);
+    context.submit([&](VkCommandBuffer cmd) {
+        kernel.record(cmd, set, invocations, std::as_bytes(std::span(&push, 1)));
+    });
 }
 
 class Stage : public testing::TestWithParam<size_t> {
@@ -89,12 +104,16 @@ TEST_P(Stage, IntersectGivesTheCpuClosestHitOfEveryQueuedRay) {
     counterData.rayCount1 = uint32_t(slots.size());
     vk::Buffer counters = vk::Buffer::fromSpan(context, std::span(&counterData, 1));
 
+    const shared::SceneInfo infoData{};
+    vk::Buffer info = vk::Buffer::fromSpan(context, std::span(&infoData, 1));
+
     vk::Kernel intersect(context, "intersect", {.specialization = {vkpath::bvh::sceneAccessConstant(false)}});
-    intersect.dispatch(uint32_t(slots.size()),
-                       {{VKP_WF_BVH_NODES, &bvh.nodeBinding()}, {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
-                        {VKP_WF_SCENE_ADDRESSES, &addresses}, {VKP_WF_RAYS, &rays}, {VKP_WF_HITS, &hits},
-                        {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters}},
-                       shared::WavePush{0, 0, SLOTS, /*bounce*/ 1, 0});
+    dispatchStage(intersect, uint32_t(slots.size()),
+                  {{VKP_WF_SCENE_INFO, &info}, {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
+                   {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()}, {VKP_WF_SCENE_ADDRESSES, &addresses},
+                   {VKP_WF_RAYS, &rays}, {VKP_WF_HITS, &hits}, {VKP_WF_QUEUES, &queues},
+                   {VKP_WF_COUNTERS, &counters}},
+                  shared::WavePush{0, 0, SLOTS, /*bounce*/ 1, 0});
     const std::vector<Hit> got = hits.download<Hit>();
 
     const shared::BvhView view{m_build.nodes, m_build.primitives};
@@ -156,12 +175,12 @@ TEST_P(Stage, ShadowAddsExactlyTheUnoccludedContributions) {
     vk::Buffer counters = vk::Buffer::fromSpan(context, std::span(&counterData, 1));
 
     vk::Kernel shadow(context, "shadow", {.specialization = {vkpath::bvh::sceneAccessConstant(false)}});
-    shadow.dispatch(uint32_t(slots.size()),
-                    {{VKP_WF_SCENE_INFO, &info}, {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
-                     {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()}, {VKP_WF_SCENE_ADDRESSES, &addresses},
-                     {VKP_WF_RADIANCE, &radiance}, {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters},
-                     {VKP_WF_SHADOW_RAYS, &shadowRays}, {VKP_WF_SHADOW_RADIANCE, &contributions}},
-                    shared::WavePush{0, 0, SLOTS, 0, 0});
+    dispatchStage(shadow, uint32_t(slots.size()),
+                  {{VKP_WF_SCENE_INFO, &info}, {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
+                   {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()}, {VKP_WF_SCENE_ADDRESSES, &addresses},
+                   {VKP_WF_RADIANCE, &radiance}, {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters},
+                   {VKP_WF_SHADOW_RAYS, &shadowRays}, {VKP_WF_SHADOW_RADIANCE, &contributions}},
+                  shared::WavePush{0, 0, SLOTS, 0, 0});
     const std::vector<glm::vec3> got = radiance.download<glm::vec3>();
 
     const shared::BvhView view{m_build.nodes, m_build.primitives};

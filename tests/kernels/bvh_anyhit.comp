@@ -14,6 +14,8 @@
 layout(push_constant, scalar) uniform Push {
     TracePush push;
 };
+// Opaque geometry: every candidate hit stands (shared/bvh_traverse.h).
+bool bvhAlphaTest(BvhPrimitive triangle, vec2 barycentrics, uint alphaKey) { return true; }
 #define VKP_BVH_ADDRESSES push.bvh
 #define VKP_BVH_NODES_BINDING VKP_TRACE_BINDING_NODES
 #define VKP_BVH_PRIMITIVES_BINDING VKP_TRACE_BINDING_PRIMITIVES

@@ -6,6 +6,7 @@
 #extension GL_EXT_scalar_block_layout : require
 
 #include "shared/alias.h"
+#include "shared/alpha.h"
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/lights.h"
@@ -40,6 +41,7 @@ PROBE(SceneAddresses, 16)
 PROBE(TriangleVertices, 17)
 PROBE(TextureInfo, 18)
 PROBE(TextureSlot, 19)
+PROBE(MaterialAlpha, 20)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
@@ -63,4 +65,5 @@ void main() {
     items17[0] = items17[1];
     items18[0] = items18[1];
     items19[0] = items19[1];
+    items20[0] = items20[1];
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "shared/alias.h"
+#include "shared/alpha.h"
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/lights.h"
@@ -77,7 +78,10 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(SceneInfo, environmentLight), VKP_O(SceneInfo, lightSamples), VKP_O(SceneInfo, maxDepth),
           VKP_O(SceneInfo, rouletteDepth), VKP_O(SceneInfo, seed), VKP_O(SceneInfo, width),
           VKP_O(SceneInfo, height), VKP_O(SceneInfo, clampRadiance), VKP_O(SceneInfo, fireflyThreshold),
-          VKP_O(SceneInfo, samplerKind), VKP_O(SceneInfo, triangleAttributes)}},
+          VKP_O(SceneInfo, samplerKind), VKP_O(SceneInfo, triangleAttributes), VKP_O(SceneInfo, alphaTested)}},
+        {"MaterialAlpha", sizeof(MaterialAlpha),
+         {VKP_O(MaterialAlpha, mode), VKP_O(MaterialAlpha, cutoff), VKP_O(MaterialAlpha, alpha),
+          VKP_O(MaterialAlpha, baseColorSlot)}},
         {"Light", sizeof(Light),
          {VKP_O(Light, p0), VKP_O(Light, type), VKP_O(Light, p1), VKP_O(Light, radius), VKP_O(Light, p2),
           VKP_O(Light, cosInner), VKP_O(Light, emission), VKP_O(Light, cosOuter)}},

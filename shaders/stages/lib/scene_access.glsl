@@ -1,6 +1,7 @@
 // The scene's buffers and the accessors shared/path_tracer.h reads them
 // through, then the path tracer itself: its per-vertex math and its loop
 // (shared/integrator.h).
+#include "shared/alpha.h"
 #include "shared/bsdf.h"
 #include "shared/path_state.h"
 #include "shared/lights.h"
@@ -29,6 +30,7 @@ layout(binding = VKP_WF_VERTEX_TANGENTS, scalar) readonly buffer VertexTangentBu
 layout(binding = VKP_WF_TEXTURES, scalar) readonly buffer TextureBuffer { TextureInfo textures[]; };
 layout(binding = VKP_WF_TEXTURE_SLOTS, scalar) readonly buffer TextureSlotBuffer { TextureSlot textureSlots[]; };
 layout(binding = VKP_WF_TEXELS, scalar) readonly buffer TexelBuffer { uvec2 texels[]; };
+layout(binding = VKP_WF_MATERIAL_ALPHA, scalar) readonly buffer MaterialAlphaBuffer { MaterialAlpha materialAlpha[]; };
 
 // The same arrays by address (sceneByAddress: scenes beyond a binding).
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
@@ -43,6 +45,7 @@ layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Tri
 
 SceneInfo sceneInfo() { return sceneInfoData; }
 Material sceneMaterial(uint i) { return materials[i]; }
+MaterialAlpha sceneMaterialAlpha(uint i) { return materialAlpha[i]; }
 Light sceneLight(uint i) {
     if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
     return lights[i];
