@@ -84,10 +84,17 @@ Material Materials::readMaterial(pugi::xml_node material) {
             } else {
                 m_warnings.addExample("ior", fmt::format("{} has no <ior>; using 1.5", where));
             }
-            if (const pugi::xml_node roughness = bsdf.child("roughness");
-                roughness && m_document.scalar(roughness, where + " <roughness>") != 0.0)
-                m_warnings.addExample("roughness",
-                                      fmt::format("{}: rough glass is rendered smooth", what));
+            // Scotty3D's glass never used its roughness; vkpath reads it as
+            // glTF's perceptual roughness (GGX alpha = roughness^2) in [0, 1].
+            if (const pugi::xml_node roughness = bsdf.child("roughness")) {
+                const double value = m_document.scalar(roughness, where + " <roughness>");
+                if (!(value >= 0.0 && value <= 1.0))
+                    m_document.fail(fmt::format("{} <roughness> {} is not in [0, 1]", where, value));
+                if (value > 0.0) {
+                    m.kind = MaterialKind::RoughDielectric;
+                    m.roughness = static_cast<float>(value);
+                }
+            }
             haveBsdf = true;
         } else {
             m_warnings.addExample("cmu-bsdf",

@@ -41,10 +41,9 @@ class MaterialConverter {
                                                     pbr.baseColorTexture.extensions, name, "baseColorTexture");
         out.emissiveTexture = m_textures.reference(m.emissiveTexture.index, m.emissiveTexture.texCoord,
                                                    m.emissiveTexture.extensions, name, "emissiveTexture");
-        if (pbr.metallicRoughnessTexture.index >= 0)
-            m_warnings.addCounted("metallicRoughnessTexture is ignored until vkpath has microfacet materials; the "
-                                  "factors are used",
-                                  "material", name);
+        out.metallicRoughnessTexture =
+            m_textures.reference(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                                 pbr.metallicRoughnessTexture.extensions, name, "metallicRoughnessTexture");
         out.normalTexture = m_textures.reference(m.normalTexture.index, m.normalTexture.texCoord,
                                                  m.normalTexture.extensions, name, "normalTexture");
         if (!std::isfinite(m.normalTexture.scale))
@@ -65,46 +64,64 @@ class MaterialConverter {
             m_warnings.addCounted("textures of material extensions are ignored; their factors are used",
                                   "material", name);
         readAlphaMode(m, out);
-        if (metallic > 0.0 && metallic < 1.0)
-            m_warnings.addCounted(
-                "partly metallic materials are approximated: metallicFactor >= 0.5 as metal, below "
-                "as "
-                "non-metal",
-                "material", name);
+        // KHR_materials_specular: the dielectric layer's weight and the tint of
+        // its Fresnel at normal incidence.
+        const double specular =
+            factor(extensionNumber(m.extensions, "KHR_materials_specular", "specularFactor", 1.0, name),
+                   "specularFactor", name);
+        const glm::dvec3 specularColor =
+            extensionVector(m.extensions, "KHR_materials_specular", "specularColorFactor", glm::dvec3(1.0), name);
+        warnAboutVolumeAttenuation(m, name);
 
-        constexpr double SMOOTH =
-            0.01;  // roughness at or below which a surface counts as perfectly smooth
-        if (metallic >= 0.5) {
-            out.reflectance = base;
-            out.kind = roughness <= 0.5 ? MaterialKind::Mirror : MaterialKind::Diffuse;
-            if (roughness > SMOOTH)
-                m_warnings.addCounted(
-                    "rough metals are approximated: roughnessFactor <= 0.5 as a mirror, above as "
-                    "diffuse",
-                    "material", name);
-        } else if (transmission >= 0.5) {
-            out.kind = MaterialKind::Dielectric;
-            out.reflectance = glm::vec3(1.0f);  // glTF's dielectric specular is untinted
-            out.transmittance = base;  // KHR_materials_transmission: base colour tints what passes
-            out.ior = float(ior);
-            if (roughness > SMOOTH)
-                m_warnings.addCounted("rough transmission is approximated as smooth glass",
+        out.roughness = float(roughness);
+        out.metallic = float(metallic);
+        out.ior = float(ior);
+        out.specular = float(specular);
+        out.specularColor = glm::vec3(specularColor);
+        const bool metalVaries = out.metallicRoughnessTexture.present() && metallic > 0.0;
+        if (transmission >= 0.5) {
+            // KHR_materials_transmission: the base colour tints what passes,
+            // the specular reflection is untinted. Smooth without a roughness
+            // texture: the exact delta glass.
+            const bool smooth = roughness == 0.0 && !out.metallicRoughnessTexture.present();
+            out.kind = smooth ? MaterialKind::Dielectric : MaterialKind::RoughDielectric;
+            out.reflectance = glm::vec3(1.0f);
+            out.transmittance = base;
+            if (metallic > 0.0)
+                m_warnings.addCounted("metallicFactor of transmissive materials is ignored: they are glass",
                                       "material", name);
-        } else {
-            out.kind = MaterialKind::Diffuse;
-            out.reflectance = base;
-            if (roughness < 0.5 && transmission == 0.0)
+            if (specular != 1.0 || specularColor != glm::dvec3(1.0))
+                m_warnings.addCounted("KHR_materials_specular of transmissive materials is ignored", "material",
+                                      name);
+            if (transmission < 1.0)
                 m_warnings.addCounted(
-                    "glossy non-metals (roughnessFactor < 0.5) are approximated as Lambertian: the "
-                    "specular layer is dropped",
+                    "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below as opaque",
+                    "material", name);
+            if (!m.extensions.count("KHR_materials_volume"))
+                m_warnings.addCounted(
+                    "transmission without KHR_materials_volume is thin-walled in glTF (light passes unbent); "
+                    "vkpath refracts it as the surface of a solid",
+                    "material", name);
+        } else {
+            // glTF 2.0 Appendix B, specialised where it is exactly a simpler
+            // kind: wholly metal is the conductor with Schlick's F0 = base
+            // colour; a non-metal without a specular layer (specularFactor 0)
+            // is Lambertian; anything else is the layered material.
+            out.reflectance = base;
+            if (metallic == 1.0 && !metalVaries)
+                out.kind = MaterialKind::Conductor;
+            else if (metallic == 0.0 && specular == 0.0)
+                out.kind = MaterialKind::Diffuse;
+            else
+                out.kind = MaterialKind::MetallicRoughness;
+            if (transmission > 0.0)
+                m_warnings.addCounted(
+                    "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below as opaque",
                     "material", name);
         }
-        if (transmission > 0.0 && transmission < 1.0 && metallic < 0.5)
-            m_warnings.addCounted(
-                "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below "
-                "as "
-                "opaque",
-                "material", name);
+        // A texture that no longer changes anything is not uploaded.
+        if (out.kind == MaterialKind::Diffuse || out.kind == MaterialKind::Dielectric)
+            out.metallicRoughnessTexture = TextureRef{};
 
         glm::dvec3 emissive(0.0);
         if (!m.emissiveFactor.empty()) {
@@ -162,6 +179,38 @@ class MaterialConverter {
         if (!value.IsNumber())
             fail("material '{}': {}.{} is not a number", material, extension, key);
         return value.GetNumberAsDouble();
+    }
+
+    // extension.key as three numbers, `fallback` when the extension or key is absent.
+    glm::dvec3 extensionVector(const tinygltf::ExtensionMap& extensions, const char* extension, const char* key,
+                               glm::dvec3 fallback, const std::string& material) {
+        const auto it = extensions.find(extension);
+        if (it == extensions.end()) return fallback;
+        if (!it->second.IsObject()) fail("material '{}': {} is not an object", material, extension);
+        if (!it->second.Has(key)) return fallback;
+        const tinygltf::Value& value = it->second.Get(key);
+        if (!value.IsArray() || value.ArrayLen() != 3)
+            fail("material '{}': {}.{} is not 3 numbers", material, extension, key);
+        glm::dvec3 v;
+        for (int c = 0; c < 3; ++c) {
+            const tinygltf::Value& number = value.Get(c);
+            if (!number.IsNumber() || !std::isfinite(number.GetNumberAsDouble()) || number.GetNumberAsDouble() < 0.0)
+                fail("material '{}': {}.{} is not 3 finite numbers >= 0", material, extension, key);
+            v[c] = number.GetNumberAsDouble();
+        }
+        return v;
+    }
+
+    // KHR_materials_volume's parts that vkpath does not render (clear coat,
+    // sheen and the other unsupported extensions get the container's
+    // "not supported" line).
+    void warnAboutVolumeAttenuation(const tinygltf::Material& m, const std::string& name) {
+        const auto volume = m.extensions.find("KHR_materials_volume");
+        if (volume != m.extensions.end() && volume->second.IsObject() &&
+            volume->second.Has("attenuationDistance"))
+            m_warnings.addCounted(
+                "KHR_materials_volume's attenuation is not applied: the volume is clear (a refracting solid)",
+                "material", name);
     }
 
     // Whether a material extension (KHR_materials_transmission's

@@ -28,8 +28,9 @@ constexpr double Z_BOUND = 5.0;
 constexpr double PI = 3.14159265358979323846;
 
 wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size,
-                               uint32_t seed) {
+                               uint32_t seed, uint32_t lightSamples = 1) {
     wavefront::RenderSettings settings;
+    settings.lightSamples = lightSamples;
     settings.width = size;
     settings.height = size;
     settings.samplesPerPixel = spp;
@@ -187,6 +188,45 @@ TEST(MicrofacetLimit, RoughnessToZeroConvergesToTheMirrorAndTheSmoothGlass) {
             std::printf("  %s, roughness %.3f: worst z %.2f (critical %.2f), %d of %d blocks rejected\n", c.name,
                         roughness, comparison.worstZ, comparison.critical, comparison.rejected, comparison.blocks);
         }
+    }
+}
+
+// Light sampling and MIS for the non-delta lobes (the pdf of a light
+// sample's direction, bsdfPdf, must be the density sampleBsdf draws from):
+// a sphere of each new kind in the banded sky, rendered with one light sample
+// per vertex and MIS, and with none (BSDF sampling alone finds the sky with
+// weight 1), agree block by block. A pdf that disagreed with the sampler would
+// weight the two strategies wrongly and bias the first. 32 x 32, 2048 spp,
+// 8 x 8 blocks at a 1% family-wise rate. Power, measured: the conductor's
+// bsdfPdf scaled by 0.7 gives worst z 9.6 against the critical 3.42 (at
+// 256 spp it gave 3.5, too close to call, hence 2048; 5 s in all).
+TEST(MicrofacetMis, LightSamplesAgreeWithBsdfSamplingAlone) {
+    struct Case {
+        const char* name;
+        scene::Material material;
+    };
+    scene::Material plastic = material(scene::MaterialKind::MetallicRoughness, 0.4f, 0.0f);
+    plastic.reflectance = glm::vec3(0.6f, 0.2f, 0.1f);
+    const Case cases[] = {
+        {"conductor, roughness 0.3", material(scene::MaterialKind::Conductor, 0.3f)},
+        {"rough glass, roughness 0.3", material(scene::MaterialKind::RoughDielectric, 0.3f)},
+        {"metallic-roughness, metallic 0.5, roughness 0.6", material(scene::MaterialKind::MetallicRoughness, 0.6f, 0.5f)},
+        {"metallic-roughness, non-metal, roughness 0.4", plastic},
+        {"metallic-roughness, non-metal, roughness 0 (delta layer over diffuse)",
+         material(scene::MaterialKind::MetallicRoughness, 0.0f, 0.0f)},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        scene::Scene s = furnace(c.material);
+        s.environment = bandedSky();
+        const auto mis = render(s, 2048, 4, 32, 1, 1);
+        const auto bsdfOnly = render(s, 2048, 4, 32, 2, 0);
+        EXPECT_EQ(mis.nonFiniteSamples + bsdfOnly.nonFiniteSamples, 0u);
+        const auto comparison =
+            image::compareBlocks(mis.image, mis.varianceOfMean, bsdfOnly.image, bsdfOnly.varianceOfMean, 8, 0.01);
+        EXPECT_EQ(comparison.rejected, 0) << "worst z " << comparison.worstZ << " of " << comparison.critical;
+        std::printf("  %s: worst z %.2f (critical %.2f), %d of %d blocks rejected\n", c.name, comparison.worstZ,
+                    comparison.critical, comparison.rejected, comparison.blocks);
     }
 }
 

@@ -535,6 +535,35 @@ TEST(ColladaTransforms, UnitWithADecimalCommaIsReadWithAWarning) {
     EXPECT_THROW(loadQuiet(dir.write("bad.dae", xml(d))), InputError);
 }
 
+// Scotty3D's glass <roughness> (which Scotty3D itself never used) is glTF's
+// perceptual roughness: 0 keeps the smooth glass, more makes rough glass, a
+// value outside [0, 1] is an error.
+TEST(ColladaMaterials, GlassRoughnessMakesRoughGlass) {
+    TempDir dir;
+    auto glassWithRoughness = [](const std::string& roughness) {
+        Doc d;
+        d.extraEffects = effect("glass", "1 1 1", "<glass><ior>1.45</ior><roughness>" + roughness +
+                                                      "</roughness></glass>");
+        d.extraMaterials = material("glass");
+        d.extraNodes = "<node id=\"Glass\" name=\"Glass\"><instance_geometry url=\"#tri\">" + bind("glass") +
+                       "</instance_geometry></node>";
+        return xml(d);
+    };
+    auto glassOf = [](const scene::Scene& s) {
+        for (const scene::Material& m : s.materials)
+            if (m.name == "glass") return m;
+        ADD_FAILURE() << "no material 'glass'";
+        return scene::Material{};
+    };
+    const scene::Material smooth = glassOf(loadQuiet(dir.write("smooth.dae", glassWithRoughness("0"))));
+    EXPECT_EQ(smooth.kind, scene::MaterialKind::Dielectric);
+    const scene::Material rough = glassOf(loadQuiet(dir.write("rough.dae", glassWithRoughness("0.3"))));
+    EXPECT_EQ(rough.kind, scene::MaterialKind::RoughDielectric);
+    EXPECT_FLOAT_EQ(rough.roughness, 0.3f);
+    EXPECT_FLOAT_EQ(rough.ior, 1.45f);
+    EXPECT_THROW(loadQuiet(dir.write("bad.dae", glassWithRoughness("1.5"))), InputError);
+}
+
 // ---------------------------------------------------------------------------
 // Bad input: one InputError, one line, naming the file
 // ---------------------------------------------------------------------------

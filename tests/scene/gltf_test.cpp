@@ -99,7 +99,8 @@ TEST(GltfAssets, CornellBoxLoads) {
     EXPECT_EQ(s.spheres.size(), 2u);
     ASSERT_EQ(s.materials.size(), 6u);
     const scene::FeatureSummary f = s.features();
-    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.mirror && f.glass && f.emissiveSurfaces);
+    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.conductor && f.glass && f.emissiveSurfaces);
+    EXPECT_FALSE(f.mirror || f.roughGlass || f.metallicRoughness);
     EXPECT_FALSE(f.pointLights || f.spotLights || f.directionalLights || f.environment);
 
     // Red on the camera's left (-X), green on its right.
@@ -122,8 +123,10 @@ TEST(GltfAssets, CornellBoxLoads) {
         EXPECT_FLOAT_EQ(sphere.radius, 0.1f);
         EXPECT_FLOAT_EQ(sphere.center.y, 0.1f);  // resting on the floor
     }
+    // glTF's smooth metal: the conductor with Schlick's F0 = base colour.
     const scene::Material& mirror = s.materials[s.spheres[0].material];
-    EXPECT_EQ(mirror.kind, scene::MaterialKind::Mirror);
+    EXPECT_EQ(mirror.kind, scene::MaterialKind::Conductor);
+    EXPECT_EQ(mirror.roughness, 0.0f);
     const scene::Material& glass = s.materials[s.spheres[1].material];
     EXPECT_EQ(glass.kind, scene::MaterialKind::Dielectric);
     EXPECT_FLOAT_EQ(glass.ior, 1.5f);
@@ -154,7 +157,7 @@ TEST(GltfAssets, SkySpheresIsLitByTheBundledSky) {
     EXPECT_EQ(s.triangleCount(), 2u);
     ASSERT_EQ(s.spheres.size(), 3u);
     const scene::FeatureSummary f = s.features();
-    EXPECT_TRUE(f.diffuse && f.mirror && f.glass && f.environment);
+    EXPECT_TRUE(f.diffuse && f.conductor && f.glass && f.environment);
     EXPECT_FALSE(f.emissiveSurfaces);
     ASSERT_TRUE(s.environment && s.environment->map);
     EXPECT_EQ(s.environment->map->width, 2048u);
@@ -504,6 +507,8 @@ struct MaterialRow {
     scene::AlphaMode alphaMode = scene::AlphaMode::Opaque;
     float alphaCutoff = 0.5f;
     float alpha = 1.0f;
+    float roughness = -1.0f;  // checked where >= 0
+    float metallic = -1.0f;   // checked where >= 0
 };
 
 void PrintTo(const MaterialRow& row, std::ostream* os) {
@@ -535,6 +540,12 @@ TEST_P(GltfMaterialTable, MapsAsDocumented) {
     EXPECT_EQ(m.alphaMode, row.alphaMode);
     EXPECT_FLOAT_EQ(m.alphaCutoff, row.alphaCutoff);
     EXPECT_FLOAT_EQ(m.alpha, row.alpha);
+    if (row.roughness >= 0.0f) {
+        EXPECT_FLOAT_EQ(m.roughness, row.roughness);
+    }
+    if (row.metallic >= 0.0f) {
+        EXPECT_FLOAT_EQ(m.metallic, row.metallic);
+    }
     if (*row.warning) {
         EXPECT_EQ(lines(loaded.warnings).size(), 1u) << loaded.warnings;
         EXPECT_CONTAINS(loaded.warnings, row.warning);
@@ -544,16 +555,30 @@ TEST_P(GltfMaterialTable, MapsAsDocumented) {
 }
 
 constexpr scene::MaterialKind DIFFUSE = scene::MaterialKind::Diffuse;
-constexpr scene::MaterialKind MIRROR = scene::MaterialKind::Mirror;
+constexpr scene::MaterialKind CONDUCTOR = scene::MaterialKind::Conductor;
+constexpr scene::MaterialKind LAYERED = scene::MaterialKind::MetallicRoughness;
 constexpr scene::MaterialKind GLASS = scene::MaterialKind::Dielectric;
+constexpr scene::MaterialKind ROUGH_GLASS = scene::MaterialKind::RoughDielectric;
+constexpr scene::AlphaMode OPAQUE = scene::AlphaMode::Opaque;
 
 INSTANTIATE_TEST_SUITE_P(
     Rows, GltfMaterialTable,
     testing::Values(
         MaterialRow{"Default", "", DIFFUSE, glm::vec3(0.8f), glm::vec3(1), 1.5f, glm::vec3(0), ""},
         MaterialRow{
-            "Diffuse",
+            "NonMetalIsLayered",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0}})",
+            LAYERED,
+            {0.2f, 0.4f, 0.6f},
+            glm::vec3(1),
+            1.5f,
+            glm::vec3(0),
+            "",
+            OPAQUE, 0.5f, 1.0f, 1.0f, 0.0f},
+        MaterialRow{
+            "NoSpecularLayerIsLambertian",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0},
+                        "extensions": {"KHR_materials_specular": {"specularFactor": 0}}})",
             DIFFUSE,
             {0.2f, 0.4f, 0.6f},
             glm::vec3(1),
@@ -561,34 +586,37 @@ INSTANTIATE_TEST_SUITE_P(
             glm::vec3(0),
             ""},
         MaterialRow{
-            "Mirror",
-            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1], "roughnessFactor": 0.01}})",
-            MIRROR,
+            "SmoothMetal",
+            R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1], "roughnessFactor": 0}})",
+            CONDUCTOR,
             {0.9f, 0.8f, 0.7f},
             glm::vec3(1),
             1.5f,
             glm::vec3(0),
-            ""},
+            "",
+            OPAQUE, 0.5f, 1.0f, 0.0f, 1.0f},
         MaterialRow{
-            "RoughMetalAsMirror",
+            "RoughMetal",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1], "roughnessFactor": 0.3}})",
-            MIRROR,
+            CONDUCTOR,
             {0.9f, 0.8f, 0.7f},
             glm::vec3(1),
             1.5f,
             glm::vec3(0),
-            "rough metals"},
-        MaterialRow{"VeryRoughMetalAsDiffuse",
-                    R"({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}})", DIFFUSE,
-                    glm::vec3(0.5f), glm::vec3(1), 1.5f, glm::vec3(0), "rough metals"},
+            "",
+            OPAQUE, 0.5f, 1.0f, 0.3f, 1.0f},
+        MaterialRow{"DefaultFactorsAreAVeryRoughMetal",
+                    R"({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}})", CONDUCTOR,
+                    glm::vec3(0.5f), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 1.0f, 1.0f},
         MaterialRow{"PartlyMetallic",
-                    R"({"pbrMetallicRoughness": {"metallicFactor": 0.7, "roughnessFactor": 0}})",
-                    MIRROR, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partly metallic"},
+                    R"({"pbrMetallicRoughness": {"metallicFactor": 0.7, "roughnessFactor": 0.2}})", LAYERED,
+                    glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 0.2f, 0.7f},
         MaterialRow{
             "Glass",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 1, 0.9, 1], "metallicFactor": 0,
                         "roughnessFactor": 0}, "extensions": {"KHR_materials_transmission":
-                        {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.33}}})",
+                        {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.33},
+                        "KHR_materials_volume": {"thicknessFactor": 1}}})",
             GLASS,
             glm::vec3(1),
             {0.9f, 1.0f, 0.9f},
@@ -598,38 +626,62 @@ INSTANTIATE_TEST_SUITE_P(
         MaterialRow{
             "GlassDefaultIor",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
-                        {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})",
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                         "KHR_materials_volume": {}}})",
             GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), ""},
+        MaterialRow{
+            "ThinWalledGlassIsASolid",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})",
+            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "thin-walled"},
         MaterialRow{
             "RoughGlass",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.4}, "extensions":
-                        {"KHR_materials_transmission": {"transmissionFactor": 1.0}}})",
-            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "rough transmission"},
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                         "KHR_materials_volume": {"thicknessFactor": 1}}})",
+            ROUGH_GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 0.4f},
+        MaterialRow{
+            "VolumeAttenuationIsNotApplied",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                        {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                         "KHR_materials_volume": {"attenuationDistance": 2}}})",
+            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "attenuation is not applied"},
         MaterialRow{
             "MostlyTransmissive",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
-                        {"KHR_materials_transmission": {"transmissionFactor": 0.7}}})",
+                        {"KHR_materials_transmission": {"transmissionFactor": 0.7}, "KHR_materials_volume": {}}})",
             GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partial transmission"},
         MaterialRow{
             "SlightlyTransmissive",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.6}, "extensions":
                         {"KHR_materials_transmission": {"transmissionFactor": 0.3}}})",
-            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partial transmission"},
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "partial transmission"},
         MaterialRow{
             "GlossyPlastic",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 1], "metallicFactor": 0,
-                        "roughnessFactor": 0.2}})",
-            DIFFUSE,
+                        "roughnessFactor": 0.2}, "extensions": {"KHR_materials_ior": {"ior": 1.4}}})",
+            LAYERED,
             {0.1f, 0.2f, 0.3f},
             glm::vec3(1),
-            1.5f,
+            1.4f,
             glm::vec3(0),
-            "glossy non-metals"},
+            "",
+            OPAQUE, 0.5f, 1.0f, 0.2f, 0.0f},
+        MaterialRow{
+            "ClearcoatIsWarned",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
+                        {"KHR_materials_clearcoat": {"clearcoatFactor": 1}}})",
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "'KHR_materials_clearcoat' is not supported"},
+        MaterialRow{
+            "SheenIsWarned",
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
+                        {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}}})",
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "'KHR_materials_sheen' is not supported"},
         MaterialRow{
             "EmissiveWithStrength",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [1, 0.5, 0.25],
                         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}})",
-            DIFFUSE,
+            LAYERED,
             glm::vec3(1),
             glm::vec3(1),
             1.5f,
@@ -638,34 +690,34 @@ INSTANTIATE_TEST_SUITE_P(
         MaterialRow{
             "EmissiveFactorOnly",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [0.5, 0.5, 0.5]})",
-            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0.5f), ""},
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0.5f), ""},
         MaterialRow{
             "UndecodableTextureLeavesTheFactors",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 1], "metallicFactor": 0,
                         "baseColorTexture": {"index": 0}}})",
-            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "images that cannot be decoded"},
+            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "images that cannot be decoded"},
         MaterialRow{
             "AlphaBlend",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.5], "metallicFactor": 0},
                         "alphaMode": "BLEND"})",
-            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Blend, 0.5f, 0.5f},
+            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Blend, 0.5f, 0.5f},
         MaterialRow{
             "AlphaMaskWithCutoff",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.25], "metallicFactor": 0},
                         "alphaMode": "MASK", "alphaCutoff": 0.2})",
-            DIFFUSE, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask, 0.2f, 0.25f},
+            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask, 0.2f, 0.25f},
         MaterialRow{
             "AlphaMaskDefaultCutoff",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "alphaMode": "MASK"})",
-            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask, 0.5f, 1.0f},
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask, 0.5f, 1.0f},
         MaterialRow{
             "AlphaOpaqueByDefault",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5], "metallicFactor": 0}})",
-            DIFFUSE, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Opaque, 0.5f, 0.5f},
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Opaque, 0.5f, 0.5f},
         MaterialRow{
             "FactorsClamped",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [1.5, 0.5, 0.5, 1], "metallicFactor": 0}})",
-            DIFFUSE,
+            LAYERED,
             {1.0f, 0.5f, 0.5f},
             glm::vec3(1),
             1.5f,
