@@ -280,6 +280,7 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
     for (size_t i = 0; i < s.materials.size(); ++i)
         addMaterial(root, s.materials[i], fmt::format("mat{}", i), notes);
 
+    size_t normalMapped = 0;
     for (size_t i = 0; i < s.meshes.size(); ++i) {
         const Mesh& mesh = s.meshes[i];
         if (mesh.triangles.empty()) continue;
@@ -296,6 +297,7 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
         // normals gives too); without them both use face normals.
         addValue(shape, "boolean", "face_normals", mesh.normals.empty() ? "true" : "false");
         finishShape(shape, s, mesh.material);
+        normalMapped += mesh.material < s.materials.size() && s.materials[mesh.material].normalTexture.present();
     }
     size_t emissiveSpheres = 0;
     for (size_t i = 0; i < s.spheres.size(); ++i) {
@@ -362,6 +364,10 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
             "roughness, eta), whose diffuse lobe (Disney's, with retro-reflection), Fresnel and masking differ "
             "from glTF 2.0 Appendix B's, and which has no KHR_materials_specular weight or colour ({} materials)",
             notes.metallicRoughness));
+    if (normalMapped > 0)
+        result.warnings.push_back(fmt::format(
+            "normal maps are not exported: Mitsuba shades those meshes with their vertex normals ({} meshes)",
+            normalMapped));
     if (emissiveSpheres > 0)
         result.warnings.push_back(fmt::format(
             "emissive spheres: Mitsuba's emit outward only, vkpath's to both sides (the same unless something "

@@ -210,6 +210,21 @@ TEST(ExportMitsuba, ConstantEnvironment) {
     EXPECT_EQ(param(env, "rgb", "radiance"), "1, 2, 4");
 }
 
+// Normal maps are not exported: the export says so once, counting the
+// meshes, and still writes the scene.
+TEST(ExportMitsuba, NormalMapsAreWarnedAbout) {
+    const vkpath::test::TempDir dir;
+    const fs::path source = VKPATH_SOURCE_DIR;
+    const auto r = runVkpath("export-mitsuba " + quoted(source / "assets/normal_maps.gltf") + " " +
+                             quoted(dir / "nm") + " -d 32x24");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("normal maps are not exported: Mitsuba shades those meshes with their vertex normals "
+                         "(3 meshes)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_TRUE(fs::exists(dir / "nm/scene.xml"));
+}
+
 TEST(ExportMitsuba, BadInputIsOneLineAndNothingWritten) {
     const vkpath::test::TempDir dir;
     const fs::path missing = dir / "missing.gltf";
