@@ -13,10 +13,12 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <span>
 #include <typeinfo>
 
 #include "input_error.h"
 #include "scene/camera.h"
+#include "scene/tangents.h"
 
 namespace vkpath::fuzz {
 namespace {
@@ -76,6 +78,38 @@ std::string demangledTypeName(const std::type_info& type) {
 
 bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The tangents the renderer generates for a normal-mapped mesh without
+// TANGENT (host/scene/tangents, as wavefront/surface_tables calls it), on
+// whatever positions, normals and texture coordinates the file holds: unit,
+// finite, w = +-1, every triangle over the generated vertices, every vertex
+// a copy of one of the mesh's.
+void checkTangents(const scene::Mesh& mesh, const scene::Material& material) {
+    const size_t n = mesh.positions.size();
+    const std::vector<glm::vec2>& uvs =
+        material.normalTexture.texCoord == 0 ? mesh.texcoords0 : mesh.texcoords1;
+    if (!material.normalTexture.present() || n == 0 || uvs.size() != n) return;
+    const std::span<const glm::vec3> normals = mesh.normals.size() == n
+                                                   ? std::span<const glm::vec3>(mesh.normals)
+                                                   : std::span<const glm::vec3>();
+    const scene::MeshTangents t =
+        scene::generateTangents(mesh.positions, normals, uvs, mesh.triangles);
+    if (t.tangents.size() != t.sourceVertex.size() || t.tangents.size() < n ||
+        t.triangles.size() != mesh.triangles.size())
+        finding(fmt::format("mesh '{}': generated tangents of inconsistent sizes", mesh.name));
+    for (size_t v = 0; v < t.tangents.size(); ++v) {
+        const glm::vec4& tangent = t.tangents[v];
+        const float length = glm::length(glm::vec3(tangent));
+        if (!finite(glm::vec3(tangent)) || std::abs(length - 1.0f) > 1e-3f ||
+            (tangent.w != 1.0f && tangent.w != -1.0f) || t.sourceVertex[v] >= n)
+            finding(fmt::format("mesh '{}': generated tangent {} is not a unit vector with w = +-1 "
+                                "of a mesh vertex",
+                                mesh.name, v));
+    }
+    for (const glm::uvec3& tri : t.triangles)
+        if (glm::any(glm::greaterThanEqual(tri, glm::uvec3(uint32_t(t.tangents.size())))))
+            finding(fmt::format("mesh '{}': a triangle past the generated tangents", mesh.name));
 }
 
 bool finiteNonNegative(const glm::vec3& v) {
@@ -218,6 +252,7 @@ void checkScene(const scene::Scene& s) {
                 if (t[k] >= mesh.positions.size())
                     finding(fmt::format("mesh '{}': index {} of {} positions", mesh.name, t[k],
                                         mesh.positions.size()));
+        if (mesh.material < materials) checkTangents(mesh, s.materials[mesh.material]);
     }
     for (const scene::Sphere& sphere : s.spheres) {
         if (sphere.material >= materials)
