@@ -204,7 +204,7 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         if (sweep.knob->biased && o.reference.empty())
             std::fprintf(stderr,
                          "vkpath: warning: --sweep %s without --reference: the two-seed estimate measures noise only, "
-                         "not the bias of %s; give a deep, unclamped reference to see it\n",
+                         "not the bias of %s; give a deep reference without it to see it\n",
                          sweep.knob->name, sweep.knob->name);
         for (const std::string& value : sweep.values) {
             Configuration c{sweep.knob->name, value, fmt::format("{}={}", sweep.knob->name, value), base, {}};

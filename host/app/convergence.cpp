@@ -57,6 +57,17 @@ const std::vector<Knob> KNOBS = {
              throw InputError(fmt::format("--sweep clamp: '{}' is neither off nor a number > 0", v));
          s.clampRadiance = c;
      }, true},
+    {"regularize", "off or GGX alphas in (0, 1]", [](wavefront::RenderSettings& s, const std::string& v) {
+         if (v == "off") {
+             s.regularize = 0;
+             return;
+         }
+         float a = 0;
+         const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), a);
+         if (error != std::errc() || end != v.data() + v.size() || !(a > 0 && a <= 1))
+             throw InputError(fmt::format("--sweep regularize: '{}' is neither off nor a number in (0, 1]", v));
+         s.regularize = a;
+     }, true},
 };
 
 }  // namespace

@@ -39,6 +39,9 @@ int runExport(const ExportOptions& o) {
                                        settings.lightSamples));
     if (settings.clampRadiance > 0)
         warnings.push_back("--clamp: Mitsuba's path tracer does not clamp; the exported scene renders unclamped");
+    if (settings.regularize > 0)
+        warnings.push_back("--regularize: Mitsuba's path tracer does not regularise; the exported scene renders "
+                           "unregularised");
     for (const std::string& warning : warnings) std::fprintf(stderr, "vkpath: warning: %s\n", warning.c_str());
     std::printf("%s\n", result.xml.string().c_str());
     return 0;

@@ -31,6 +31,11 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     cmd.add_option("--clamp", o.clamp,
                    "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
         ->capture_default_str();
+    cmd.add_option("--regularize", o.regularize,
+                   "Path regularisation: after a path's first non-delta bounce, widen mirror, glass and smooth "
+                   "microfacet lobes to at least this GGX alpha, in (0, 1] (biased: blurs caustics, removes their "
+                   "fireflies; 0: off)")
+        ->capture_default_str();
     cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular");
     cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
     cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier (default: the scene's, or 1)");
@@ -84,9 +89,9 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
     if (!o.environmentColor.empty())
         color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
     return {fmt::format("{:016x}", hash),
-            fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} env={} "
-                        "env-color={} env-strength={} env-rotate={} camera={}",
-                        o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp,
+            fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} "
+                        "regularize={} env={} env-color={} env-strength={} env-rotate={} camera={}",
+                        o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp, o.regularize,
                         o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),
                         optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera)};
 }
@@ -119,6 +124,8 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (o.threads && o.device != "cpu")
         throw InputError("-t/--threads: only the CPU reference (--device cpu) runs on threads");
     if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
+    if (!(o.regularize >= 0 && o.regularize <= 1))
+        throw InputError("--regularize must be a GGX alpha in (0, 1], or 0 for off");
     // Beyond these a render runs for hours before its first sample and buys
     // nothing: after 1024 bounces of albedo 0.99 a path keeps 3e-5 of its
     // weight, and 1024 light samples per vertex are 1024 shadow rays each.
@@ -138,6 +145,7 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (!sampler) throw InputError(fmt::format("--sampler: '{}' is neither independent nor sobol", o.sampler));
     settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
+    settings.regularize = o.regularize;
     if ((!o.kernel.empty() || o.noSpecialize) && o.device == "cpu")
         throw InputError("--kernel and --no-specialize choose GPU kernels: not with --device cpu");
     if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);

@@ -32,6 +32,7 @@ struct RenderOptions {
     uint32_t seed = 0;
     std::string sampler = "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
     float clamp = 0;
+    float regularize = 0;  // path regularisation's least GGX alpha; 0: off
     std::string environment;
     std::vector<float> environmentColor;
     std::optional<float> environmentStrength;  // unset: the scene's own (1 for -e)

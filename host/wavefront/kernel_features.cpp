@@ -38,6 +38,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_ROUGH_GLASS, "rough-glass"},
     {VKP_FEATURE_METALLIC_ROUGHNESS, "metallic-roughness"},
     {VKP_FEATURE_ALPHA, "alpha"},
+    {VKP_FEATURE_REGULARIZE, "regularize"},
 }};
 
 }  // namespace
@@ -77,6 +78,15 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     // continuePath runs at bounces < maxDepth and applies roulette from
     // bounce + 1 >= rouletteDepth on.
     if (info.rouletteDepth <= info.maxDepth) f |= VKP_FEATURE_ROULETTE;
+    // Path regularisation (shared/bsdf.h regularizedMaterial) roughens the
+    // delta and near-delta lobes: the mirror becomes a GGX conductor and the
+    // smooth glass a rough one, so their kernels must hold those kinds too.
+    const uint32_t roughenable = VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS | VKP_FEATURES_MICROFACET;
+    if (info.regularizeAlpha > 0.0f && (f & roughenable) != 0) {
+        f |= VKP_FEATURE_REGULARIZE;
+        if (f & VKP_FEATURE_MIRROR) f |= VKP_FEATURE_CONDUCTOR;
+        if (f & VKP_FEATURE_GLASS) f |= VKP_FEATURE_ROUGH_GLASS;
+    }
     return f;
 }
 

@@ -32,6 +32,7 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.width = settings.width;
     info.height = settings.height;
     info.clampRadiance = settings.clampRadiance;
+    info.regularizeAlpha = settings.regularize;
     // A firefly: one sample that alone adds more than 1 (display white) to its pixel's mean.
     info.fireflyThreshold = float(settings.samplesPerPixel);
     return info;

@@ -50,6 +50,10 @@ struct RenderSettings {
     // > 0: clamp each path sample's largest component to this. Biased (it
     // removes energy), off by default; fireflies are counted either way.
     float clampRadiance = 0;
+    // > 0: path regularisation (shared/bsdf.h regularizedMaterial): after a
+    // path's first non-delta scattering, lobes of GGX alpha below this get it
+    // (biased; 0: off)
+    float regularize = 0;
     std::optional<double> timeBudgetSeconds;  // stop after the wave that crosses it
     // GPU: the form of the kernels; unset: the measured default for the
     // device's type (defaultKernelForm).

@@ -71,7 +71,9 @@ VKP_FN vec2 materialAlpha(Material material) { return vec2(material.roughness * 
 VKP_FN Conductor materialConductor(Material material) {
     Conductor c;
     c.alpha = materialAlpha(material);
-    c.complexFresnel = (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) != 0u;
+    c.fresnel = (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) != 0u    ? VKP_FRESNEL_COMPLEX
+                : (material.flags & VKP_MATERIAL_CONSTANT_FRESNEL) != 0u ? VKP_FRESNEL_CONSTANT
+                                                                          : VKP_FRESNEL_SCHLICK;
     c.f0 = material.reflectance;
     c.eta = material.reflectance;
     c.k = material.transmittance;
@@ -95,6 +97,34 @@ VKP_FN MetallicRoughness materialMetallicRoughness(Material material) {
     p.specularF0 = material.transmittance;
     p.specularF90 = material.specular;
     return p;
+}
+
+// ---- path regularisation ----------------------------------------------------------------
+// Kaplanyan and Dachsbacher 2013, "Path Space Regularization for Holistic and
+// Robust Light Transport": after a path's first non-delta scattering, delta
+// and near-delta lobes are widened, so that light reached only through them
+// (caustics seen via a diffuse surface) is found by light sampling and
+// nearby BSDF samples instead of by rare hits. Biased (the image blurs what
+// those lobes show), consistent as the alpha goes to 0. The rule is pbrt-v4's
+// (BSDF::Regularize with its TrowbridgeReitzDistribution::Regularize) with
+// the floor a knob: every lobe of GGX alpha below `alpha` gets `alpha`; the
+// mirror becomes the conductor of the same constant reflectance, the smooth
+// glass the rough dielectric of the same index and tints.
+VKP_FN Material regularizedMaterial(Material material, float alpha) {
+    if (!(alpha > 0.0f)) return material;
+    float roughness = sqrt(alpha);
+    if (materialIs(material, VKP_MATERIAL_MIRROR)) {
+        material.kind = VKP_MATERIAL_CONDUCTOR;
+        material.flags = VKP_MATERIAL_CONSTANT_FRESNEL;
+        material.roughness = roughness;
+    } else if (materialIs(material, VKP_MATERIAL_DIELECTRIC)) {
+        material.kind = VKP_MATERIAL_ROUGH_DIELECTRIC;
+        material.roughness = roughness;
+    } else if (materialIs(material, VKP_MATERIAL_CONDUCTOR) || materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC) ||
+               materialIs(material, VKP_MATERIAL_METALLIC_ROUGHNESS)) {
+        material.roughness = max(material.roughness, roughness);
+    }
+    return material;
 }
 
 // A sample drawn in `frame` as a world-space one.

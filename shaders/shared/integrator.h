@@ -40,6 +40,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
     }
     BvhPrimitive primitive = bvhPrimitive(hit.primitive);
     shading.material = materialAt(sceneMaterial(primitive.material), primitive, hit);
+    if (hasFeature(VKP_FEATURE_REGULARIZE) && path.afterNonDelta)
+        shading.material = regularizedMaterial(shading.material, sceneInfo().regularizeAlpha);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     shading.wo = -path.ray.direction;
     shading.surface.shadingNormal =
@@ -63,6 +65,7 @@ VKP_FN bool scatter(VKP_INOUT(PathState) path, Shading shading, RngKey key, uint
     path.previousPosition = shading.surface.position;
     path.bsdfPdf = step.bsdfPdf;
     path.specular = step.specular;
+    path.afterNonDelta = path.afterNonDelta || !step.specular;
     return true;
 }
 

@@ -23,6 +23,9 @@ VKP_NAMESPACE_BEGIN
 // Material::flags: a conductor with the exact Fresnel equations of a complex
 // index (eta in `reflectance`, k in `transmittance`) instead of Schlick's.
 #define VKP_MATERIAL_COMPLEX_FRESNEL 1u
+// Material::flags: a conductor whose reflectance is `reflectance` at every
+// angle (a mirror roughened by path regularisation, shared/bsdf.h).
+#define VKP_MATERIAL_CONSTANT_FRESNEL 2u
 
 // Each field serves the kinds its comment names and is ignored by the others
 // (64 bytes for every kind; scene::Material has a field per meaning).
@@ -39,7 +42,7 @@ struct Material {
     float roughness;     // conductor, rough glass, metallic-roughness: GGX alpha = roughness^2
     float metallic;      // metallic-roughness: 0 dielectric, 1 metal
     float specular;      // metallic-roughness: the dielectric layer's weight, its Fresnel at grazing incidence
-    uint flags;          // VKP_MATERIAL_COMPLEX_FRESNEL
+    uint flags;          // VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL
 };
 
 // The feature bit of material kind `kind` (shared/features.h).

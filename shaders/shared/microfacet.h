@@ -188,16 +188,22 @@ VKP_FN vec3 fresnelComplex3(float cosTheta, vec3 eta, vec3 k) {
 // is F G2 / G1(wo). Two-sided like the mirror: a wo below the surface
 // reflects below it (the frame is flipped for it).
 
+// Conductor::fresnel: how the reflectance depends on the angle.
+#define VKP_FRESNEL_SCHLICK 0u   // Schlick's approximation with f0 (glTF's metals)
+#define VKP_FRESNEL_COMPLEX 1u   // the exact Fresnel equations of eta + i k
+#define VKP_FRESNEL_CONSTANT 2u  // f0 at every angle (the mirror, roughened by path regularisation)
+
 struct Conductor {
-    vec2 alpha;           // GGX roughness along s and t (alpha = roughness^2)
-    vec3 f0;              // Schlick's reflectance at normal incidence (glTF: base colour)
-    vec3 eta;             // complex index, real part per RGB channel, relative to the outside
-    vec3 k;               // complex index, imaginary part (absorption) per channel
-    bool complexFresnel;  // true: Fresnel of eta + i k; false: Schlick with f0
+    vec2 alpha;    // GGX roughness along s and t (alpha = roughness^2)
+    vec3 f0;       // reflectance at normal incidence (glTF: base colour)
+    vec3 eta;      // complex index, real part per RGB channel, relative to the outside
+    vec3 k;        // complex index, imaginary part (absorption) per channel
+    uint fresnel;  // VKP_FRESNEL_*
 };
 
 VKP_FN vec3 conductorFresnel(Conductor c, float cosTheta) {
-    if (c.complexFresnel) return fresnelComplex3(cosTheta, c.eta, c.k);
+    if (c.fresnel == VKP_FRESNEL_COMPLEX) return fresnelComplex3(cosTheta, c.eta, c.k);
+    if (c.fresnel == VKP_FRESNEL_CONSTANT) return c.f0;
     return fresnelSchlick(c.f0, cosTheta);
 }
 

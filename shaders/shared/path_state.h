@@ -25,6 +25,7 @@ struct PathState {
     vec3 previousPosition;  // world space: the last scattering point (the camera for the first ray)
     float bsdfPdf;          // density of the direction sampled there (MIS at the next hit)
     bool specular;          // the camera or a delta BSDF produced the ray (no MIS)
+    bool afterNonDelta;     // a non-delta lobe scattered the path before (path regularisation applies)
 };
 
 // What a path's rays were, for RenderResult's counters.
@@ -59,6 +60,7 @@ VKP_FN PathState startPath(Camera camera, uint pixel, RngKey key) {
     path.previousPosition = camera.origin;
     path.bsdfPdf = 0.0f;
     path.specular = true;
+    path.afterNonDelta = false;
     return path;
 }
 

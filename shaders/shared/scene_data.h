@@ -30,12 +30,14 @@ struct SceneInfo {
                                   // per-triangle and per-vertex arrays exist only if non-zero
     uint alphaTested;             // 1: some triangle's material may leave holes (alphaMode MASK or BLEND) and
                                   // the MaterialAlpha[] table exists (shared/alpha.h); 0: all is opaque
+    float regularizeAlpha;        // > 0: path regularisation, the least GGX alpha of a lobe after the path's first
+                                  // non-delta scattering (shared/bsdf.h regularizedMaterial; biased)
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 88);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 92);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

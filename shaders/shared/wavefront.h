@@ -48,7 +48,8 @@ VKP_NAMESPACE_BEGIN
 // exactly: etaScale is positive, so its sign bit carries `specular`.
 struct PathVertex {
     vec3 position;            // world space: the last scattering point (the camera for the first ray)
-    float bsdfPdf;            // density of the direction sampled there
+    float bsdfPdf;            // density of the direction sampled there (>= 0), its sign bit set when a
+                              // non-delta lobe scattered the path before (PathState::afterNonDelta)
     float specularEtaScale;   // PathState::etaScale, negated when the ray is specular (the camera or a
                               // delta BSDF produced it: no MIS)
 };

@@ -38,7 +38,7 @@ void main() {
             c.f0 = push.f0;
             c.eta = push.eta;
             c.k = push.k;
-            c.complexFresnel = push.complexFresnel != 0u;
+            c.fresnel = push.fresnel;
             s = sampleConductor(c, push.wo, u);
             if (s.valid) {
                 r.eval = evalConductor(c, push.wo, s.direction);

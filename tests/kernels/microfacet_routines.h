@@ -16,7 +16,7 @@ struct MicrofacetPush {
     uint routine;         // MICROFACET_*
     uint count;           // samples
     uint seed;
-    uint complexFresnel;  // conductor: 1 = Fresnel of eta + i k, 0 = Schlick with f0
+    uint fresnel;         // conductor: VKP_FRESNEL_* (shared/microfacet.h)
     vec2 alpha;
     float ior;            // dielectric
     vec3 wo;              // local, unit

@@ -257,7 +257,7 @@ shared::Conductor conductorOf(const MicrofacetPush& p) {
     c.f0 = p.f0;
     c.eta = p.eta;
     c.k = p.k;
-    c.complexFresnel = p.complexFresnel != 0;
+    c.fresnel = p.fresnel;
     return c;
 }
 
@@ -319,16 +319,16 @@ TEST(RoughConductor, WeightIsEvalOverPdf) {
     struct Case {
         glm::vec2 alpha;
         double cosTheta;
-        bool complexFresnel;
+        uint32_t fresnel;
     };
-    const Case cases[] = {{{0.05f, 0.05f}, 0.9, false}, {{0.5f, 0.5f}, 0.3, true},
-                          {{1.0f, 1.0f}, 0.02, false},  {{0.02f, 0.4f}, 0.7, true},
-                          {{0.3f, 0.3f}, -0.8, true}};
+    const Case cases[] = {{{0.05f, 0.05f}, 0.9, VKP_FRESNEL_SCHLICK}, {{0.5f, 0.5f}, 0.3, VKP_FRESNEL_COMPLEX},
+                          {{1.0f, 1.0f}, 0.02, VKP_FRESNEL_SCHLICK},  {{0.02f, 0.4f}, 0.7, VKP_FRESNEL_COMPLEX},
+                          {{0.3f, 0.3f}, -0.8, VKP_FRESNEL_COMPLEX},  {{0.3f, 0.3f}, 0.6, VKP_FRESNEL_CONSTANT}};
     for (const Case& c : cases) {
         SCOPED_TRACE(testing::Message() << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos "
                                         << c.cosTheta);
         MicrofacetPush p = pushFor(MICROFACET_CONDUCTOR, c.alpha, direction(c.cosTheta, 1.1), 9);
-        p.complexFresnel = c.complexFresnel;
+        p.fresnel = c.fresnel;
         p.f0 = glm::vec3(0.95f, 0.64f, 0.54f);  // copper, glTF style
         p.eta = GOLD_ETA;
         p.k = GOLD_K;
@@ -367,7 +367,7 @@ TEST(RoughConductor, Reciprocity) {
         c.f0 = glm::vec3(0.95f, 0.64f, 0.54f);
         c.eta = GOLD_ETA;
         c.k = GOLD_K;
-        c.complexFresnel = n % 2 == 0;
+        c.fresnel = n % 3 == 0 ? VKP_FRESNEL_COMPLEX : n % 3 == 1 ? VKP_FRESNEL_SCHLICK : VKP_FRESNEL_CONSTANT;
         glm::vec3 a = randomDirection(), b = randomDirection();
         if (std::abs(a.z) < 1e-3f || std::abs(b.z) < 1e-3f) continue;
         if (a.z * b.z < 0) b.z = -b.z;
@@ -472,7 +472,7 @@ TEST(RoughConductor, ApproachesTheMirrorAsAlphaGoesToZero) {
     for (float a : {1e-2f, 3e-3f, 1.01e-3f}) {
         SCOPED_TRACE(testing::Message() << "alpha " << a);
         MicrofacetPush p = pushFor(MICROFACET_CONDUCTOR, glm::vec2(a), glm::vec3(0, 0, 1), 13);
-        p.complexFresnel = 1;
+        p.fresnel = VKP_FRESNEL_COMPLEX;
         p.eta = GOLD_ETA;
         p.k = GOLD_K;
         double within = 0;
@@ -503,7 +503,7 @@ TEST(RoughConductor, ApproachesTheMirrorAsAlphaGoesToZero) {
     }
     MicrofacetPush p = pushFor(MICROFACET_CONDUCTOR, glm::vec2(0.99e-3f), direction(0.6, 0.5), 13);
     p.count = 1000;
-    p.complexFresnel = 1;
+    p.fresnel = VKP_FRESNEL_COMPLEX;
     p.eta = GOLD_ETA;
     p.k = GOLD_K;
     const glm::vec3 fresnel = shared::fresnelComplex3(p.wo.z, GOLD_ETA, GOLD_K);

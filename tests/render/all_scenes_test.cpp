@@ -94,12 +94,13 @@ bool sameBits(const image::Image& a, const image::Image& b) {
 // the megakernel runs the wavefront stages' functions in the same order
 // (shared/integrator.h): with the same seed, the same bits. Two settings: the
 // defaults (one light sample, independent sampler, roulette from bounce 4),
-// and their opposites (three light samples, Sobol', no roulette), so that
-// every feature bit of the settings is both on and off somewhere.
+// and their opposites (three light samples, Sobol', no roulette, path
+// regularisation), so that every feature bit of the settings is both on and
+// off somewhere.
 TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
     const scene::Scene s = scene::loadScene(GetParam());
     for (const bool defaults : {true, false}) {
-        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, sobol, no roulette");
+        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, sobol, no roulette, regularised");
         wavefront::RenderSettings settings;
         settings.width = 32;
         settings.height = 24;
@@ -109,6 +110,7 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
             settings.lightSamples = 3;
             settings.sampler = wavefront::SamplerKind::Sobol;
             settings.rouletteDepth = 6;
+            settings.regularize = 0.2f;
         }
         settings.kernel = wavefront::KernelForm::Wavefront;
         wavefront::GpuRenderer reference(test::context(), s, settings);

@@ -14,7 +14,8 @@ PathState loadPath(uint slot) {
     path.radiance = radiance[slot];
     PathVertex v = vertices[slot];
     path.previousPosition = v.position;
-    path.bsdfPdf = v.bsdfPdf;
+    path.bsdfPdf = abs(v.bsdfPdf);
+    path.afterNonDelta = (floatBitsToUint(v.bsdfPdf) & 0x80000000u) != 0u;
     path.etaScale = abs(v.specularEtaScale);
     path.specular = v.specularEtaScale < 0.0;
     return path;
@@ -27,7 +28,7 @@ void storePathVertex(uint slot, PathState path) {
     throughput[slot] = path.throughput;
     PathVertex v;
     v.position = path.previousPosition;
-    v.bsdfPdf = path.bsdfPdf;
+    v.bsdfPdf = path.afterNonDelta ? -path.bsdfPdf : path.bsdfPdf;  // (-0.0 keeps the sign bit)
     v.specularEtaScale = path.specular ? -path.etaScale : path.etaScale;
     vertices[slot] = v;
 }
