@@ -209,8 +209,15 @@ void checkScene(const scene::Scene& s) {
     const size_t materials = s.materials.size();
     for (const scene::Material& m : s.materials)
         if (!finiteNonNegative(m.reflectance) || !finiteNonNegative(m.transmittance) ||
-            !finiteNonNegative(m.emission) || !std::isfinite(m.ior) || !(m.ior > 0.0f))
+            !finiteNonNegative(m.emission) || !std::isfinite(m.ior) || !(m.ior > 0.0f) ||
+            !finiteNonNegative(m.specularColor) || !finiteNonNegative(m.conductorEta) ||
+            !finiteNonNegative(m.conductorK))
             finding(fmt::format("material '{}' has a negative or non-finite value", m.name));
+    // The microfacet kinds' parameters are fractions (shared/bsdf.h reads them unchecked).
+    for (const scene::Material& m : s.materials)
+        if (!(m.roughness >= 0.0f && m.roughness <= 1.0f) || !(m.metallic >= 0.0f && m.metallic <= 1.0f) ||
+            !(m.specular >= 0.0f && m.specular <= 1.0f))
+            finding(fmt::format("material '{}': roughness, metallic or specular outside [0, 1]", m.name));
     for (const scene::Mesh& mesh : s.meshes) {
         if (mesh.material >= materials)
             finding(
