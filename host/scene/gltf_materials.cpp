@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "input_error.h"
 
@@ -71,7 +72,6 @@ class MaterialConverter {
                    "specularFactor", name);
         const glm::dvec3 specularColor =
             extensionVector(m.extensions, "KHR_materials_specular", "specularColorFactor", glm::dvec3(1.0), name);
-        warnAboutVolumeAttenuation(m, name);
 
         out.roughness = float(roughness);
         out.metallic = float(metallic);
@@ -87,6 +87,7 @@ class MaterialConverter {
             out.kind = smooth ? MaterialKind::Dielectric : MaterialKind::RoughDielectric;
             out.reflectance = glm::vec3(1.0f);
             out.transmittance = base;
+            out.attenuation = volumeAttenuation(m, name);
             if (metallic > 0.0)
                 m_warnings.addCounted("metallicFactor of transmissive materials is ignored: they are glass",
                                       "material", name);
@@ -201,16 +202,31 @@ class MaterialConverter {
         return v;
     }
 
-    // KHR_materials_volume's parts that vkpath does not render (clear coat,
-    // sheen and the other unsupported extensions get the container's
-    // "not supported" line).
-    void warnAboutVolumeAttenuation(const tinygltf::Material& m, const std::string& name) {
+    // KHR_materials_volume's absorption (Beer-Lambert): light that crosses a
+    // distance d inside keeps attenuationColor^(d / attenuationDistance), so
+    // the coefficient is -ln(attenuationColor) / attenuationDistance per
+    // metre (world space, as the extension says). The defaults (distance
+    // infinite, colour white) are clear; a colour channel of 0 is taken as
+    // 1e-6 (it keeps the coefficient finite: 1e-6 of the light after one
+    // attenuationDistance).
+    glm::vec3 volumeAttenuation(const tinygltf::Material& m, const std::string& name) {
         const auto volume = m.extensions.find("KHR_materials_volume");
-        if (volume != m.extensions.end() && volume->second.IsObject() &&
-            volume->second.Has("attenuationDistance"))
-            m_warnings.addCounted(
-                "KHR_materials_volume's attenuation is not applied: the volume is clear (a refracting solid)",
-                "material", name);
+        if (volume == m.extensions.end()) return glm::vec3(0.0f);
+        const double distance = extensionNumber(m.extensions, "KHR_materials_volume", "attenuationDistance",
+                                                std::numeric_limits<double>::infinity(), name);
+        if (!(distance > 0.0)) fail("material '{}': attenuationDistance {} is not > 0", name, distance);
+        glm::dvec3 color =
+            extensionVector(m.extensions, "KHR_materials_volume", "attenuationColor", glm::dvec3(1.0), name);
+        if (std::isinf(distance) || color == glm::dvec3(1.0)) return glm::vec3(0.0f);
+        glm::vec3 attenuation;
+        for (int c = 0; c < 3; ++c) {
+            if (color[c] > 1.0) {
+                m_warnings.addCounted("material factors outside [0, 1] are clamped", "material", name);
+                color[c] = 1.0;
+            }
+            attenuation[c] = float(-std::log(std::max(color[c], 1e-6)) / distance);
+        }
+        return attenuation;
     }
 
     // Whether a material extension (KHR_materials_transmission's

@@ -92,6 +92,7 @@ struct MaterialNotes {
     size_t separableMasking = 0;  // GGX lobes: Mitsuba's G1 G1 against vkpath's height-correlated G2
     size_t schlickConductors = 0;
     size_t metallicRoughness = 0;
+    size_t absorbingGlass = 0;  // Beer-Lambert inside: Mitsuba needs a medium and volpath for it
 };
 
 // Mitsuba's GGX parameters for vkpath's roughness (alpha = roughness^2), with
@@ -120,6 +121,7 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id,
             addGgx(bsdf, m.roughness);
             ++notes.separableMasking;
         }
+        if (m.attenuation != glm::vec3(0.0f)) ++notes.absorbingGlass;
         addValue(bsdf, "float", "int_ior", num(m.ior));
         addValue(bsdf, "float", "ext_ior", "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
         addRgb(bsdf, "specular_reflectance", m.reflectance);
@@ -358,6 +360,11 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
             "written as its perfect conductor tinted by F0, whose reflectance does not rise toward 1 at grazing "
             "angles ({} materials)",
             notes.schlickConductors));
+    if (notes.absorbingGlass > 0)
+        result.warnings.push_back(fmt::format(
+            "absorbing glass (KHR_materials_volume): written clear; Mitsuba's path tracer has no absorption inside "
+            "a dielectric without a medium ({} materials)",
+            notes.absorbingGlass));
     if (notes.metallicRoughness > 0)
         result.warnings.push_back(fmt::format(
             "glTF metallic-roughness materials: written as Mitsuba's principled BSDF (base colour, metallic, "

@@ -103,6 +103,10 @@ struct Material {
     // to the outside; eta all 0 (the default): Schlick's Fresnel with F0 = reflectance.
     glm::vec3 conductorEta{0.0f};
     glm::vec3 conductorK{0.0f};
+    // Dielectric, RoughDielectric: the inside's absorption coefficient per
+    // metre (KHR_materials_volume: -ln(attenuationColor) / attenuationDistance),
+    // light crossing a distance d inside keeps exp(-attenuation d); 0: clear.
+    glm::vec3 attenuation{0.0f};
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
     // `emission`; both are sRGB-encoded. The others hold linear data.

@@ -30,6 +30,8 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
     g.metallic = m.metallic;
     g.specular = m.specular;
     g.flags = 0;
+    const bool glass = m.kind == scene::MaterialKind::Dielectric || m.kind == scene::MaterialKind::RoughDielectric;
+    g.attenuation = glass ? m.attenuation : glm::vec3(0.0f);
     if (m.kind == scene::MaterialKind::Conductor && m.conductorEta != glm::vec3(0.0f)) {
         g.flags = VKP_MATERIAL_COMPLEX_FRESNEL;
         g.reflectance = m.conductorEta;

@@ -39,6 +39,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_METALLIC_ROUGHNESS, "metallic-roughness"},
     {VKP_FEATURE_ALPHA, "alpha"},
     {VKP_FEATURE_REGULARIZE, "regularize"},
+    {VKP_FEATURE_ABSORPTION, "absorption"},
 }};
 
 }  // namespace
@@ -50,6 +51,7 @@ uint32_t sceneFeatures(const SceneTables& t) {
         const shared::Material& m = t.materials.at(p.material);
         f |= shared::materialFeature(m.kind);
         if (m.emission != glm::vec3(0.0f)) f |= VKP_FEATURE_EMISSIVE_SURFACES;
+        if (m.attenuation != glm::vec3(0.0f)) f |= VKP_FEATURE_ABSORPTION;
         if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE) f |= VKP_FEATURE_TEXTURES;
         if (!t.materialAlpha.empty() && t.materialAlpha[p.material].mode != VKP_ALPHA_OPAQUE &&
             p.kind == VKP_PRIMITIVE_TRIANGLE)

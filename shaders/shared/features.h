@@ -44,7 +44,8 @@
 #define VKP_FEATURE_METALLIC_ROUGHNESS (1u << 22)     // ... with glTF's metallic-roughness material
 #define VKP_FEATURE_ALPHA (1u << 23)                  // a triangle whose material may leave holes (alphaMode)
 #define VKP_FEATURE_REGULARIZE (1u << 24)             // path regularisation (SceneInfo::regularizeAlpha > 0)
-#define VKP_FEATURE_COUNT 25u
+#define VKP_FEATURE_ABSORPTION (1u << 25)             // a primitive of glass that absorbs inside (attenuation > 0)
+#define VKP_FEATURE_COUNT 26u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 #define VKP_FEATURES_MATERIALS                                                               \

@@ -44,6 +44,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
         shading.material = regularizedMaterial(shading.material, sceneInfo().regularizeAlpha);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     shading.wo = -path.ray.direction;
+    if (hasFeature(VKP_FEATURE_ABSORPTION))
+        path.throughput *= mediumTransmittance(shading.material, shading.surface, path.ray, hit);
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))

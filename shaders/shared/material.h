@@ -28,7 +28,7 @@ VKP_NAMESPACE_BEGIN
 #define VKP_MATERIAL_CONSTANT_FRESNEL 2u
 
 // Each field serves the kinds its comment names and is ignored by the others
-// (64 bytes for every kind; scene::Material has a field per meaning).
+// (76 bytes for every kind; scene::Material has a field per meaning).
 struct Material {
     vec3 reflectance;    // diffuse: albedo; mirror, glass, rough glass: reflection tint; conductor: Schlick's F0, or
                          // the complex index's real part eta; metallic-roughness: base colour
@@ -43,6 +43,8 @@ struct Material {
     float metallic;      // metallic-roughness: 0 dielectric, 1 metal
     float specular;      // metallic-roughness: the dielectric layer's weight, its Fresnel at grazing incidence
     uint flags;          // VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL
+    vec3 attenuation;    // glass, rough glass: absorption coefficient of the inside, per metre (Beer-Lambert;
+                         // KHR_materials_volume); 0: clear
 };
 
 // The feature bit of material kind `kind` (shared/features.h).
@@ -81,7 +83,7 @@ VKP_FN bool materialIs(Material material, uint kind) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::Material) == 64);
+static_assert(sizeof(vkpath::shared::Material) == 76);
 #endif
 
 #endif  // VKPATH_SHARED_MATERIAL_H

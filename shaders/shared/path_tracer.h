@@ -276,6 +276,19 @@ VKP_FN uint pathAlphaKey(RngKey key, uint ray) VKP_SCENE_CONST {
     return alphaRayKey(key, ray);
 }
 
+// ---- absorption inside glass ------------------------------------------------------------
+
+// What is left of light that crossed the inside of `material` to reach
+// `surface` from behind along `ray` (Beer-Lambert: exp(-attenuation d)), 1
+// for a hit from the front or on a clear material. A ray that meets a glass
+// surface from behind travelled inside that glass, as long as glass bodies
+// are closed and do not overlap or nest (docs/SCENES.md).
+VKP_FN vec3 mediumTransmittance(Material material, SurfacePoint surface, Ray ray, Hit hit) VKP_SCENE_CONST {
+    bool glass = materialIs(material, VKP_MATERIAL_DIELECTRIC) || materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC);
+    if (!glass || material.attenuation == vec3(0.0f) || dot(ray.direction, surface.normal) <= 0.0f) return vec3(1.0f);
+    return exp(-material.attenuation * hit.t);  // (ray.direction is unit)
+}
+
 // ---- emission seen by a path ----------------------------------------------------------
 
 // The weight of emission reached by a BSDF sample of density `bsdfPdf` whose

@@ -641,12 +641,6 @@ INSTANTIATE_TEST_SUITE_P(
                          "KHR_materials_volume": {"thicknessFactor": 1}}})",
             ROUGH_GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 0.4f},
         MaterialRow{
-            "VolumeAttenuationIsNotApplied",
-            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
-                        {"KHR_materials_transmission": {"transmissionFactor": 1.0},
-                         "KHR_materials_volume": {"attenuationDistance": 2}}})",
-            GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "attenuation is not applied"},
-        MaterialRow{
             "MostlyTransmissive",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
                         {"KHR_materials_transmission": {"transmissionFactor": 0.7}, "KHR_materials_volume": {}}})",
@@ -724,6 +718,32 @@ INSTANTIATE_TEST_SUITE_P(
             glm::vec3(0),
             "clamped"}),
     [](const testing::TestParamInfo<MaterialRow>& p) { return std::string(p.param.name); });
+
+// KHR_materials_volume's absorption: -ln(attenuationColor) / attenuationDistance
+// per metre, clear by default (no distance, or a white colour), on glass only;
+// a distance that is not > 0 is an error naming the material.
+TEST(GltfVolume, AttenuationIsBeerLambertsCoefficient) {
+    TempDir dir;
+    auto glassWithVolume = [&](const std::string& volume, const char* file) {
+        GltfBuilder g;
+        const int material = g.material(Json::parse(
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_volume": )" +
+            volume + "}}"));
+        g.node({{"mesh", g.triangle(material)}});
+        g.camera();
+        return g.writeGltf(dir / file);
+    };
+    const Loaded absorbing =
+        load(glassWithVolume(R"({"attenuationDistance": 2, "attenuationColor": [0.5, 0.25, 1]})", "absorbing.gltf"));
+    EXPECT_EQ(absorbing.warnings, "");
+    expectVec3Near(absorbing.scene.materials.at(0).attenuation,
+                   {float(std::log(2.0) / 2), float(std::log(4.0) / 2), 0.0f}, 1e-6f);
+    const Loaded clear = load(glassWithVolume(R"({"attenuationColor": [0.5, 0.5, 0.5]})", "clear.gltf"));
+    expectVec3Near(clear.scene.materials.at(0).attenuation, glm::vec3(0.0f), 0.0f);
+    EXPECT_CONTAINS(loadError(glassWithVolume(R"({"attenuationDistance": 0})", "zero.gltf")),
+                    "attenuationDistance 0 is not > 0");
+}
 
 // ---------------------------------------------------------------------------
 // Lights and spheres
