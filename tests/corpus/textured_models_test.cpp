@@ -1,9 +1,11 @@
 // Textured glTF models of Debian's assimp-testmodels (made by others; read
-// where the package puts them), rendered by `vkpath render` as a user would,
-// and judged against what their texture files say, decoded in the test
-// (tests/support/textured_render.h), not by the renderer's decoder.
+// where the package puts them), rendered as a user would (TextureTransformTest
+// by `vkpath render`; BoxTextured through the library, its material's
+// specular layer taken off), and judged against what their texture files say,
+// decoded in the test (tests/support/textured_render.h), not by the renderer's
+// decoder.
 //
-// BoxTextured: a diffuse box under a constant white sky. The box is convex,
+// BoxTextured: its Lambertian base under a constant white sky. The box is convex,
 // so every direction above a face sees the sky: a face of albedo a (the
 // texture, times a base colour factor of 1) reflects a x (1 / pi) x pi x 1 = a
 // exactly in expectation, and the light bounces no further. Each face's
@@ -29,7 +31,9 @@
 #include "scene/load.h"
 #include "shared/camera.h"
 #include "support/temp_dir.h"
+#include "support/test_context.h"
 #include "support/textured_render.h"
+#include "wavefront/renderer.h"
 
 namespace {
 
@@ -84,20 +88,37 @@ TEST_P(BoxTextured, FaceShowsTheTexturesMeanColour) {
     ASSERT_NEAR(camera.origin.y, 0.0f, 1e-6f);
     ASSERT_GT(camera.origin.z, 0.5f);
     ASSERT_NEAR(camera.forward.z, -1.0f, 1e-6f);
-    // Lambertian, albedo = the texture (base colour factor 1, metallic 0, roughness 1).
+    // glTF's non-metal (base colour factor 1, metallic 0, roughness 1): a
+    // dielectric layer over a Lambertian base of the texture's colour. What
+    // this test checks is the texture's way from the file to the film, so it
+    // renders the base alone: the same material without its specular layer
+    // (KHR_materials_specular's specularFactor 0, which is exactly
+    // Lambertian; the layer is tests/kernels/material_bsdf_test.cpp's).
     ASSERT_EQ(s.meshes.size(), 1u);
-    const scene::Material& m = s.materials.at(s.meshes[0].material);
-    ASSERT_EQ(m.kind, scene::MaterialKind::Diffuse);
+    scene::Scene lambertian = s;
+    scene::Material& m = lambertian.materials.at(s.meshes[0].material);
+    ASSERT_EQ(m.kind, scene::MaterialKind::MetallicRoughness);
+    ASSERT_EQ(m.metallic, 0.0f);
     ASSERT_EQ(m.reflectance, glm::vec3(1.0f));
     ASSERT_TRUE(m.baseColorTexture.present());
     ASSERT_FALSE(m.emissive());
+    m.kind = scene::MaterialKind::Diffuse;
+    m.specular = 0.0f;
+    scene::Environment sky;
+    sky.color = glm::vec3(1.0f);
+    lambertian.environment = sky;
 
     // The face's rectangle on the film: a plane parallel to the film maps to
     // it by a similarity, so its area in pixels is exact.
     const glm::dvec2 lo = test::project(camera, {-0.5, 0.5, 0.5}), hi = test::project(camera, {0.5, -0.5, 0.5});
 
-    const test::TempDir dir;
-    const test::Render r = test::renderOnWhiteSky(file, W, H, SPP, dir.path());
+    wavefront::RenderSettings settings;
+    settings.width = W;
+    settings.height = H;
+    settings.samplesPerPixel = SPP;
+    wavefront::GpuRenderer renderer(test::context(), lambertian, settings);
+    const wavefront::RenderResult result = renderer.render();
+    const test::Render r{result.image, result.varianceOfMean};
     ASSERT_EQ(r.image.width, W);
     const test::FaceMean face = test::faceMeanOnWhiteSky(r, lo, hi);
     ASSERT_TRUE(face.inside) << "the face and its margin lie on the film";
