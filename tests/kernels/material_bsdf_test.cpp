@@ -22,6 +22,7 @@
 #include "scene/scene.h"
 #include "shared/bsdf.h"
 #include "support/direction_chi2.h"
+#include "support/fresnel_rounding.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
@@ -254,16 +255,7 @@ double fresnelRounding(const shared::Material& material, glm::vec3 worldWo, glm:
     if (material.kind != VKP_MATERIAL_ROUGH_DIELECTRIC) return 0;
     const shared::Frame frame = shared::makeFrame(NORMAL);
     const glm::vec3 wo = shared::frameToLocal(frame, worldWo), wi = shared::frameToLocal(frame, worldWi);
-    const float side = wo.z > 0 ? 1.0f : -1.0f;
-    const float eta = wo.z > 0 ? material.ior : 1 / material.ior;
-    glm::vec3 m;
-    if (!shared::roughDielectricHalfVector(side * wo, side * wi, eta, m)) return 0;
-    const float om = glm::dot(side * wo, m);
-    const double f = shared::fresnelDielectric(om, eta);
-    const double change = std::max(std::abs(shared::fresnelDielectric(om + 1e-6f, eta) - f),
-                                   std::abs(shared::fresnelDielectric(om - 1e-6f, eta) - f));
-    const double part = wo.z * wi.z > 0 ? f : 1 - f;
-    return part > 0 ? change / part : 0;
+    return test::fresnelRounding(material.ior, wo, wi);
 }
 
 // Every valid non-delta sample's weight equals the dispatch's own

@@ -19,6 +19,7 @@
 #include "shared/microfacet.h"
 #include "shared/rng.h"
 #include "support/direction_chi2.h"
+#include "support/fresnel_rounding.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
@@ -559,24 +560,10 @@ double dielectricDensity(glm::vec3 wof, glm::vec3 wif, glm::vec2 alpha, double i
     return (1 - f) * visible * ni * ni * std::abs(im) / (denom * denom);
 }
 
-// Fresnel's slope is infinite at the critical angle (1 - F grows like
-// sqrt(cos - cos_c)), so there two float evaluations of one configuration
-// agree only as well as F does when wo.m moves by its rounding: the half
-// vector recomputed from wo and wi differs from the sampled one by a few
-// ulps, bounded here by 1e-6. Returns that relative change of F (reflection)
-// or of 1 - F (transmission); elsewhere it is ~1e-6 and the bounds below are
-// set by the rest of the arithmetic.
+// Where two float evaluations of one configuration can disagree by the
+// Fresnel term's rounding: test::fresnelRounding.
 double fresnelRounding(const shared::RoughDielectric& d, glm::vec3 wo, glm::vec3 wi) {
-    const float side = wo.z > 0 ? 1.0f : -1.0f;
-    const float eta = wo.z > 0 ? d.ior : 1 / d.ior;
-    glm::vec3 m;
-    if (!shared::roughDielectricHalfVector(side * wo, side * wi, eta, m)) return 0;
-    const float om = glm::dot(side * wo, m);
-    const double f = shared::fresnelDielectric(om, eta);
-    const double change = std::max(std::abs(shared::fresnelDielectric(om + 1e-6f, eta) - f),
-                                   std::abs(shared::fresnelDielectric(om - 1e-6f, eta) - f));
-    const double part = wo.z * wi.z > 0 ? f : 1 - f;
-    return part > 0 ? change / part : 0;
+    return test::fresnelRounding(d.ior, wo, wi);
 }
 
 struct DielectricCase {

@@ -20,6 +20,7 @@
 #include "image/statistics.h"
 #include "reference/reference_renderer.h"
 #include "scene/load.h"
+#include "support/pixel_match.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
 
@@ -86,18 +87,7 @@ double trimmedRelMse(const image::Image& a, const image::Image& b, double fracti
     return keep > 0 ? sum / double(keep) : 0.0;
 }
 
-// Pixels whose channels agree to 1e-3 relative (or 1e-6 absolute): those
-// where every sample followed the same path on both sides.
-double matchingPixelFraction(const image::Image& a, const image::Image& b) {
-    size_t same = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i) {
-        bool ok = true;
-        for (int c = 0; c < 3; ++c)
-            ok = ok && std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::abs(b.pixels[i][c]) + 1e-6f;
-        same += ok;
-    }
-    return double(same) / double(a.pixels.size());
-}
+using test::matchingPixelFraction;
 
 // Same seed, 48x36 pixels, 4 spp, depth 8: GPU (lavapipe) and CPU images.
 //

@@ -19,6 +19,7 @@
 #include "image/statistics.h"
 #include "reference/reference_renderer.h"
 #include "scene/load.h"
+#include "support/pixel_match.h"
 #include "support/test_context.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
@@ -414,19 +415,7 @@ TEST(AlphaKernels, MaterialsThatCannotLeaveAHoleAreOpaque) {
     EXPECT_TRUE(tested(coloured));
 }
 
-// Matching pixels of two renders with the same seed, as
-// tests/reference/reference_renderer_test.cpp counts them (1e-3 relative or
-// 1e-6 absolute): where every sample followed the same path.
-double matchingPixelFraction(const image::Image& a, const image::Image& b) {
-    size_t same = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i) {
-        bool ok = true;
-        for (int c = 0; c < 3; ++c)
-            ok = ok && std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::abs(b.pixels[i][c]) + 1e-6f;
-        same += ok;
-    }
-    return double(same) / double(a.pixels.size());
-}
+using test::matchingPixelFraction;
 
 // The CPU reference decides every candidate as the GPU does (the same hash
 // of the same path): with the same seed at least 97% of the pixels are equal,
