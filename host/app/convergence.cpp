@@ -35,6 +35,17 @@ uint32_t unsignedValue(const char* knob, const std::string& value) {
     return *v;
 }
 
+// A knob that is `off` (0) or a number that `valid` accepts (`what` says
+// which numbers, for the error).
+float offOrNumber(const char* knob, const std::string& value, const char* what, bool (*valid)(float)) {
+    if (value == "off") return 0;
+    float number = 0;
+    const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
+    if (error != std::errc() || end != value.data() + value.size() || !valid(number))
+        throw InputError(fmt::format("--sweep {}: '{}' is neither off nor {}", knob, value, what));
+    return number;
+}
+
 // The knob table. Each row: the name --sweep takes, the values it accepts and
 // how one sets RenderSettings.
 const std::vector<Knob> KNOBS = {
@@ -47,26 +58,10 @@ const std::vector<Knob> KNOBS = {
          s.sampler = *sampler;
      }, false},
     {"clamp", "off or numbers > 0", [](wavefront::RenderSettings& s, const std::string& v) {
-         if (v == "off") {
-             s.clampRadiance = 0;
-             return;
-         }
-         float c = 0;
-         const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), c);
-         if (error != std::errc() || end != v.data() + v.size() || !(c > 0) || !std::isfinite(c))
-             throw InputError(fmt::format("--sweep clamp: '{}' is neither off nor a number > 0", v));
-         s.clampRadiance = c;
+         s.clampRadiance = offOrNumber("clamp", v, "a number > 0", [](float c) { return c > 0 && std::isfinite(c); });
      }, true},
     {"regularize", "off or GGX alphas in (0, 1]", [](wavefront::RenderSettings& s, const std::string& v) {
-         if (v == "off") {
-             s.regularize = 0;
-             return;
-         }
-         float a = 0;
-         const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), a);
-         if (error != std::errc() || end != v.data() + v.size() || !(a > 0 && a <= 1))
-             throw InputError(fmt::format("--sweep regularize: '{}' is neither off nor a number in (0, 1]", v));
-         s.regularize = a;
+         s.regularize = offOrNumber("regularize", v, "a number in (0, 1]", [](float a) { return a > 0 && a <= 1; });
      }, true},
 };
 
