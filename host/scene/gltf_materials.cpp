@@ -94,10 +94,6 @@ class MaterialConverter {
             if (specular != 1.0 || specularColor != glm::dvec3(1.0))
                 m_warnings.addCounted("KHR_materials_specular of transmissive materials is ignored", "material",
                                       name);
-            if (transmission < 1.0)
-                m_warnings.addCounted(
-                    "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below as opaque",
-                    "material", name);
             if (!m.extensions.count("KHR_materials_volume"))
                 m_warnings.addCounted(
                     "transmission without KHR_materials_volume is thin-walled in glTF (light passes unbent); "
@@ -115,11 +111,11 @@ class MaterialConverter {
                 out.kind = MaterialKind::Diffuse;
             else
                 out.kind = MaterialKind::MetallicRoughness;
-            if (transmission > 0.0)
-                m_warnings.addCounted(
-                    "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below as opaque",
-                    "material", name);
         }
+        if (transmission > 0.0 && transmission < 1.0)
+            m_warnings.addCounted(
+                "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below as opaque",
+                "material", name);
         // A texture that no longer changes anything is not uploaded.
         if (out.kind == MaterialKind::Diffuse || out.kind == MaterialKind::Dielectric)
             out.metallicRoughnessTexture = TextureRef{};
@@ -169,14 +165,22 @@ class MaterialConverter {
         return value;
     }
 
+    // extension.key, or null when the extension or key is absent.
+    const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& extensions, const char* extension,
+                                          const char* key, const std::string& material) {
+        const auto it = extensions.find(extension);
+        if (it == extensions.end()) return nullptr;
+        if (!it->second.IsObject()) fail("material '{}': {} is not an object", material, extension);
+        if (!it->second.Has(key)) return nullptr;
+        return &it->second.Get(key);
+    }
+
     // extension.key as a number, `fallback` when the extension or key is absent.
     double extensionNumber(const tinygltf::ExtensionMap& extensions, const char* extension,
                            const char* key, double fallback, const std::string& material) {
-        const auto it = extensions.find(extension);
-        if (it == extensions.end()) return fallback;
-        if (!it->second.IsObject()) fail("material '{}': {} is not an object", material, extension);
-        if (!it->second.Has(key)) return fallback;
-        const tinygltf::Value& value = it->second.Get(key);
+        const tinygltf::Value* found = extensionValue(extensions, extension, key, material);
+        if (!found) return fallback;
+        const tinygltf::Value& value = *found;
         if (!value.IsNumber())
             fail("material '{}': {}.{} is not a number", material, extension, key);
         return value.GetNumberAsDouble();
@@ -185,11 +189,9 @@ class MaterialConverter {
     // extension.key as three numbers, `fallback` when the extension or key is absent.
     glm::dvec3 extensionVector(const tinygltf::ExtensionMap& extensions, const char* extension, const char* key,
                                glm::dvec3 fallback, const std::string& material) {
-        const auto it = extensions.find(extension);
-        if (it == extensions.end()) return fallback;
-        if (!it->second.IsObject()) fail("material '{}': {} is not an object", material, extension);
-        if (!it->second.Has(key)) return fallback;
-        const tinygltf::Value& value = it->second.Get(key);
+        const tinygltf::Value* found = extensionValue(extensions, extension, key, material);
+        if (!found) return fallback;
+        const tinygltf::Value& value = *found;
         if (!value.IsArray() || value.ArrayLen() != 3)
             fail("material '{}': {}.{} is not 3 numbers", material, extension, key);
         glm::dvec3 v;
