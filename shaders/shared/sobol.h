@@ -50,23 +50,39 @@ VKP_FN uint nestedUniformScramble(uint x, uint seed) {
     return bitfieldReverse(laineKarrasPermutation(bitfieldReverse(x), seed));
 }
 
-// Sobol' dimension 1 of `index` as a 32-bit fraction: the xor of the
-// direction numbers v_k over the set bits k of the index.
-VKP_FN uint sobolDimension1(uint index) {
-    uint result = 0u;
-    for (uint v = 0x80000000u; index != 0u; index >>= 1u, v ^= v >> 1u)
-        if ((index & 1u) != 0u) result ^= v;
-    return result;
+// Sobol' dimension 1 of `index` as a 32-bit fraction, bit-reversed: bit j
+// of the result is bit 31 - j of the fraction. The fraction is the xor of
+// the direction numbers v_k over the set bits k of the index, and v_k holds
+// row k - 1 of Pascal's triangle mod 2 (bit 31 - j of v_{i+1} is C(i, j)
+// mod 2). By Lucas' theorem C(i, j) is odd exactly when the bits of j are a
+// subset of those of i, so bit j of the reversed fraction is the xor of the
+// index bits i that are supersets of j: a superset (zeta) transform over
+// GF(2), one masked shift-xor per bit of the bit position, five in all
+// instead of a loop over 32 index bits (tests/kernels/sobol_sampler_test.cpp
+// checks it against the direction numbers).
+VKP_FN uint reversedSobolDimension1(uint index) {
+    index ^= (index >> 1u) & 0x55555555u;
+    index ^= (index >> 2u) & 0x33333333u;
+    index ^= (index >> 4u) & 0x0f0f0f0fu;
+    index ^= (index >> 8u) & 0x00ff00ffu;
+    index ^= (index >> 16u) & 0x0000ffffu;
+    return index;
 }
 
 // Coordinate `component` (0 or 1) of point `index` of a scrambled 2-D Sobol'
 // sequence, as a 32-bit fraction. `shuffleSeed` permutes the indices;
 // `scrambleSeed` scrambles this coordinate. Every sample index of 32 bits is
 // valid.
+//
+// As written out: shuffled = nestedUniformScramble(index, shuffleSeed);
+// the coordinate is bitfieldReverse(shuffled) (dimension 0, van der Corput)
+// or the dimension-1 fraction of it, and the result is its
+// nestedUniformScramble with scrambleSeed. The bit reversals that cancel
+// are left out: both coordinates are scrambled in bit-reversed form.
 VKP_FN uint scrambledSobol2(uint index, uint component, uint shuffleSeed, uint scrambleSeed) {
     uint shuffled = nestedUniformScramble(index, shuffleSeed);
-    uint bits = component == 0u ? bitfieldReverse(shuffled) : sobolDimension1(shuffled);
-    return nestedUniformScramble(bits, scrambleSeed);
+    uint reversedBits = component == 0u ? shuffled : reversedSobolDimension1(shuffled);
+    return bitfieldReverse(laineKarrasPermutation(reversedBits, scrambleSeed));
 }
 
 VKP_NAMESPACE_END

@@ -70,6 +70,45 @@ TEST(SobolSampler, GpuMatchesCpuBitForBit) {
 
 // Each uniformity test at 1% significance, Sidak-corrected over all of them:
 // 20 single dimensions, within-pair and across-pair 2-D tests, first samples.
+// shared/sobol.h's scrambledSobol2 as its comment writes it out: dimension
+// 1 as the xor of the direction numbers v_1 = 2^31, v_k = v_{k-1} xor
+// (v_{k-1} >> 1) over the set bits of the index, and every bit reversal
+// done. The shader's version computes dimension 1 in closed form and drops
+// the reversals that cancel; the two must agree on every bit.
+uint32_t sobolDimension1ByDirectionNumbers(uint32_t index) {
+    uint32_t result = 0u;
+    for (uint32_t v = 0x80000000u; index != 0u; index >>= 1u, v ^= v >> 1u)
+        if ((index & 1u) != 0u) result ^= v;
+    return result;
+}
+
+uint32_t scrambledSobol2AsDefined(uint32_t index, uint32_t component, uint32_t shuffleSeed,
+                                  uint32_t scrambleSeed) {
+    const uint32_t shuffled = shared::nestedUniformScramble(index, shuffleSeed);
+    const uint32_t bits = component == 0u ? glm::bitfieldReverse(shuffled)
+                                          : sobolDimension1ByDirectionNumbers(shuffled);
+    return shared::nestedUniformScramble(bits, scrambleSeed);
+}
+
+TEST(SobolSampler, ClosedFormMatchesTheDirectionNumbers) {
+    // Every single-bit index (each direction number alone), then hashed
+    // indices and seeds.
+    for (uint32_t bit = 0; bit < 32; ++bit)
+        EXPECT_EQ(glm::bitfieldReverse(shared::reversedSobolDimension1(1u << bit)),
+                  sobolDimension1ByDirectionNumbers(1u << bit))
+            << "bit " << bit;
+    uint32_t mismatches = 0;
+    for (uint32_t i = 0; i < 200000u; ++i) {
+        const glm::uvec4 h = shared::pcg4d(glm::uvec4(i, 7u, 11u, 13u));
+        const uint32_t index = i < 1000u ? i : h.x;
+        for (uint32_t component = 0; component < 2u; ++component)
+            if (shared::scrambledSobol2(index, component, h.y, h.z) !=
+                scrambledSobol2AsDefined(index, component, h.y, h.z))
+                ++mismatches;
+    }
+    EXPECT_EQ(mismatches, 0u);
+}
+
 constexpr int UNIFORMITY_TESTS = 20 + 2 + 1;
 const double ALPHA = test::sidakAlpha(0.01, UNIFORMITY_TESTS);
 
