@@ -47,7 +47,8 @@ GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
     } else {
         gpu.primitives = vk::Buffer::fromSpan(context, std::span(bvh.primitives), "bvh primitives");
     }
-    if (byAddress) gpu.placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "bvh placeholder");
+    // One texel: the bindings are texel buffers (shared/bvh_buffers.h).
+    if (byAddress) gpu.placeholder = vk::Buffer(context, 16, vk::MemoryKind::DeviceLocal, "bvh placeholder");
     return gpu;
 }
 

@@ -21,7 +21,8 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
     create.size = allocated;
     create.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     if (kind == MemoryKind::DeviceLocal)
-        create.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+        create.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     const bool addressable = kind == MemoryKind::DeviceLocal && context.info().bufferDeviceAddress;
     if (addressable) create.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
@@ -73,6 +74,23 @@ VkDeviceAddress Buffer::deviceAddress() const {
     return vkGetBufferDeviceAddress(m_context->device(), &info);
 }
 
+VkBufferView Buffer::texelView() const {
+    if (m_texelView) return m_texelView;
+    constexpr VkDeviceSize TEXEL_BYTES = 16;
+    const VkDeviceSize texels =
+        std::min<VkDeviceSize>(m_size / TEXEL_BYTES, m_context->info().maxTexelBufferElements);
+    if (m_kind != MemoryKind::DeviceLocal || texels == 0)
+        throw std::logic_error(fmt::format("texel view: needs a device-local buffer of at least {} bytes (this one: {})",
+                                           TEXEL_BYTES, m_size));
+    VkBufferViewCreateInfo create{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    create.buffer = m_buffer;
+    create.format = VK_FORMAT_R32G32B32A32_UINT;  // uniform texel buffers of it are required of every device
+    create.offset = 0;
+    create.range = texels * TEXEL_BYTES;
+    VK_CHECK(vkCreateBufferView(m_context->device(), &create, nullptr, &m_texelView));
+    return m_texelView;
+}
+
 Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
 
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
@@ -81,6 +99,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
         m_context = std::exchange(other.m_context, nullptr);
         m_buffer = std::exchange(other.m_buffer, VK_NULL_HANDLE);
         m_memory = std::exchange(other.m_memory, VK_NULL_HANDLE);
+        m_texelView = std::exchange(other.m_texelView, VK_NULL_HANDLE);
         m_size = std::exchange(other.m_size, 0);
         m_kind = other.m_kind;
         m_mapped = std::exchange(other.m_mapped, nullptr);
@@ -92,9 +111,11 @@ void Buffer::release() {
     if (!m_context) return;
     VkDevice device = m_context->device();
     if (m_mapped) vkUnmapMemory(device, m_memory);
+    if (m_texelView) vkDestroyBufferView(device, m_texelView, nullptr);
     if (m_buffer) vkDestroyBuffer(device, m_buffer, nullptr);
     if (m_memory) vkFreeMemory(device, m_memory, nullptr);
     m_mapped = nullptr;
+    m_texelView = VK_NULL_HANDLE;
     m_buffer = VK_NULL_HANDLE;
     m_memory = VK_NULL_HANDLE;
 }

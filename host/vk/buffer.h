@@ -23,8 +23,9 @@ enum class MemoryKind {
 class Buffer {
   public:
     Buffer() = default;
-    // A buffer of `size` bytes (at least 4) usable as a storage buffer, a copy
-    // source and destination, and an indirect-dispatch argument buffer.
+    // A buffer of `size` bytes (at least 4) usable as a storage buffer, a
+    // uniform texel buffer (texelView), a copy source and destination, and an
+    // indirect-dispatch argument buffer.
     Buffer(Context& context, VkDeviceSize size, MemoryKind kind = MemoryKind::DeviceLocal,
            const char* debugName = nullptr);
     ~Buffer();
@@ -48,6 +49,12 @@ class Buffer {
     VkDeviceAddress deviceAddress() const;
     VkDeviceSize size() const { return m_size; }
     explicit operator bool() const { return m_buffer != VK_NULL_HANDLE; }
+    // The device-local buffer as a uniform texel buffer of
+    // VK_FORMAT_R32G32B32A32_UINT texels (a GLSL usamplerBuffer), made at the
+    // first call: its whole 16-byte texels, at most maxTexelBufferElements.
+    // Kernels read the scene's most-read arrays this way (shared/bvh_buffers.h
+    // says why).
+    VkBufferView texelView() const;
 
     // Copies bytes in at `offset` (staging copy and wait).
     void upload(std::span<const std::byte> bytes, VkDeviceSize offset = 0);
@@ -70,6 +77,7 @@ class Buffer {
     Context* m_context = nullptr;
     VkBuffer m_buffer = VK_NULL_HANDLE;
     VkDeviceMemory m_memory = VK_NULL_HANDLE;
+    mutable VkBufferView m_texelView = VK_NULL_HANDLE;
     VkDeviceSize m_size = 0;
     MemoryKind m_kind = MemoryKind::DeviceLocal;
     void* m_mapped = nullptr;

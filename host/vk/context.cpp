@@ -117,6 +117,7 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
               info.maxWorkgroupCount.begin());
     info.maxWorkgroupInvocations = limits.maxComputeWorkGroupInvocations;
     info.maxStorageBufferRange = limits.maxStorageBufferRange;
+    info.maxTexelBufferElements = limits.maxTexelBufferElements;
     info.maxMemoryAllocationSize = maintenance3.maxMemoryAllocationSize;
     info.maxBufferSize = vulkan13 ? maintenance4.maxBufferSize : maintenance3.maxMemoryAllocationSize;
     info.maxPushConstantsSize = limits.maxPushConstantsSize;

@@ -47,6 +47,7 @@ struct DeviceInfo {
     std::array<uint32_t, 3> maxWorkgroupCount{};
     uint32_t maxWorkgroupInvocations = 0;
     uint64_t maxStorageBufferRange = 0;    // bytes one storage-buffer binding may span
+    uint32_t maxTexelBufferElements = 0;   // texels one texel-buffer view may span
     uint64_t maxMemoryAllocationSize = 0;  // bytes, one allocation
     uint64_t maxBufferSize = 0;            // bytes, one buffer (maxMemoryAllocationSize before Vulkan 1.3)
     uint32_t maxPushConstantsSize = 0;

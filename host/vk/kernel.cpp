@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
+#include <stdexcept>
 #include <utility>
 
 #include "vk/buffer.h"
@@ -15,11 +17,23 @@
 namespace vkpath::vk {
 
 // Descriptor pools of one kernel layout; grows by whole pools when one is full.
+VkDescriptorType descriptorType(DescriptorKind kind) {
+    switch (kind) {
+        case DescriptorKind::StorageBuffer:
+            return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        case DescriptorKind::UniformBuffer:
+            return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        case DescriptorKind::UniformTexelBuffer:
+            return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    }
+    throw std::logic_error("unknown descriptor kind");
+}
+
 class DescriptorSetPool {
   public:
-    DescriptorSetPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t storageBuffers,
-                      uint32_t uniformBuffers)
-        : m_device(device), m_layout(layout), m_storage(storageBuffers), m_uniform(uniformBuffers) {}
+    // `perSet`: how many descriptors of each type one set holds.
+    DescriptorSetPool(VkDevice device, VkDescriptorSetLayout layout, std::map<VkDescriptorType, uint32_t> perSet)
+        : m_device(device), m_layout(layout), m_perSet(std::move(perSet)) {}
     ~DescriptorSetPool() {
         for (VkDescriptorPool pool : m_pools) vkDestroyDescriptorPool(m_device, pool, nullptr);
     }
@@ -63,8 +77,7 @@ class DescriptorSetPool {
 
     void addPool() {
         std::vector<VkDescriptorPoolSize> sizes;
-        if (m_storage) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m_storage * SETS_PER_POOL});
-        if (m_uniform) sizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m_uniform * SETS_PER_POOL});
+        for (const auto& [type, count] : m_perSet) sizes.push_back({type, count * SETS_PER_POOL});
         VkDescriptorPoolCreateInfo create{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         create.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
         create.maxSets = SETS_PER_POOL;
@@ -77,8 +90,7 @@ class DescriptorSetPool {
 
     VkDevice m_device;
     VkDescriptorSetLayout m_layout;
-    uint32_t m_storage;
-    uint32_t m_uniform;
+    std::map<VkDescriptorType, uint32_t> m_perSet;
     std::vector<VkDescriptorPool> m_pools;
     std::set<std::pair<VkDescriptorPool, VkDescriptorSet>> m_owner;
 };
@@ -123,17 +135,17 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
         VK_CHECK(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module));
 
         std::vector<VkDescriptorSetLayoutBinding> bindings;
-        uint32_t storage = 0, uniform = 0;
+        std::map<VkDescriptorType, uint32_t> perSet;
         for (const SpirvBinding& b : m_reflection.bindings) {
             if (b.set != 0)
                 throw std::invalid_argument(fmt::format("kernel {}: only descriptor set 0 is supported", m_name));
             VkDescriptorSetLayoutBinding binding{};
             binding.binding = b.binding;
-            binding.descriptorType = b.uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            binding.descriptorType = descriptorType(b.kind);
             binding.descriptorCount = 1;
             binding.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
             bindings.push_back(binding);
-            (b.uniform ? uniform : storage)++;
+            ++perSet[binding.descriptorType];
         }
         VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         setInfo.bindingCount = static_cast<uint32_t>(bindings.size());
@@ -168,7 +180,7 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
         pipelineInfo.layout = m_pipelineLayout;
         VK_CHECK(vkCreateComputePipelines(device, context.pipelineCache(), 1, &pipelineInfo, nullptr,
                                           &m_pipeline));
-        m_pool = std::make_shared<DescriptorSetPool>(device, m_setLayout, storage, uniform);
+        m_pool = std::make_shared<DescriptorSetPool>(device, m_setLayout, std::move(perSet));
     } catch (...) {
         release();
         throw;
@@ -221,6 +233,8 @@ DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
     DescriptorSet result(m_pool, set);
     std::vector<VkDescriptorBufferInfo> infos;
     infos.reserve(buffers.size());
+    std::vector<VkBufferView> views;
+    views.reserve(buffers.size());
     std::vector<VkWriteDescriptorSet> writes;
     for (const BufferBinding& b : buffers) {
         infos.push_back({b.buffer->handle(), 0, VK_WHOLE_SIZE});
@@ -230,8 +244,13 @@ DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
         write.descriptorCount = 1;
         const auto it = std::find_if(m_reflection.bindings.begin(), m_reflection.bindings.end(),
                                      [&](const SpirvBinding& s) { return s.binding == b.binding; });
-        write.descriptorType = it->uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        write.pBufferInfo = &infos.back();
+        write.descriptorType = descriptorType(it->kind);
+        if (it->kind == DescriptorKind::UniformTexelBuffer) {
+            views.push_back(b.buffer->texelView());
+            write.pTexelBufferView = &views.back();
+        } else {
+            write.pBufferInfo = &infos.back();
+        }
         writes.push_back(write);
     }
     vkUpdateDescriptorSets(m_context.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);

@@ -19,6 +19,7 @@ enum Op : uint32_t {
     OpTypeFloat = 22,
     OpTypeVector = 23,
     OpTypeMatrix = 24,
+    OpTypeImage = 25,
     OpTypeArray = 28,
     OpTypeRuntimeArray = 29,
     OpTypeStruct = 30,
@@ -29,7 +30,9 @@ enum Op : uint32_t {
     OpMemberDecorate = 72,
 };
 enum Decoration : uint32_t { ArrayStride = 6, MatrixStride = 7, Binding = 33, DescriptorSet = 34, Offset = 35 };
-enum StorageClass : uint32_t { Uniform = 2, PushConstant = 9, StorageBuffer = 12 };
+enum StorageClass : uint32_t { UniformConstant = 0, Uniform = 2, PushConstant = 9, StorageBuffer = 12 };
+constexpr uint32_t DIM_BUFFER = 5;          // OpTypeImage's Dim operand
+constexpr uint32_t SAMPLED_BY_SAMPLER = 1;  // OpTypeImage's Sampled operand: not a storage image
 
 std::string literalString(std::span<const uint32_t> words) {
     std::string s;
@@ -84,6 +87,7 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
             case OpTypeFloat:
             case OpTypeVector:
             case OpTypeMatrix:
+            case OpTypeImage:
             case OpTypeArray:
             case OpTypeRuntimeArray:
             case OpTypeStruct:
@@ -141,7 +145,18 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
             // Storage buffers are StorageBuffer variables under SPIR-V 1.5
             // (--target-env vulkan1.2); Uniform ones are uniform buffers.
             result.bindings.push_back({setOf.contains(v.id) ? setOf[v.id] : 0, bindingOf[v.id],
-                                       v.storage == Uniform});
+                                       v.storage == Uniform ? DescriptorKind::UniformBuffer
+                                                            : DescriptorKind::StorageBuffer});
+        } else if (v.storage == UniformConstant && bindingOf.contains(v.id)) {
+            // An image of dimension Buffer that is sampled (GLSL's
+            // textureBuffer) is a uniform texel buffer; vkpath's kernels
+            // declare no other opaque type.
+            const Type& image = types.at(types.at(v.pointerType).operands[1]);
+            const bool texelBuffer = image.op == OpTypeImage && image.operands.at(1) == DIM_BUFFER &&
+                                     image.operands.at(5) == SAMPLED_BY_SAMPLER;
+            if (!texelBuffer) throw std::runtime_error("SPIR-V: a resource other than a buffer or a texel buffer");
+            result.bindings.push_back({setOf.contains(v.id) ? setOf[v.id] : 0, bindingOf[v.id],
+                                       DescriptorKind::UniformTexelBuffer});
         }
     }
     std::sort(result.bindings.begin(), result.bindings.end(), [](const auto& a, const auto& b) {

@@ -15,10 +15,16 @@
 
 namespace vkpath::vk {
 
+enum class DescriptorKind {
+    StorageBuffer,
+    UniformBuffer,
+    UniformTexelBuffer,  // a GLSL textureBuffer / utextureBuffer
+};
+
 struct SpirvBinding {
     uint32_t set = 0;
     uint32_t binding = 0;
-    bool uniform = false;  // a uniform buffer (else a storage buffer)
+    DescriptorKind kind = DescriptorKind::StorageBuffer;
 };
 
 struct SpirvStructLayout {

@@ -3,9 +3,10 @@
 // one of two ways, fixed when its pipeline is built (specialisation constant
 // VKP_SPEC_SCENE_BY_ADDRESS):
 //
-//   bound (false, the default): two storage-buffer bindings. A binding spans
-//     at most maxStorageBufferRange bytes (128 MiB on lavapipe: about 2.8
-//     million primitives);
+//   bound (false, the default): two uniform texel buffer bindings (below).
+//     Scenes are bound while each array fits maxStorageBufferRange bytes
+//     (128 MiB on lavapipe: about 2.8 million primitives), the limit every
+//     other scene array is bound under;
 //   by address (true): buffer references (GL_EXT_buffer_reference) to the
 //     same arrays, limited only by the size of one buffer. Measured 4 to 15%
 //     slower than bindings on lavapipe (docs/BENCHMARKS.md), so only scenes
@@ -13,8 +14,8 @@
 //
 // The pipeline compiler folds the constant, so each pipeline keeps only one
 // path; both bindings are declared either way (a placeholder is bound to them
-// in the address path). A kernel enables GL_EXT_buffer_reference and
-// GL_EXT_buffer_reference_uvec2, defines the binding indices and where the
+// in the address path). A kernel enables GL_EXT_buffer_reference,
+// GL_EXT_buffer_reference_uvec2 and GL_EXT_samplerless_texture_functions, defines the binding indices and where the
 // addresses are (a BvhAddresses expression), then includes this once:
 //
 //   #define VKP_BVH_NODES_BINDING VKP_TRACE_BINDING_NODES
@@ -36,12 +37,15 @@
 
 layout(constant_id = VKP_SPEC_SCENE_BY_ADDRESS) const bool sceneByAddress = false;
 
-layout(binding = VKP_BVH_NODES_BINDING, scalar) readonly buffer BvhNodeBuffer {
-    BvhNode bvhNodes[];
-};
-layout(binding = VKP_BVH_PRIMITIVES_BINDING, scalar) readonly buffer BvhPrimitiveBuffer {
-    BvhPrimitive bvhPrimitives[];
-};
+// Bound, the arrays are read as uniform texel buffers of 16-byte texels
+// (R32G32B32A32_UINT): a node is two texels, a primitive three. lavapipe
+// reads a storage buffer at an index that differs between SIMD lanes one
+// lane and one 4-byte component at a time, each behind its own bounds test
+// and branch (12 of them per lane for a primitive); a texel fetch is one
+// gather per texel for the whole SIMD group. The traversal ran 1.5x faster
+// so (docs/BENCHMARKS.md), and GPUs fetch texels as fast as they load.
+layout(binding = VKP_BVH_NODES_BINDING) uniform utextureBuffer bvhNodeTexels;
+layout(binding = VKP_BVH_PRIMITIVES_BINDING) uniform utextureBuffer bvhPrimitiveTexels;
 
 // 16: the arrays start at a buffer's start, and every node and primitive at a
 // multiple of 16 bytes within it (32- and 48-byte elements).
@@ -54,11 +58,28 @@ layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer Bv
 
 BvhNode bvhNode(uint index) {
     if (sceneByAddress) return BvhNodeArray(VKP_BVH_ADDRESSES.nodes).v[index];
-    return bvhNodes[index];
+    uvec4 a = texelFetch(bvhNodeTexels, int(2u * index));
+    uvec4 b = texelFetch(bvhNodeTexels, int(2u * index + 1u));
+    BvhNode node;
+    node.boundsMin = uintBitsToFloat(a.xyz);
+    node.offset = a.w;
+    node.boundsMax = uintBitsToFloat(b.xyz);
+    node.count = b.w;
+    return node;
 }
 BvhPrimitive bvhPrimitive(uint index) {
     if (sceneByAddress) return BvhPrimitiveArray(VKP_BVH_ADDRESSES.primitives).v[index];
-    return bvhPrimitives[index];
+    uvec4 a = texelFetch(bvhPrimitiveTexels, int(3u * index));
+    uvec4 b = texelFetch(bvhPrimitiveTexels, int(3u * index + 1u));
+    uvec4 c = texelFetch(bvhPrimitiveTexels, int(3u * index + 2u));
+    BvhPrimitive primitive;
+    primitive.p0 = uintBitsToFloat(a.xyz);
+    primitive.kind = a.w;
+    primitive.p1 = uintBitsToFloat(b.xyz);
+    primitive.id = b.w;
+    primitive.p2 = uintBitsToFloat(c.xyz);
+    primitive.material = c.w;
+    return primitive;
 }
 
 #include "shared/bvh_traverse.h"

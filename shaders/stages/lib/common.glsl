@@ -4,6 +4,7 @@
 // Scenes beyond a storage-buffer binding are read by address (shared/bvh_buffers.h).
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_buffer_reference_uvec2 : require
+#extension GL_EXT_samplerless_texture_functions : require
 
 #include "stages/lib/float_controls.glsl"
 #include "shared/bindings.h"
