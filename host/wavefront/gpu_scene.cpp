@@ -19,7 +19,7 @@ namespace {
 constexpr double PI = std::numbers::pi;
 
 shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXTURE) {
-    shared::Material g;
+    shared::Material g{};  // (zero padding)
     g.textures = textures;
     g.reflectance = m.reflectance;
     g.kind = static_cast<uint32_t>(m.kind);
@@ -134,7 +134,8 @@ LightEntry environmentLight(double radiantIntensity, float strength, double scen
 
 template <typename T>
 vk::Buffer uploadOrPlaceholder(vk::Context& context, const std::vector<T>& data, const char* name) {
-    if (data.empty()) return vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, name);
+    // One 16-byte texel: some arrays are bound as texel buffers.
+    if (data.empty()) return vk::Buffer(context, 16, vk::MemoryKind::DeviceLocal, name);
     return vk::Buffer::fromSpan(context, std::span(data), name);
 }
 

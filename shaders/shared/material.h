@@ -28,7 +28,9 @@ VKP_NAMESPACE_BEGIN
 #define VKP_MATERIAL_CONSTANT_FRESNEL 2u
 
 // Each field serves the kinds its comment names and is ignored by the others
-// (76 bytes for every kind; scene::Material has a field per meaning).
+// (80 bytes for every kind, five 16-byte texels: kernels read the array as a
+// texel buffer, stages/lib/scene_access.glsl; scene::Material has a field per
+// meaning).
 struct Material {
     vec3 reflectance;    // diffuse: albedo; mirror, glass, rough glass: reflection tint; conductor: Schlick's F0, or
                          // the complex index's real part eta; metallic-roughness: base colour
@@ -45,6 +47,7 @@ struct Material {
     uint flags;          // VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL
     vec3 attenuation;    // glass, rough glass: absorption coefficient of the inside, per metre (Beer-Lambert;
                          // KHR_materials_volume); 0: clear
+    uint padding;        // 0: fills the fifth texel
 };
 
 // The feature bit of material kind `kind` (shared/features.h).
@@ -83,7 +86,7 @@ VKP_FN bool materialIs(Material material, uint kind) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::Material) == 76);
+static_assert(sizeof(vkpath::shared::Material) == 80);
 #endif
 
 #endif  // VKPATH_SHARED_MATERIAL_H

@@ -46,7 +46,7 @@ std::vector<Expected> expectedLayouts() {
          {VKP_O(Material, reflectance), VKP_O(Material, kind), VKP_O(Material, transmittance), VKP_O(Material, ior),
           VKP_O(Material, emission), VKP_O(Material, textures), VKP_O(Material, roughness),
           VKP_O(Material, metallic), VKP_O(Material, specular), VKP_O(Material, flags),
-          VKP_O(Material, attenuation)}},
+          VKP_O(Material, attenuation), VKP_O(Material, padding)}},
         {"TextureInfo", sizeof(TextureInfo),
          {VKP_O(TextureInfo, firstTexel), VKP_O(TextureInfo, width), VKP_O(TextureInfo, height),
           VKP_O(TextureInfo, sampling)}},

@@ -14,8 +14,10 @@
 #include "stages/lib/scene_bvh.glsl"
 
 layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo sceneInfoData; };
-layout(binding = VKP_WF_MATERIALS, scalar) readonly buffer MaterialBuffer { Material materials[]; };
-layout(binding = VKP_WF_LIGHTS, scalar) readonly buffer LightBuffer { Light lights[]; };
+// Materials and lights, read at every bounce, come as texel buffers of 16-byte
+// texels, as the BVH does (shared/bvh_buffers.h says why).
+layout(binding = VKP_WF_MATERIALS) uniform utextureBuffer materialTexels;
+layout(binding = VKP_WF_LIGHTS) uniform utextureBuffer lightTexels;
 layout(binding = VKP_WF_LIGHT_ALIAS, scalar) readonly buffer LightAliasBuffer { AliasEntry lightAlias[]; };
 layout(binding = VKP_WF_PRIMITIVE_LIGHT, scalar) readonly buffer PrimitiveLightBuffer { uint primitiveLight[]; };
 layout(binding = VKP_WF_ENV_ALIAS, scalar) readonly buffer EnvAliasBuffer { AliasEntry envAlias[]; };
@@ -44,11 +46,42 @@ layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Tri
 };
 
 SceneInfo sceneInfo() { return sceneInfoData; }
-Material sceneMaterial(uint i) { return materials[i]; }
+Material sceneMaterial(uint i) {
+    int t = int(5u * i);
+    uvec4 a = texelFetch(materialTexels, t), b = texelFetch(materialTexels, t + 1),
+          c = texelFetch(materialTexels, t + 2), d = texelFetch(materialTexels, t + 3),
+          e = texelFetch(materialTexels, t + 4);
+    Material m;
+    m.reflectance = uintBitsToFloat(a.xyz);
+    m.kind = a.w;
+    m.transmittance = uintBitsToFloat(b.xyz);
+    m.ior = uintBitsToFloat(b.w);
+    m.emission = uintBitsToFloat(c.xyz);
+    m.textures = c.w;
+    m.roughness = uintBitsToFloat(d.x);
+    m.metallic = uintBitsToFloat(d.y);
+    m.specular = uintBitsToFloat(d.z);
+    m.flags = d.w;
+    m.attenuation = uintBitsToFloat(e.xyz);
+    m.padding = e.w;
+    return m;
+}
 MaterialAlpha sceneMaterialAlpha(uint i) { return materialAlpha[i]; }
 Light sceneLight(uint i) {
     if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
-    return lights[i];
+    int t = int(4u * i);
+    uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1), c = texelFetch(lightTexels, t + 2),
+          d = texelFetch(lightTexels, t + 3);
+    Light light;
+    light.p0 = uintBitsToFloat(a.xyz);
+    light.type = a.w;
+    light.p1 = uintBitsToFloat(b.xyz);
+    light.radius = uintBitsToFloat(b.w);
+    light.p2 = uintBitsToFloat(c.xyz);
+    light.cosInner = uintBitsToFloat(c.w);
+    light.emission = uintBitsToFloat(d.xyz);
+    light.cosOuter = uintBitsToFloat(d.w);
+    return light;
 }
 AliasEntry sceneLightAlias(uint i) {
     if (sceneByAddress) return AliasArray(sceneAddresses.lightAlias).v[i];
