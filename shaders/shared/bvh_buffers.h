@@ -8,15 +8,17 @@
 //     (128 MiB on lavapipe: about 2.8 million primitives), the limit every
 //     other scene array is bound under;
 //   by address (true): buffer references (GL_EXT_buffer_reference) to the
-//     same arrays, limited only by the size of one buffer. Measured 4 to 15%
-//     slower than bindings on lavapipe (docs/BENCHMARKS.md), so only scenes
-//     too large for a binding use it (host/bvh/gpu_bvh.h decides).
+//     same arrays, limited only by the size of one buffer. Measured 12 to 41%
+//     slower than storage-buffer bindings on lavapipe (docs/BENCHMARKS.md),
+//     which are slower again than the texel buffers, so only scenes too large
+//     for a binding use it (host/bvh/gpu_bvh.h decides).
 //
 // The pipeline compiler folds the constant, so each pipeline keeps only one
 // path; both bindings are declared either way (a placeholder is bound to them
 // in the address path). A kernel enables GL_EXT_buffer_reference,
-// GL_EXT_buffer_reference_uvec2 and GL_EXT_samplerless_texture_functions, defines the binding indices and where the
-// addresses are (a BvhAddresses expression), then includes this once:
+// GL_EXT_buffer_reference_uvec2 and GL_EXT_samplerless_texture_functions,
+// defines the binding indices and where the addresses are (a BvhAddresses
+// expression), then includes this once:
 //
 //   #define VKP_BVH_NODES_BINDING VKP_TRACE_BINDING_NODES
 //   #define VKP_BVH_PRIMITIVES_BINDING VKP_TRACE_BINDING_PRIMITIVES
