@@ -86,7 +86,8 @@ class Buffer {
 // The largest array a kernel may read, in bytes, in each of the two ways
 // kernels read scene data (shared/bvh_buffers.h):
 struct BufferLimits {
-    uint64_t binding;  // as a storage-buffer binding: maxStorageBufferRange (128 MiB on lavapipe)
+    uint64_t binding;  // bound: as a storage buffer and as a texel buffer of 16-byte texels,
+                       // min(maxStorageBufferRange, 16 maxTexelBufferElements) (128 MiB on lavapipe)
     uint64_t address;  // through its device address: one buffer, min(maxBufferSize, maxMemoryAllocationSize)
 };
 // The device's limits. The environment variable VKPATH_MAX_BINDING_BYTES, when

@@ -132,11 +132,17 @@ LightEntry environmentLight(double radiantIntensity, float strength, double scen
     return e;
 }
 
+// Bytes of the device buffer that holds `bytes` of an array: whole 16-byte
+// texels, at least one, since the kernels read most arrays as texel buffers
+// (stages/lib/scene_access.glsl) and an empty array still needs a buffer to
+// bind.
+uint64_t texelAligned(uint64_t bytes) { return std::max<uint64_t>(16, (bytes + 15) / 16 * 16); }
+
 template <typename T>
-vk::Buffer uploadOrPlaceholder(vk::Context& context, const std::vector<T>& data, const char* name) {
-    // One 16-byte texel: some arrays are bound as texel buffers.
-    if (data.empty()) return vk::Buffer(context, 16, vk::MemoryKind::DeviceLocal, name);
-    return vk::Buffer::fromSpan(context, std::span(data), name);
+vk::Buffer uploadArray(vk::Context& context, const std::vector<T>& data, const char* name) {
+    vk::Buffer buffer(context, texelAligned(data.size() * sizeof(T)), vk::MemoryKind::DeviceLocal, name);
+    buffer.upload(std::as_bytes(std::span(data)));
+    return buffer;
 }
 
 }  // namespace
@@ -256,7 +262,7 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
 }
 
 uint64_t deviceBytes(const SceneTables& t) {
-    auto bytes = [](const auto& array) { return uint64_t(array.size() * sizeof(array[0])); };
+    auto bytes = [](const auto& array) { return texelAligned(array.size() * sizeof(array[0])); };
     return t.bvh.bytes() + bytes(t.materials) + bytes(t.lights) + bytes(t.lightAlias) + bytes(t.primitiveLight) +
            bytes(t.envAlias) + bytes(t.envRadiance) + bytes(t.surface.triangleVertices) +
            bytes(t.surface.vertexNormals) + bytes(t.surface.vertexTexcoords) + bytes(t.surface.vertexColors) +
@@ -298,21 +304,21 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
                                      "binding",
                                      t.materials.size()));
     g.bvh = bvh::uploadBvh(context, t.bvh, g.byAddress);
-    g.materials = uploadOrPlaceholder(context, t.materials, "materials");
-    g.lights = uploadOrPlaceholder(context, t.lights, "lights");
-    g.lightAlias = uploadOrPlaceholder(context, t.lightAlias, "lightAlias");
-    g.primitiveLight = uploadOrPlaceholder(context, t.primitiveLight, "primitiveLight");
-    g.envAlias = uploadOrPlaceholder(context, t.envAlias, "envAlias");
-    g.envRadiance = uploadOrPlaceholder(context, t.envRadiance, "envRadiance");
-    g.triangleVertices = uploadOrPlaceholder(context, t.surface.triangleVertices, "triangleVertices");
-    g.vertexNormals = uploadOrPlaceholder(context, t.surface.vertexNormals, "vertexNormals");
-    g.vertexTexcoords = uploadOrPlaceholder(context, t.surface.vertexTexcoords, "vertexTexcoords");
-    g.vertexColors = uploadOrPlaceholder(context, t.surface.vertexColors, "vertexColors");
-    g.vertexTangents = uploadOrPlaceholder(context, t.surface.vertexTangents, "vertexTangents");
-    g.textures = uploadOrPlaceholder(context, t.textures.textures, "textures");
-    g.textureSlots = uploadOrPlaceholder(context, t.textures.slots, "textureSlots");
-    g.texels = uploadOrPlaceholder(context, t.textures.texels, "texels");
-    g.materialAlpha = uploadOrPlaceholder(context, t.materialAlpha, "materialAlpha");
+    g.materials = uploadArray(context, t.materials, "materials");
+    g.lights = uploadArray(context, t.lights, "lights");
+    g.lightAlias = uploadArray(context, t.lightAlias, "lightAlias");
+    g.primitiveLight = uploadArray(context, t.primitiveLight, "primitiveLight");
+    g.envAlias = uploadArray(context, t.envAlias, "envAlias");
+    g.envRadiance = uploadArray(context, t.envRadiance, "envRadiance");
+    g.triangleVertices = uploadArray(context, t.surface.triangleVertices, "triangleVertices");
+    g.vertexNormals = uploadArray(context, t.surface.vertexNormals, "vertexNormals");
+    g.vertexTexcoords = uploadArray(context, t.surface.vertexTexcoords, "vertexTexcoords");
+    g.vertexColors = uploadArray(context, t.surface.vertexColors, "vertexColors");
+    g.vertexTangents = uploadArray(context, t.surface.vertexTangents, "vertexTangents");
+    g.textures = uploadArray(context, t.textures.textures, "textures");
+    g.textureSlots = uploadArray(context, t.textures.slots, "textureSlots");
+    g.texels = uploadArray(context, t.textures.texels, "texels");
+    g.materialAlpha = uploadArray(context, t.materialAlpha, "materialAlpha");
     shared::SceneAddresses addresses{};
     if (g.byAddress) {
         auto split = [](const vk::Buffer& b) {

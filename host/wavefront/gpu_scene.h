@@ -1,8 +1,8 @@
 // The scene in device memory, in the layouts of shaders/shared/: the BVH,
 // materials, the light list with its alias table, the map from emissive leaf
 // primitives to lights, and the environment with its sampling table. Only
-// what the scene uses takes memory: absent features get 4-byte placeholders
-// (Vulkan needs every declared binding bound).
+// what the scene uses takes memory: absent features get one 16-byte texel
+// (Vulkan needs every declared binding bound, and most are texel buffers).
 #pragma once
 
 #include <optional>

@@ -52,7 +52,8 @@ std::vector<StageScene> stageScenes() {
 void dispatchStage(vk::Kernel& kernel, uint32_t invocations, std::map<uint32_t, const vk::Buffer*> given,
                    const shared::WavePush& push) {
     vk::Context& context = test::context();
-    const vk::Buffer placeholder(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
+    // One texel: some of the bindings are texel buffers.
+    const vk::Buffer placeholder(context, 16, vk::MemoryKind::DeviceLocal, "placeholder");
     for (const vk::SpirvBinding& b : kernel.reflection().bindings) given.try_emplace(b.binding, &placeholder);
     const vk::DescriptorSet set = kernel.bindDeclared(given);
     context.submit([&](VkCommandBuffer cmd) {

@@ -14,25 +14,29 @@
 #include "stages/lib/scene_bvh.glsl"
 
 layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo sceneInfoData; };
-// Materials and lights, read at every bounce, come as texel buffers of 16-byte
-// texels, as the BVH does (shared/bvh_buffers.h says why).
+// The arrays read at every bounce or texture lookup come as texel buffers of
+// 16-byte texels, as the BVH does (shared/bvh_buffers.h says why): records of
+// 16 bytes or a multiple of it (materials, lights, triangle vertices, vec4
+// attributes, texture and alpha records) a texel or more each, smaller ones
+// (the primitive-to-light map, the half-float texel store) several to a
+// texel. The host rounds every array's buffer up to whole texels. The alias
+// tables (12-byte records), the vec3 arrays and the texture slots (36 bytes)
+// stay storage buffers.
 layout(binding = VKP_WF_MATERIALS) uniform utextureBuffer materialTexels;
 layout(binding = VKP_WF_LIGHTS) uniform utextureBuffer lightTexels;
 layout(binding = VKP_WF_LIGHT_ALIAS, scalar) readonly buffer LightAliasBuffer { AliasEntry lightAlias[]; };
-layout(binding = VKP_WF_PRIMITIVE_LIGHT, scalar) readonly buffer PrimitiveLightBuffer { uint primitiveLight[]; };
+layout(binding = VKP_WF_PRIMITIVE_LIGHT) uniform utextureBuffer primitiveLightTexels;  // four per texel
 layout(binding = VKP_WF_ENV_ALIAS, scalar) readonly buffer EnvAliasBuffer { AliasEntry envAlias[]; };
 layout(binding = VKP_WF_ENV_RADIANCE, scalar) readonly buffer EnvRadianceBuffer { vec3 envRadiance[]; };
-layout(binding = VKP_WF_TRIANGLE_VERTICES, scalar) readonly buffer TriangleVertexBuffer {
-    TriangleVertices triangleVertices[];
-};
+layout(binding = VKP_WF_TRIANGLE_VERTICES) uniform utextureBuffer triangleVertexTexels;
 layout(binding = VKP_WF_VERTEX_NORMALS, scalar) readonly buffer VertexNormalBuffer { vec3 vertexNormals[]; };
-layout(binding = VKP_WF_VERTEX_TEXCOORDS, scalar) readonly buffer VertexTexcoordBuffer { vec4 vertexTexcoords[]; };
-layout(binding = VKP_WF_VERTEX_COLORS, scalar) readonly buffer VertexColorBuffer { vec4 vertexColors[]; };
-layout(binding = VKP_WF_VERTEX_TANGENTS, scalar) readonly buffer VertexTangentBuffer { vec4 vertexTangents[]; };
-layout(binding = VKP_WF_TEXTURES, scalar) readonly buffer TextureBuffer { TextureInfo textures[]; };
+layout(binding = VKP_WF_VERTEX_TEXCOORDS) uniform utextureBuffer vertexTexcoordTexels;
+layout(binding = VKP_WF_VERTEX_COLORS) uniform utextureBuffer vertexColorTexels;
+layout(binding = VKP_WF_VERTEX_TANGENTS) uniform utextureBuffer vertexTangentTexels;
+layout(binding = VKP_WF_TEXTURES) uniform utextureBuffer textureInfoTexels;
 layout(binding = VKP_WF_TEXTURE_SLOTS, scalar) readonly buffer TextureSlotBuffer { TextureSlot textureSlots[]; };
-layout(binding = VKP_WF_TEXELS, scalar) readonly buffer TexelBuffer { uvec2 texels[]; };
-layout(binding = VKP_WF_MATERIAL_ALPHA, scalar) readonly buffer MaterialAlphaBuffer { MaterialAlpha materialAlpha[]; };
+layout(binding = VKP_WF_TEXELS) uniform utextureBuffer textureStoreTexels;  // two RGBA-half texels per texel
+layout(binding = VKP_WF_MATERIAL_ALPHA) uniform utextureBuffer materialAlphaTexels;
 
 // The same arrays by address (sceneByAddress: scenes beyond a binding).
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
@@ -66,7 +70,15 @@ Material sceneMaterial(uint i) {
     m.padding = e.w;
     return m;
 }
-MaterialAlpha sceneMaterialAlpha(uint i) { return materialAlpha[i]; }
+MaterialAlpha sceneMaterialAlpha(uint i) {
+    uvec4 t = texelFetch(materialAlphaTexels, int(i));
+    MaterialAlpha m;
+    m.mode = t.x;
+    m.cutoff = uintBitsToFloat(t.y);
+    m.alpha = uintBitsToFloat(t.z);
+    m.baseColorSlot = t.w;
+    return m;
+}
 Light sceneLight(uint i) {
     if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
     int t = int(4u * i);
@@ -89,7 +101,9 @@ AliasEntry sceneLightAlias(uint i) {
 }
 uint scenePrimitiveLight(uint i) {
     if (sceneByAddress) return UintArray(sceneAddresses.primitiveLight).v[i];
-    return primitiveLight[i];
+    uvec4 t = texelFetch(primitiveLightTexels, int(i >> 2u));
+    uint j = i & 3u;
+    return j == 0u ? t.x : j == 1u ? t.y : j == 2u ? t.z : t.w;
 }
 AliasEntry sceneEnvAlias(uint i) {
     if (sceneByAddress) return AliasArray(sceneAddresses.envAlias).v[i];
@@ -101,7 +115,11 @@ vec3 sceneEnvRadiance(uint i) {
 }
 TriangleVertices sceneTriangleVertices(uint i) {
     if (sceneByAddress) return TriangleVerticesArray(sceneAddresses.triangleVertices).v[i];
-    return triangleVertices[i];
+    uvec4 t = texelFetch(triangleVertexTexels, int(i));
+    TriangleVertices v;
+    v.vertex = t.xyz;
+    v.attributes = t.w;
+    return v;
 }
 vec3 sceneVertexNormal(uint i) {
     if (sceneByAddress) return Vec3Array(sceneAddresses.vertexNormals).v[i];
@@ -109,20 +127,34 @@ vec3 sceneVertexNormal(uint i) {
 }
 vec4 sceneVertexTexcoords(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTexcoords).v[i];
-    return vertexTexcoords[i];
+    return uintBitsToFloat(texelFetch(vertexTexcoordTexels, int(i)));
 }
 vec4 sceneVertexColor(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexColors).v[i];
-    return vertexColors[i];
+    return uintBitsToFloat(texelFetch(vertexColorTexels, int(i)));
 }
 vec4 sceneVertexTangent(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTangents).v[i];
-    return vertexTangents[i];
+    return uintBitsToFloat(texelFetch(vertexTangentTexels, int(i)));
 }
-TextureInfo sceneTexture(uint i) { return textures[i]; }
+TextureInfo sceneTexture(uint i) {
+    uvec4 t = texelFetch(textureInfoTexels, int(i));
+    TextureInfo texture;
+    texture.firstTexel = t.x;
+    texture.width = t.y;
+    texture.height = t.z;
+    texture.sampling = t.w;
+    return texture;
+}
 TextureSlot sceneTextureSlot(uint i) { return textureSlots[i]; }
 vec4 sceneTexel(uint i) {
-    uvec2 packed = sceneByAddress ? Uvec2Array(sceneAddresses.texels).v[i] : texels[i];
+    uvec2 packed;
+    if (sceneByAddress) {
+        packed = Uvec2Array(sceneAddresses.texels).v[i];
+    } else {
+        uvec4 t = texelFetch(textureStoreTexels, int(i >> 1u));
+        packed = (i & 1u) == 0u ? t.xy : t.zw;
+    }
     return vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));
 }
 
