@@ -16,8 +16,8 @@
 
 namespace vkpath::vk {
 
-// Descriptor pools of one kernel layout; grows by whole pools when one is full.
-VkDescriptorType descriptorType(DescriptorKind kind) {
+// The Vulkan descriptor type of a binding the SPIR-V declares.
+static VkDescriptorType descriptorType(DescriptorKind kind) {
     switch (kind) {
         case DescriptorKind::StorageBuffer:
             return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -29,6 +29,7 @@ VkDescriptorType descriptorType(DescriptorKind kind) {
     throw std::logic_error("unknown descriptor kind");
 }
 
+// Descriptor pools of one kernel layout; grows by whole pools when one is full.
 class DescriptorSetPool {
   public:
     // `perSet`: how many descriptors of each type one set holds.
