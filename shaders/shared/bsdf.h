@@ -66,9 +66,9 @@ VKP_FN vec3 adaptShadingNormal(vec3 ng, vec3 ns, vec3 wo) {
 // Their lobes work in the local frame of the shading normal (microfacet.h);
 // alpha = roughness^2 (glTF 2.0 Appendix B, and the Disney convention).
 
-VKP_FN vec2 materialAlpha(Material material) { return vec2(material.roughness * material.roughness); }
+VKP_FN vec2 materialAlpha(VKP_IN(Material) material) { return vec2(material.roughness * material.roughness); }
 
-VKP_FN Conductor materialConductor(Material material) {
+VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
     Conductor c;
     c.alpha = materialAlpha(material);
     c.fresnel = (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) != 0u    ? VKP_FRESNEL_COMPLEX
@@ -80,7 +80,7 @@ VKP_FN Conductor materialConductor(Material material) {
     return c;
 }
 
-VKP_FN RoughDielectric materialRoughDielectric(Material material) {
+VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
     RoughDielectric d;
     d.alpha = materialAlpha(material);
     d.ior = material.ior;
@@ -89,7 +89,7 @@ VKP_FN RoughDielectric materialRoughDielectric(Material material) {
     return d;
 }
 
-VKP_FN MetallicRoughness materialMetallicRoughness(Material material) {
+VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     MetallicRoughness p;
     p.baseColor = material.reflectance;
     p.metallic = material.metallic;
@@ -145,7 +145,7 @@ VKP_FN BsdfSample sampleToWorld(Frame frame, BsdfSample s) {
 // uniform in [0, 1) the lobe where a kind chooses between lobes with a number
 // of its own (rough glass, metallic-roughness; the smooth glass chooses with
 // u.x).
-VKP_FN BsdfSample sampleBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec2 u, float uc) {
+VKP_FN BsdfSample sampleBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec2 u, float uc) {
     BsdfSample s = invalidBsdfSample();
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE:
@@ -185,7 +185,7 @@ VKP_FN BsdfSample sampleBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec2 
 }
 
 // Whether sampleBsdf reads uc for `material` (so the caller draws it only then).
-VKP_FN bool bsdfNeedsLobeChoice(Material material) {
+VKP_FN bool bsdfNeedsLobeChoice(VKP_IN(Material) material) {
     switch (materialKind(material)) {
         case VKP_MATERIAL_ROUGH_DIELECTRIC: return materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC);
         case VKP_MATERIAL_METALLIC_ROUGHNESS: return materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS);
@@ -194,7 +194,7 @@ VKP_FN bool bsdfNeedsLobeChoice(Material material) {
 }
 
 // f * |cos| of the non-delta lobes.
-VKP_FN vec3 evalBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
+VKP_FN vec3 evalBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     if (!bsdfSidesAgree(ng, ns, wo, wi)) return vec3(0.0f);
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE:
@@ -226,7 +226,7 @@ VKP_FN vec3 evalBsdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
 }
 
 // The solid-angle density with which sampleBsdf picks wi (0 for delta lobes).
-VKP_FN float bsdfPdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
+VKP_FN float bsdfPdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     if (!bsdfSidesAgree(ng, ns, wo, wi)) return 0.0f;
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE:
@@ -261,7 +261,7 @@ VKP_FN float bsdfPdf(Material material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
 // host/wavefront/kernel_features.cpp shadowRaysPerVertex says the same per feature.
 // The microfacet kinds are deltas below VKP_MICROFACET_SMOOTH_ALPHA, but
 // metallic-roughness keeps its diffuse lobe unless it is wholly metal.
-VKP_FN bool hasNonDeltaLobe(Material material) {
+VKP_FN bool hasNonDeltaLobe(VKP_IN(Material) material) {
     switch (materialKind(material)) {
         case VKP_MATERIAL_DIFFUSE: return materialMayBe(VKP_MATERIAL_DIFFUSE);
         case VKP_MATERIAL_CONDUCTOR:

@@ -76,7 +76,7 @@ struct TracePush {
 
 // Whether `primitive` is a sphere (else a triangle); known without reading it
 // when the kernel meets only one of the two (shared/features.h).
-VKP_FN bool isSphere(BvhPrimitive primitive) {
+VKP_FN bool isSphere(VKP_IN(BvhPrimitive) primitive) {
     if (!hasFeature(VKP_FEATURE_SPHERES)) return false;
     if (onlyFeature(VKP_FEATURES_PRIMITIVES, VKP_FEATURE_SPHERES)) return true;
     return primitive.kind == VKP_PRIMITIVE_SPHERE;

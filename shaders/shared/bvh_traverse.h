@@ -47,7 +47,7 @@
 
 // anyHit: stop at the first hit in [0, ray.tMax) (it need not be the closest).
 // alphaKey: passed to bvhAlphaTest (shared/alpha.h alphaRayKey).
-VKP_FN Hit bvhTrace(Ray ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
+VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
     Hit hit;
     hit.t = ray.tMax;
     hit.primitive = VKP_NO_HIT;
@@ -129,15 +129,15 @@ VKP_FN Hit bvhTrace(Ray ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
 }
 
 // The nearest hit in [0, ray.tMax), or Hit::primitive == VKP_NO_HIT.
-VKP_FN Hit bvhClosestHit(Ray ray, uint alphaKey) VKP_BVH_CONST { return bvhTrace(ray, false, alphaKey); }
+VKP_FN Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) VKP_BVH_CONST { return bvhTrace(ray, false, alphaKey); }
 
 // Whether anything lies in [0, ray.tMax): for shadow rays, whose tMax is the
 // distance to the light (a surface exactly at tMax does not occlude).
-VKP_FN bool bvhOccluded(Ray ray, uint alphaKey) VKP_BVH_CONST {
+VKP_FN bool bvhOccluded(VKP_IN(Ray) ray, uint alphaKey) VKP_BVH_CONST {
     return bvhTrace(ray, true, alphaKey).primitive != VKP_NO_HIT;
 }
 
 // The same for rays that belong to no path (the BVH tests and benchmarks,
 // whose geometry is opaque): alpha key 0.
-VKP_FN Hit bvhClosestHit(Ray ray) VKP_BVH_CONST { return bvhTrace(ray, false, 0u); }
-VKP_FN bool bvhOccluded(Ray ray) VKP_BVH_CONST { return bvhOccluded(ray, 0u); }
+VKP_FN Hit bvhClosestHit(VKP_IN(Ray) ray) VKP_BVH_CONST { return bvhTrace(ray, false, 0u); }
+VKP_FN bool bvhOccluded(VKP_IN(Ray) ray) VKP_BVH_CONST { return bvhOccluded(ray, 0u); }

@@ -21,7 +21,7 @@ struct Camera {
 
 // The ray through film position (x + jitter.x, y + jitter.y), in pixels from
 // the top-left corner of the image; jitter in [0, 1)^2 places it in the pixel.
-VKP_FN Ray generateCameraRay(Camera camera, uvec2 pixel, vec2 jitter) {
+VKP_FN Ray generateCameraRay(VKP_IN(Camera) camera, uvec2 pixel, vec2 jitter) {
     vec2 film = (vec2(pixel) + jitter) / vec2(float(camera.width), float(camera.height));
     vec2 ndc = vec2(2.0f * film.x - 1.0f, 1.0f - 2.0f * film.y);  // +y up on the image
     Ray ray;

@@ -48,17 +48,17 @@ struct EnvironmentInfo {
 };
 
 // Map direction of a world direction (undoing the rotation), and back.
-VKP_FN vec3 envWorldToMap(EnvironmentInfo info, vec3 d) {
+VKP_FN vec3 envWorldToMap(VKP_IN(EnvironmentInfo) info, vec3 d) {
     return vec3(info.cosRotation * d.x - info.sinRotation * d.z, d.y,
                 info.sinRotation * d.x + info.cosRotation * d.z);
 }
 
-VKP_FN vec3 envMapToWorld(EnvironmentInfo info, vec3 d) {
+VKP_FN vec3 envMapToWorld(VKP_IN(EnvironmentInfo) info, vec3 d) {
     return vec3(info.cosRotation * d.x + info.sinRotation * d.z, d.y,
                 -info.sinRotation * d.x + info.cosRotation * d.z);
 }
 
-VKP_FN uint envTexelOfUv(EnvironmentInfo info, vec2 uv) {
+VKP_FN uint envTexelOfUv(VKP_IN(EnvironmentInfo) info, vec2 uv) {
     uint x = min(uint(uv.x * float(info.width)), info.width - 1u);
     uint y = min(uint(uv.y * float(info.height)), info.height - 1u);
     return y * info.width + x;
@@ -74,7 +74,7 @@ struct EnvBilinear {
     vec2 weight;   // the fractions of the way from x0 to x1 and from y0 to y1, in [0, 1)
 };
 
-VKP_FN EnvBilinear envBilinear(EnvironmentInfo info, vec2 uv) {
+VKP_FN EnvBilinear envBilinear(VKP_IN(EnvironmentInfo) info, vec2 uv) {
     // Continuous texel coordinates in which texel centres are integers.
     float x = uv.x * float(info.width) - 0.5f;
     float y = uv.y * float(info.height) - 0.5f;
@@ -106,7 +106,7 @@ VKP_FN vec3 envBilinearMix(EnvBilinear b, vec3 v00, vec3 v10, vec3 v01, vec3 v11
 // d omega = 2 pi^2 sin(theta) du dv. sin(theta) comes from the direction
 // itself (length of its xz part), not from v through sin(), so that every
 // path to the pdf of one direction computes the same number.
-VKP_FN float envPdf(EnvironmentInfo info, float probability, vec3 mapDirection) {
+VKP_FN float envPdf(VKP_IN(EnvironmentInfo) info, float probability, vec3 mapDirection) {
     float sinTheta = length(vec2(mapDirection.x, mapDirection.z));
     if (!(sinTheta > 0.0f) || !(probability > 0.0f)) return 0.0f;
     float texelsPerUnitUv = float(info.width) * float(info.height);
@@ -125,7 +125,7 @@ struct EnvSample {
 // to the bit. The texel looked up from the direction is the chosen one except
 // within ~1e-7 of a texel edge, where rounding of the mapping may pick the
 // neighbour (measured by the tests).
-VKP_FN EnvSample envSampleInTexel(EnvironmentInfo info, uint texel, vec2 jitter) {
+VKP_FN EnvSample envSampleInTexel(VKP_IN(EnvironmentInfo) info, uint texel, vec2 jitter) {
     uint x = texel % info.width;
     uint y = texel / info.width;
     EnvSample s;
@@ -142,7 +142,7 @@ VKP_FN EnvSample envSampleInTexel(EnvironmentInfo info, uint texel, vec2 jitter)
 
 // The pdf of a world direction, given the probability of its texel
 // (the texel is envTexelOfUv(info, equirectUv(envWorldToMap(info, d)))).
-VKP_FN float envDirectionPdf(EnvironmentInfo info, float texelProbability, vec3 worldDirection) {
+VKP_FN float envDirectionPdf(VKP_IN(EnvironmentInfo) info, float texelProbability, vec3 worldDirection) {
     return envPdf(info, texelProbability, envWorldToMap(info, worldDirection));
 }
 

@@ -6,8 +6,8 @@
 // correctly rounded (division and sqrt may be off by ulps on a GPU), so the
 // CPU and a GPU decide identically; `precise` (VKP_PRECISE) keeps GLSL
 // compilers from fusing those operations into FMAs or reassociating them. The
-// C++ side is built with -std=c++20, under which GCC does not contract either
-// (-ffp-contract=off for ISO modes).
+// C++ side is built with -ffp-contract=off (CMakeLists.txt), so that no
+// compiler fuses them on a CPU with FMA either.
 //
 // Ray interval: a ray is the segment origin + t * direction, 0 <= t < tMax
 // (shared/ray.h). t = 0 is included, so a ray that starts exactly on a surface
@@ -129,7 +129,7 @@ VKP_FN TriangleRay makeTriangleRay(vec3 origin, vec3 direction) {
 // A ray lying in a triangle's plane never hits it (the projected triangle has
 // zero area, det == 0). Zero-area triangles never reach this test: the
 // builder leaves them out (bvh::isDegenerateTriangle).
-VKP_FN bool intersectTriangle(TriangleRay ray, vec3 p0, vec3 p1, vec3 p2, float tMax,
+VKP_FN bool intersectTriangle(VKP_IN(TriangleRay) ray, vec3 p0, vec3 p1, vec3 p2, float tMax,
                               VKP_OUT(float) tHit, VKP_OUT(vec2) barycentrics) {
     // Vertices relative to the origin, in the permuted axes.
     VKP_PRECISE vec3 a = permuteAxes(p0 - ray.origin, ray.kx, ray.ky, ray.kz);
@@ -266,7 +266,7 @@ struct SurfacePoint {
 
 VKP_FN float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
 
-VKP_FN SurfacePoint surfacePoint(BvhPrimitive primitive, Ray ray, Hit hit) {
+VKP_FN SurfacePoint surfacePoint(VKP_IN(BvhPrimitive) primitive, VKP_IN(Ray) ray, Hit hit) {
     SurfacePoint s;
     if (isSphere(primitive)) {
         float radius = primitive.p1.x;
@@ -289,7 +289,7 @@ VKP_FN SurfacePoint surfacePoint(BvhPrimitive primitive, Ray ray, Hit hit) {
 
 // A ray leaving `surface` along `direction` (either side), offset so it does
 // not hit the surface it starts on.
-VKP_FN Ray spawnRay(SurfacePoint surface, vec3 direction, float tMax, uint pixel) {
+VKP_FN Ray spawnRay(VKP_IN(SurfacePoint) surface, vec3 direction, float tMax, uint pixel) {
     vec3 n = dot(direction, surface.normal) >= 0.0f ? surface.normal : -surface.normal;
     Ray ray;
     ray.origin = offsetRayOrigin(surface.position, n, surface.magnitude);

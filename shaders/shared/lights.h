@@ -62,7 +62,7 @@ VKP_FN uint possibleLightTypes() {
 
 // Whether `light` is of type `type`; known without reading it when the kernel
 // meets no light of that type, or no other.
-VKP_FN bool lightIs(Light light, uint type) {
+VKP_FN bool lightIs(VKP_IN(Light) light, uint type) {
     uint types = possibleLightTypes();
     if ((types & (1u << type)) == 0u) return false;
     if (types == (1u << type)) return true;
@@ -82,7 +82,7 @@ VKP_FN LightSample noLightSample() {
 
 // Spot falloff of KHR_lights_punctual (the extension's recommended
 // implementation): (clamp((cos - cosOuter) / (cosInner - cosOuter), 0, 1))^2.
-VKP_FN float spotFalloff(Light light, float cosAngle) {
+VKP_FN float spotFalloff(VKP_IN(Light) light, float cosAngle) {
     float scale = 1.0f / max(1e-4f, light.cosInner - light.cosOuter);
     float t = clamp((cosAngle - light.cosOuter) * scale, 0.0f, 1.0f);
     return t * t;
@@ -90,7 +90,7 @@ VKP_FN float spotFalloff(Light light, float cosAngle) {
 
 // Density in solid angle, seen from `p`, of sampling `light` toward a point
 // `x` on it with unit normal `n` (area lights only).
-VKP_FN float areaLightPdf(Light light, vec3 p, vec3 x, vec3 n) {
+VKP_FN float areaLightPdf(VKP_IN(Light) light, vec3 p, vec3 x, vec3 n) {
     vec3 d = x - p;
     float dist2 = dot(d, d);
     if (lightIs(light, VKP_LIGHT_SPHERE)) {
@@ -124,7 +124,7 @@ VKP_FN LightSample areaLightSample(vec3 p, vec3 x, vec3 n, float area) {
 // `u` uniform in [0, 1)^2. The sphere from outside is sampled by its cone
 // of directions; the returned distance then comes from intersecting the
 // cone's direction with the sphere.
-VKP_FN LightSample sampleLight(Light light, vec3 p, vec2 u) {
+VKP_FN LightSample sampleLight(VKP_IN(Light) light, vec3 p, vec2 u) {
     LightSample s = noLightSample();
     if (lightIs(light, VKP_LIGHT_TRIANGLE)) {
         vec2 b = sampleTriangleBarycentrics(u);

@@ -68,7 +68,7 @@ VKP_FN bool materialMayBe(uint kind) { return hasFeature(materialFeature(kind));
 
 // material.kind, or the constant kind when the kernel meets only one (so a
 // switch over it folds to that case).
-VKP_FN uint materialKind(Material material) {
+VKP_FN uint materialKind(VKP_IN(Material) material) {
     for (uint kind = 0u; kind < VKP_MATERIAL_KIND_COUNT; ++kind)
         if (onlyFeature(VKP_FEATURES_MATERIALS, materialFeature(kind))) return kind;
     return material.kind;
@@ -76,7 +76,7 @@ VKP_FN uint materialKind(Material material) {
 
 // Whether `material` is of kind `kind`; known without reading it when the
 // kernel meets no material of that kind, or no other.
-VKP_FN bool materialIs(Material material, uint kind) {
+VKP_FN bool materialIs(VKP_IN(Material) material, uint kind) {
     uint feature = materialFeature(kind);
     if (!hasFeature(feature)) return false;
     if (onlyFeature(VKP_FEATURES_MATERIALS, feature)) return true;

@@ -36,7 +36,7 @@ struct PathTally {
 };
 
 // The key of path `sampleIndex` of `pixel`: every random number it draws.
-VKP_FN RngKey pathRngKey(SceneInfo info, uint pixel, uint sampleIndex) {
+VKP_FN RngKey pathRngKey(VKP_IN(SceneInfo) info, uint pixel, uint sampleIndex) {
     return makeRngKey(pixel, sampleIndex, info.seed, featureSampler(info.samplerKind));
 }
 
@@ -50,7 +50,7 @@ VKP_FN uint featureLightSamples(uint lightSamples) {
 
 // Stage "generate": the camera ray through a jittered point of `pixel` (box
 // filter), throughput 1.
-VKP_FN PathState startPath(Camera camera, uint pixel, RngKey key) {
+VKP_FN PathState startPath(VKP_IN(Camera) camera, uint pixel, RngKey key) {
     PathState path;
     uvec2 xy = uvec2(pixel % camera.width, pixel / camera.width);
     path.ray = generateCameraRay(camera, xy, rngUniform2(key, VKP_DIM_PIXEL_JITTER));
