@@ -53,9 +53,9 @@ struct PathTracerView : BvhView {
         return m_primitiveLight.empty() ? VKP_NO_LIGHT : m_primitiveLight[leafPrimitive];
     }
     AliasEntry sceneEnvAlias(uint texel) const { return m_envAlias[texel]; }
-    vec3 sceneEnvRadiance(uint texel) const { return m_envRadiance[texel]; }
+    vec3 sceneEnvRadiance(uint texel) const { return vec3(m_envRadiance[texel]); }
     TriangleVertices sceneTriangleVertices(uint triangle) const { return m_triangleVertices[triangle]; }
-    vec3 sceneVertexNormal(uint vertex) const { return m_vertexNormals[vertex]; }
+    vec3 sceneVertexNormal(uint vertex) const { return vec3(m_vertexNormals[vertex]); }
     vec4 sceneVertexTexcoords(uint vertex) const { return m_vertexTexcoords[vertex]; }
     vec4 sceneVertexColor(uint vertex) const { return m_vertexColors[vertex]; }
     vec4 sceneVertexTangent(uint vertex) const { return m_vertexTangents[vertex]; }
@@ -78,9 +78,9 @@ struct PathTracerView : BvhView {
     std::span<const AliasEntry> m_lightAlias;
     std::span<const uint> m_primitiveLight;
     std::span<const AliasEntry> m_envAlias;
-    std::span<const vec3> m_envRadiance;
+    std::span<const vec4> m_envRadiance;
     std::span<const TriangleVertices> m_triangleVertices;
-    std::span<const vec3> m_vertexNormals;
+    std::span<const vec4> m_vertexNormals;
     std::span<const vec4> m_vertexTexcoords;
     std::span<const vec4> m_vertexColors;
     std::span<const vec4> m_vertexTangents;

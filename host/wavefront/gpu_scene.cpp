@@ -238,7 +238,8 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             t.info.environment.height = env.map->height;
             const scene::EnvironmentTable table = scene::buildEnvironmentTable(*env.map);
             t.envAlias = table.entries;
-            t.envRadiance = env.map->pixels;
+            t.envRadiance.reserve(env.map->pixels.size());
+            for (const glm::vec3& texel : env.map->pixels) t.envRadiance.emplace_back(texel, 0.0f);
             // totalWeight integrates luminance x sin(theta) over (u, v), and
             // d omega = 2 pi^2 sin(theta) du dv (shared/environment_map.h).
             radiantIntensity = table.totalWeight * 2 * PI * PI;

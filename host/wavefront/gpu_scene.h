@@ -34,7 +34,7 @@ struct SceneTables {
     std::vector<shared::AliasEntry> lightAlias;
     std::vector<uint32_t> primitiveLight;  // per leaf primitive; empty when nothing is emissive
     std::vector<shared::AliasEntry> envAlias;
-    std::vector<glm::vec3> envRadiance;
+    std::vector<glm::vec4> envRadiance;  // the map's texels, w 0: one 16-byte texel each
     SurfaceTables surface;     // vertex attributes for shading (empty when the scene is flat)
     TextureTables textures;    // empty when no material has a texture
     std::vector<shared::MaterialAlpha> materialAlpha;  // per material; empty unless info.alphaTested

@@ -134,7 +134,7 @@ SurfaceTables buildSurfaceTables(const scene::Scene& scene) {
     if (t.attributes & VKP_TRIANGLE_SHADING_NORMALS)
         fill(t.vertexNormals, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {
             const glm::vec3 n = mesh.normals.size() == mesh.positions.size() ? mesh.normals[i] : glm::vec3(0.0f);
-            return usable(n) ? glm::normalize(n) : glm::vec3(0.0f);
+            return glm::vec4(usable(n) ? glm::normalize(n) : glm::vec3(0.0f), 0.0f);
         });
     if (t.attributes & VKP_TRIANGLE_TEXCOORDS)
         fill(t.vertexTexcoords, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {

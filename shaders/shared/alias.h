@@ -24,6 +24,7 @@ struct AliasEntry {
     uint threshold;     // the bucket keeps its own element when bits < threshold, else takes `alias`
     uint alias;         // element index
     float probability;  // this element's exact probability under the quantised table
+    uint padding;       // 0: an entry is one 16-byte texel (stages/lib/scene_access.glsl)
 };
 
 // floor(bits * count / 2^32): uniform over [0, count) for count <= 2^32.
@@ -45,7 +46,7 @@ VKP_FN uint aliasResolve(AliasEntry entry, uint bucket, uint bits) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::AliasEntry) == 12);
+static_assert(sizeof(vkpath::shared::AliasEntry) == 16);
 #endif
 
 #endif  // VKPATH_SHARED_ALIAS_H

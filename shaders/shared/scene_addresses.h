@@ -20,9 +20,9 @@ struct SceneAddresses {
     uvec2 lightAlias;      // AliasEntry[lightCount]
     uvec2 primitiveLight;  // uint[primitives]
     uvec2 envAlias;        // AliasEntry[texels]
-    uvec2 envRadiance;     // vec3[texels]
+    uvec2 envRadiance;     // vec4[texels], w unused
     uvec2 triangleVertices;  // TriangleVertices[triangles]
-    uvec2 vertexNormals;     // vec3[vertices]
+    uvec2 vertexNormals;     // vec4[vertices], w unused
     uvec2 vertexTexcoords;   // vec4[vertices]: TEXCOORD_0, TEXCOORD_1
     uvec2 vertexColors;      // vec4[vertices]
     uvec2 texels;            // uvec2[texels]: the texture store (shared/texture.h)

@@ -54,6 +54,7 @@ struct TextureSlot {
     vec3 transformV;
     uint texCoord;  // 0 or 1: TEXCOORD_0 or TEXCOORD_1
     float scale;    // VKP_SLOT_NORMAL: glTF's normalTexture.scale; 1 in the other slots
+    uvec3 padding;  // 0: a slot is three 16-byte texels (stages/lib/scene_access.glsl)
 };
 
 // Texel index `i` (any integer) wrapped into [0, n).

@@ -16,25 +16,26 @@
 layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo sceneInfoData; };
 // The arrays read at every bounce or texture lookup come as texel buffers of
 // 16-byte texels, as the BVH does (shared/bvh_buffers.h says why): records of
-// 16 bytes or a multiple of it (materials, lights, triangle vertices, vec4
-// attributes, texture and alpha records) a texel or more each, smaller ones
+// 16 bytes or a multiple of it (materials, lights, alias entries, triangle
+// vertices, vertex attributes, the environment's radiance, texture records,
+// slots and alpha records; the vec3 arrays are stored as vec4 and the alias
+// entries and texture slots padded for it) a texel or more each, smaller ones
 // (the primitive-to-light map, the half-float texel store) several to a
-// texel. The host rounds every array's buffer up to whole texels. The alias
-// tables (12-byte records), the vec3 arrays and the texture slots (36 bytes)
-// stay storage buffers.
+// texel. The host rounds every array's buffer up to whole texels. Only the
+// SceneInfo is a storage buffer: every invocation reads the same bytes.
 layout(binding = VKP_WF_MATERIALS) uniform utextureBuffer materialTexels;
 layout(binding = VKP_WF_LIGHTS) uniform utextureBuffer lightTexels;
-layout(binding = VKP_WF_LIGHT_ALIAS, scalar) readonly buffer LightAliasBuffer { AliasEntry lightAlias[]; };
+layout(binding = VKP_WF_LIGHT_ALIAS) uniform utextureBuffer lightAliasTexels;
 layout(binding = VKP_WF_PRIMITIVE_LIGHT) uniform utextureBuffer primitiveLightTexels;  // four per texel
-layout(binding = VKP_WF_ENV_ALIAS, scalar) readonly buffer EnvAliasBuffer { AliasEntry envAlias[]; };
-layout(binding = VKP_WF_ENV_RADIANCE, scalar) readonly buffer EnvRadianceBuffer { vec3 envRadiance[]; };
+layout(binding = VKP_WF_ENV_ALIAS) uniform utextureBuffer envAliasTexels;
+layout(binding = VKP_WF_ENV_RADIANCE) uniform utextureBuffer envRadianceTexels;  // vec4, w unused
 layout(binding = VKP_WF_TRIANGLE_VERTICES) uniform utextureBuffer triangleVertexTexels;
-layout(binding = VKP_WF_VERTEX_NORMALS, scalar) readonly buffer VertexNormalBuffer { vec3 vertexNormals[]; };
+layout(binding = VKP_WF_VERTEX_NORMALS) uniform utextureBuffer vertexNormalTexels;  // vec4, w unused
 layout(binding = VKP_WF_VERTEX_TEXCOORDS) uniform utextureBuffer vertexTexcoordTexels;
 layout(binding = VKP_WF_VERTEX_COLORS) uniform utextureBuffer vertexColorTexels;
 layout(binding = VKP_WF_VERTEX_TANGENTS) uniform utextureBuffer vertexTangentTexels;
 layout(binding = VKP_WF_TEXTURES) uniform utextureBuffer textureInfoTexels;
-layout(binding = VKP_WF_TEXTURE_SLOTS, scalar) readonly buffer TextureSlotBuffer { TextureSlot textureSlots[]; };
+layout(binding = VKP_WF_TEXTURE_SLOTS) uniform utextureBuffer textureSlotTexels;
 layout(binding = VKP_WF_TEXELS) uniform utextureBuffer textureStoreTexels;  // two RGBA-half texels per texel
 layout(binding = VKP_WF_MATERIAL_ALPHA) uniform utextureBuffer materialAlphaTexels;
 
@@ -42,7 +43,6 @@ layout(binding = VKP_WF_MATERIAL_ALPHA) uniform utextureBuffer materialAlphaTexe
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer AliasArray { AliasEntry v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
-layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec3Array { vec3 v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec4Array { vec4 v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Uvec2Array { uvec2 v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer TriangleVerticesArray {
@@ -95,9 +95,17 @@ Light sceneLight(uint i) {
     light.cosOuter = uintBitsToFloat(d.w);
     return light;
 }
+AliasEntry aliasEntry(uvec4 t) {
+    AliasEntry entry;
+    entry.threshold = t.x;
+    entry.alias = t.y;
+    entry.probability = uintBitsToFloat(t.z);
+    entry.padding = t.w;
+    return entry;
+}
 AliasEntry sceneLightAlias(uint i) {
     if (sceneByAddress) return AliasArray(sceneAddresses.lightAlias).v[i];
-    return lightAlias[i];
+    return aliasEntry(texelFetch(lightAliasTexels, int(i)));
 }
 uint scenePrimitiveLight(uint i) {
     if (sceneByAddress) return UintArray(sceneAddresses.primitiveLight).v[i];
@@ -107,11 +115,11 @@ uint scenePrimitiveLight(uint i) {
 }
 AliasEntry sceneEnvAlias(uint i) {
     if (sceneByAddress) return AliasArray(sceneAddresses.envAlias).v[i];
-    return envAlias[i];
+    return aliasEntry(texelFetch(envAliasTexels, int(i)));
 }
 vec3 sceneEnvRadiance(uint i) {
-    if (sceneByAddress) return Vec3Array(sceneAddresses.envRadiance).v[i];
-    return envRadiance[i];
+    if (sceneByAddress) return Vec4Array(sceneAddresses.envRadiance).v[i].xyz;
+    return uintBitsToFloat(texelFetch(envRadianceTexels, int(i)).xyz);
 }
 TriangleVertices sceneTriangleVertices(uint i) {
     if (sceneByAddress) return TriangleVerticesArray(sceneAddresses.triangleVertices).v[i];
@@ -122,8 +130,8 @@ TriangleVertices sceneTriangleVertices(uint i) {
     return v;
 }
 vec3 sceneVertexNormal(uint i) {
-    if (sceneByAddress) return Vec3Array(sceneAddresses.vertexNormals).v[i];
-    return vertexNormals[i];
+    if (sceneByAddress) return Vec4Array(sceneAddresses.vertexNormals).v[i].xyz;
+    return uintBitsToFloat(texelFetch(vertexNormalTexels, int(i)).xyz);
 }
 vec4 sceneVertexTexcoords(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTexcoords).v[i];
@@ -146,7 +154,19 @@ TextureInfo sceneTexture(uint i) {
     texture.sampling = t.w;
     return texture;
 }
-TextureSlot sceneTextureSlot(uint i) { return textureSlots[i]; }
+TextureSlot sceneTextureSlot(uint i) {
+    int t = int(3u * i);
+    uvec4 a = texelFetch(textureSlotTexels, t), b = texelFetch(textureSlotTexels, t + 1),
+          c = texelFetch(textureSlotTexels, t + 2);
+    TextureSlot slot;
+    slot.transformU = uintBitsToFloat(a.xyz);
+    slot.texture = a.w;
+    slot.transformV = uintBitsToFloat(b.xyz);
+    slot.texCoord = b.w;
+    slot.scale = uintBitsToFloat(c.x);
+    slot.padding = c.yzw;
+    return slot;
+}
 vec4 sceneTexel(uint i) {
     uvec2 packed;
     if (sceneByAddress) {
