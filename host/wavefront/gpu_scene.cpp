@@ -301,8 +301,7 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     g.byAddress = vk::chooseAddressAccess(extents, limits);
     // Materials stay bound: one per scene material, not per primitive.
     if (t.materials.size() * sizeof(shared::Material) > limits.binding)
-        throw InputError(fmt::format("scene too large for the device: {} materials do not fit one storage-buffer "
-                                     "binding",
+        throw InputError(fmt::format("scene too large for the device: {} materials do not fit one binding",
                                      t.materials.size()));
     g.bvh = bvh::uploadBvh(context, t.bvh, g.byAddress);
     g.materials = uploadArray(context, t.materials, "materials");
@@ -349,8 +348,8 @@ std::string describeMemory(const GpuScene& g, const SceneTables& t) {
                                t.textures.texels.size(), g.texels.size() / (1024.0 * 1024.0));
     return fmt::format("scene: {:.1f} MiB on the device ({}{}), {}", g.bytes() / (1024.0 * 1024.0),
                        bvh::describeMemory(t.bvh), surface,
-                       g.byAddress ? "read by buffer device address (larger than a storage-buffer binding)"
-                                   : "bound as storage buffers");
+                       g.byAddress ? "read by buffer device address (larger than one binding)"
+                                   : "bound as texel buffers");
 }
 
 }  // namespace vkpath::wavefront

@@ -93,14 +93,15 @@ struct GpuScene {
 uint64_t deviceBytes(const SceneTables& tables);
 
 // Uploads the tables. The arrays are read by address when any of them is
-// larger than a storage-buffer binding may span (vk::bufferLimits: the
-// device's maxStorageBufferRange, or VKPATH_MAX_BINDING_BYTES when lower);
+// larger than one binding may span (vk::bufferLimits: the device's
+// maxStorageBufferRange and 16 x maxTexelBufferElements, or
+// VKPATH_MAX_BINDING_BYTES when lower);
 // throws InputError, naming the array, when one is larger than a buffer may be.
 GpuScene uploadScene(vk::Context& context, const SceneTables& tables);
 
 // One line for the render summary: the scene's device memory, the BVH's part
 // of it, and how the kernels read it, e.g. "scene: 12.3 MiB on the device
-// (BVH: 1234 nodes (38.6 KiB) + ...), bound as storage buffers".
+// (BVH: 1234 nodes (38.6 KiB) + ...), bound as texel buffers".
 std::string describeMemory(const GpuScene& scene, const SceneTables& tables);
 
 }  // namespace vkpath::wavefront
