@@ -9,8 +9,8 @@
 // Specialisation constant ids shared by all kernels.
 #define VKP_SPEC_WORKGROUP_SIZE 0
 // bool: kernels that read the scene (the BVH and the per-primitive arrays)
-// read it through buffer device addresses instead of storage-buffer bindings:
-// for scenes whose arrays exceed maxStorageBufferRange (shared/bvh_buffers.h).
+// read it through buffer device addresses instead of texel-buffer bindings:
+// for scenes whose arrays exceed one binding (shared/bvh_buffers.h).
 #define VKP_SPEC_SCENE_BY_ADDRESS 2
 // uint: the VKP_FEATURE_* bits a kernel may meet (shared/features.h).
 #define VKP_SPEC_FEATURES 3

@@ -1,6 +1,7 @@
 // The bounding volume hierarchy as the kernels read it: a depth-first array of
 // 32-byte nodes and an array of 48-byte primitives in leaf order, both built
-// and flattened by host/bvh/ and uploaded as two storage buffers, plus the hit
+// and flattened by host/bvh/ and uploaded as two device buffers (read as texel
+// buffers of 16-byte texels, shared/bvh_buffers.h), plus the hit
 // record that closest-hit traversal returns.
 //
 // Node layout (depth-first preorder, root at index 0):

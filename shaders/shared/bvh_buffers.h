@@ -4,9 +4,10 @@
 // VKP_SPEC_SCENE_BY_ADDRESS):
 //
 //   bound (false, the default): two uniform texel buffer bindings (below).
-//     Scenes are bound while each array fits maxStorageBufferRange bytes
-//     (128 MiB on lavapipe: about 2.8 million primitives), the limit every
-//     other scene array is bound under;
+//     Scenes are bound while each array fits one binding
+//     (vk::bufferLimits: maxStorageBufferRange and 16 x
+//     maxTexelBufferElements bytes; 128 MiB on lavapipe, about 2.8 million
+//     primitives), the limit every other scene array is bound under;
 //   by address (true): buffer references (GL_EXT_buffer_reference) to the
 //     same arrays, limited only by the size of one buffer. Measured 12 to 41%
 //     slower than storage-buffer bindings on lavapipe (docs/BENCHMARKS.md),

@@ -14,7 +14,7 @@
 // whatever order the tree presents them. Includers without materials (the
 // BVH test kernels, host/bvh/bvh_view.h) answer true.
 //
-// GLSL: a kernel declares its two storage buffers and the accessors over them
+// GLSL: a kernel declares its two buffer bindings and the accessors over them
 //   (shared/bvh_buffers.h does both) and declares bvhAlphaTest (a prototype
 //   will do), then includes this file at global scope.
 // C++: host/bvh/bvh_view.h includes it inside the body of struct BvhView,

@@ -1,6 +1,6 @@
 // Where the scene's arrays lie in device memory, for stage kernels built to
 // read them by address (VKP_SPEC_SCENE_BY_ADDRESS, shared/bindings.h): scenes
-// with an array larger than one storage-buffer binding may span. Each is a
+// with an array larger than one binding may span. Each is a
 // VkDeviceAddress as (low, high) words (GL_EXT_buffer_reference_uvec2); all
 // zero when the arrays are bound instead (host/wavefront/gpu_scene.h).
 #ifndef VKPATH_SHARED_SCENE_ADDRESSES_H

@@ -1,7 +1,8 @@
 // Declarations every stage kernel starts with (after #version and the
 // include and scalar-layout extensions).
 
-// Scenes beyond a storage-buffer binding are read by address (shared/bvh_buffers.h).
+// Scenes beyond one binding are read by address (shared/bvh_buffers.h); the
+// rest through texel buffers (samplerless texelFetch).
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_buffer_reference_uvec2 : require
 #extension GL_EXT_samplerless_texture_functions : require
