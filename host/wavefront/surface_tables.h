@@ -22,7 +22,8 @@ namespace vkpath::wavefront {
 struct SurfaceTables {
     // Both empty when no triangle has an attribute (`attributes` == 0).
     std::vector<shared::TriangleVertices> triangleVertices;  // by triangle id (BvhPrimitive::id)
-    std::vector<glm::vec4> vertexNormals;  // world space, unit (w 0: one 16-byte texel); zero for vertices of meshes without normals
+    // World space, unit (w 0: one 16-byte texel); zero for vertices of meshes without normals.
+    std::vector<glm::vec4> vertexNormals;
     std::vector<glm::vec4> vertexTexcoords;  // (TEXCOORD_0, TEXCOORD_1); zero where a mesh lacks a set
     std::vector<glm::vec4> vertexColors;     // COLOR_0, linear RGBA
     std::vector<glm::vec4> vertexTangents;   // world space unit xyz, w = +-1 (B = w (N x T)); zero without a map

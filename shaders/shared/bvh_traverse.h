@@ -129,7 +129,9 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
 }
 
 // The nearest hit in [0, ray.tMax), or Hit::primitive == VKP_NO_HIT.
-VKP_FN Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) VKP_BVH_CONST { return bvhTrace(ray, false, alphaKey); }
+VKP_FN Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) VKP_BVH_CONST {
+    return bvhTrace(ray, false, alphaKey);
+}
 
 // Whether anything lies in [0, ray.tMax): for shadow rays, whose tMax is the
 // distance to the light (a surface exactly at tMax does not occlude).

@@ -57,7 +57,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
 
 // Stage "shade", last part: samples the BSDF (and roulette) for the next
 // bounce. Returns whether the path goes on; then path.ray is its next ray.
-VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey key, uint bounce) VKP_SCENE_CONST {
+VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey key,
+                    uint bounce) VKP_SCENE_CONST {
     PathStep step =
         continuePath(shading.material, shading.surface, shading.wo, path.throughput, path.etaScale, key, bounce);
     if (!step.alive) return false;

@@ -184,7 +184,8 @@ VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive, Hi
 // bitangent B = w (n x T) (section 3.7.2.1; +Y up the image, since T and w
 // were made for glTF's v-down coordinates) and n. `n` itself where the
 // frame or the map's normal is degenerate.
-VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) triangle, float b1, float b2, vec3 n) VKP_SCENE_CONST {
+VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) triangle, float b1,
+                            float b2, vec3 n) VKP_SCENE_CONST {
     TextureSlot slot = sceneTextureSlot(material.textures + VKP_SLOT_NORMAL);
     if (slot.texture == VKP_NO_TEXTURE) return n;
     float b0 = 1.0f - b1 - b2;
@@ -210,7 +211,8 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
 // material's normal map where it has one, then adapted to wo
 // (shared/bsdf.h); the geometric normal itself for spheres and for flat
 // triangles without a normal map.
-VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, Hit hit, vec3 geometric, vec3 wo) VKP_SCENE_CONST {
+VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, Hit hit,
+                          vec3 geometric, vec3 wo) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_NORMAL_MAPS) || isSphere(primitive)) return geometric;
     if ((sceneInfo().triangleAttributes & (VKP_TRIANGLE_SHADING_NORMALS | VKP_TRIANGLE_TANGENTS)) == 0u)
         return geometric;
@@ -283,7 +285,8 @@ VKP_FN uint pathAlphaKey(RngKey key, uint ray) VKP_SCENE_CONST {
 // for a hit from the front or on a clear material. A ray that meets a glass
 // surface from behind travelled inside that glass, as long as glass bodies
 // are closed and do not overlap or nest (docs/SCENES.md).
-VKP_FN vec3 mediumTransmittance(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, VKP_IN(Ray) ray, Hit hit) VKP_SCENE_CONST {
+VKP_FN vec3 mediumTransmittance(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                VKP_IN(Ray) ray, Hit hit) VKP_SCENE_CONST {
     bool glass = materialIs(material, VKP_MATERIAL_DIELECTRIC) || materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC);
     if (!glass || material.attenuation == vec3(0.0f) || dot(ray.direction, surface.normal) <= 0.0f) return vec3(1.0f);
     return exp(-material.attenuation * hit.t);  // (ray.direction is unit)
@@ -310,8 +313,9 @@ VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SC
 // Emission at a hit: `surface` on leaf primitive `primitive`, reached along
 // `direction` from `previous` (the last vertex) by a ray of BSDF density
 // `bsdfPdf`. Triangles emit from their front face only.
-VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, uint primitive, VKP_IN(SurfacePoint) surface, vec3 direction, vec3 previous,
-                            bool specular, float bsdfPdf) VKP_SCENE_CONST {
+VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, uint primitive, VKP_IN(SurfacePoint) surface,
+                            vec3 direction, vec3 previous, bool specular,
+                            float bsdfPdf) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) return vec3(0.0f);
     vec3 le = material.emission;
     if (!isSphere(bvhPrimitive(primitive)) && dot(direction, surface.normal) >= 0.0f) return vec3(0.0f);
@@ -337,8 +341,9 @@ struct ShadowRequest {
 };
 
 // Light sample `index` (of lightSamples) at a diffuse vertex.
-VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo, vec3 throughput,
-                                       RngKey key, uint bounce, uint index) VKP_SCENE_CONST {
+VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                       vec3 wo, vec3 throughput, RngKey key, uint bounce,
+                                       uint index) VKP_SCENE_CONST {
     ShadowRequest request;
     request.valid = false;
     request.rejected = false;
@@ -421,8 +426,9 @@ struct PathStep {
     bool alive;        // false: the path ends here
 };
 
-VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo, vec3 throughput, float etaScale,
-                             RngKey key, uint bounce) VKP_SCENE_CONST {
+VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
+                             vec3 throughput, float etaScale, RngKey key,
+                             uint bounce) VKP_SCENE_CONST {
     PathStep step;
     step.alive = false;
     step.throughput = throughput;
