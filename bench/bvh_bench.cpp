@@ -25,6 +25,7 @@
 #include "bvh/bvh.h"
 #include "bvh/bvh_view.h"
 #include "bvh/gpu_bvh.h"
+#include "bvh/wide_bvh.h"
 #include "scene/camera.h"
 #include "scene/load.h"
 #include "shared/bvh.h"
@@ -223,15 +224,18 @@ void traceBenchmark(benchmark::State& state, const BenchScene* s, bvh::BvhOption
     state.counters["sah"] = build.stats.sahCost;
 }
 
-// The same traversal on the CPU (shared/bvh_traverse.h through BvhView), one
-// thread: a yardstick for the GPU figures.
-void cpuTraceBenchmark(benchmark::State& state, const BenchScene* s, RayKind kind) {
+// The traversals on the CPU, one thread: the kernels' binary one
+// (shared/bvh_traverse.h through BvhView), a yardstick for the GPU figures,
+// and the eight-wide tree the CPU reference traces (bvh/wide_bvh.h).
+void cpuTraceBenchmark(benchmark::State& state, const BenchScene* s, RayKind kind, bool wide) {
     const bvh::BvhBuild build = bvh::buildBvh(s->scene);
     std::vector<shared::Ray> rays = cameraRays(s->camera);
     if (kind == RayKind::Incoherent) rays = bounceRays(build, rays);
     const shared::BvhView view{build.nodes, build.primitives};
+    const bvh::WideBvh wideBvh = bvh::collapseBvh(build.nodes);
     for (auto _ : state)
-        for (const shared::Ray& r : rays) benchmark::DoNotOptimize(view.bvhClosestHit(r));
+        for (const shared::Ray& r : rays)
+            benchmark::DoNotOptimize(wide ? bvh::traceWide(view, wideBvh, r, false, 0u) : view.bvhClosestHit(r));
     state.counters["rays"] = static_cast<double>(rays.size());
     state.counters["Mrays/s"] = benchmark::Counter(static_cast<double>(rays.size()) * 1e-6,
                                                    benchmark::Counter::kIsIterationInvariantRate);
@@ -269,11 +273,14 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
     for (const BenchScene& s : scenes()) {
         if (s.scene.triangleCount() > 500000) continue;  // traversal: the smaller scenes are enough on lavapipe
         for (RayKind kind : {RayKind::Coherent, RayKind::Incoherent}) {
-            const std::string cpuName =
-                "trace-cpu/" + s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest";
-            benchmark::RegisterBenchmark(cpuName.c_str(), cpuTraceBenchmark, &s, kind)
-                ->Unit(benchmark::kMillisecond)
-                ->Iterations(2);
+            for (bool wide : {false, true}) {
+                const std::string cpuName = "trace-cpu/" + s.name +
+                                            (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest" +
+                                            (wide ? "/wide" : "/binary");
+                benchmark::RegisterBenchmark(cpuName.c_str(), cpuTraceBenchmark, &s, kind, wide)
+                    ->Unit(benchmark::kMillisecond)
+                    ->Iterations(2);
+            }
             const std::string group = s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent");
             for (bool anyHit : {false, true}) {
                 const std::string hit = anyHit ? "/anyhit" : "/closest";

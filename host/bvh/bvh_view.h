@@ -1,5 +1,5 @@
-// CPU traversal of a flattened BVH with the kernels' own code: the body of
-// shaders/shared/bvh_traverse.h becomes the const member functions of BvhView,
+// CPU traversal of a flattened BVH with the kernels' own code: the bodies of
+// shaders/shared/bvh_leaf.h and bvh_traverse.h become the const member functions of BvhView,
 // reading the two arrays through std::span where a kernel reads its storage
 // buffers. The CPU reference renderer and the tests trace with it:
 //
@@ -23,13 +23,14 @@ struct BvhView {
     std::span<const BvhNode> nodes;            // depth-first, as bvh::BvhBuild::nodes
     std::span<const BvhPrimitive> primitives;  // leaf order, as bvh::BvhBuild::primitives
 
-    // The accessors shared/bvh_traverse.h reads through, and its alpha test:
+    // The accessors shared/bvh_leaf.h and bvh_traverse.h read through, and its alpha test:
     // a BVH alone has no materials, so every candidate hit stands
     // (reference/path_tracer_view.h tests alpha).
     BvhNode bvhNode(uint index) const { return nodes[index]; }
     BvhPrimitive bvhPrimitive(uint index) const { return primitives[index]; }
     bool bvhAlphaTest(BvhPrimitive, vec2, uint) const { return true; }
 
+#include "shared/bvh_leaf.h"
 #include "shared/bvh_traverse.h"
 };
 

@@ -2,11 +2,13 @@
 // shaders/shared/path_tracer.h and integrator.h (the per-path loop) become the const member functions of
 // PathTracerView, which reads the scene tables (wavefront::SceneTables, what
 // the GPU buffers hold) through std::span where the shade kernel reads its
-// storage buffers (shaders/stages/lib/scene_access.glsl). Traversal comes
-// from BvhView's accessors, its code included again here so that it asks
-// this view's alpha test (path_tracer.h bvhAlphaTest, which reads materials
-// and textures) rather than BvhView's, so one object answers everything a
-// path vertex asks:
+// texel buffers (shaders/stages/lib/scene_access.glsl). Rays are traced
+// through the eight-wide tree collapsed from the scene's BVH
+// (host/bvh/wide_bvh.h), whose leaves are tested by shared/bvh_leaf.h
+// included here, so with this view's alpha test (path_tracer.h
+// bvhAlphaTest, which reads materials and textures): the hits the kernels'
+// binary traversal finds, bit for bit. One object answers everything a path
+// vertex asks:
 //
 //   shared::PathTracerView view(tables, info);
 //   shared::Hit hit = view.bvhClosestHit(ray);
@@ -19,6 +21,7 @@
 #include <span>
 
 #include "bvh/bvh_view.h"
+#include "bvh/wide_bvh.h"
 #include "shared/alias.h"
 #include "shared/alpha.h"
 #include "shared/bsdf.h"
@@ -67,11 +70,23 @@ struct PathTracerView : BvhView {
     }
     MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
 
-#include "shared/bvh_traverse.h"
+    // What shared/integrator.h traces with: the wide tree, the same hits as
+    // BvhView's binary traversal (which these hide).
+    Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) const {
+        return bvh::traceWide(*this, m_wide, ray, false, alphaKey);
+    }
+    bool bvhOccluded(VKP_IN(Ray) ray, uint alphaKey) const {
+        return bvh::traceWide(*this, m_wide, ray, true, alphaKey).primitive != VKP_NO_HIT;
+    }
+    Hit bvhClosestHit(VKP_IN(Ray) ray) const { return bvhClosestHit(ray, 0u); }
+    bool bvhOccluded(VKP_IN(Ray) ray) const { return bvhOccluded(ray, 0u); }
+
+#include "shared/bvh_leaf.h"
 #include "shared/path_tracer.h"
 #include "shared/integrator.h"
 
   private:
+    bvh::WideBvh m_wide;
     SceneInfo m_info;
     std::span<const Material> m_materials;
     std::span<const Light> m_lights;

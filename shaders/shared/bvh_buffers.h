@@ -85,6 +85,7 @@ BvhPrimitive bvhPrimitive(uint index) {
     return primitive;
 }
 
+#include "shared/bvh_leaf.h"
 #include "shared/bvh_traverse.h"
 
 #endif  // VKPATH_SHARED_BVH_BUFFERS_H

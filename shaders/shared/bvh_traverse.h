@@ -1,25 +1,23 @@
-// BVH traversal: closest hit and any hit (shadow rays), the same code on GPU
-// and CPU. GLSL has neither pointers nor recursion, and a GLSL function cannot
-// take a buffer, so this file reads the BVH through two accessors that its
-// includer defines before including it, and asks it one question:
+// BVH traversal of the binary tree: closest hit and any hit (shadow rays),
+// the same code on GPU and CPU. GLSL has neither pointers nor recursion, and
+// a GLSL function cannot take a buffer, so this file reads the BVH through
+// accessors that its includer defines before including it:
 //
 //   BvhNode bvhNode(uint index);            // shared/bvh.h layouts
 //   BvhPrimitive bvhPrimitive(uint index);
 //   bool bvhAlphaTest(BvhPrimitive triangle, vec2 barycentrics, uint alphaKey);
 //
-// bvhAlphaTest says whether a triangle's candidate hit in [0, tMax) stands
-// (alpha coverage, shared/alpha.h; only kernels with VKP_FEATURE_ALPHA ask).
-// A rejected candidate is passed through: it neither shortens tMax nor ends
-// an any-hit trace, so the result is the nearest candidate that stands, in
-// whatever order the tree presents them. Includers without materials (the
-// BVH test kernels, host/bvh/bvh_view.h) answer true.
+// and tests leaves with shared/bvh_leaf.h (the alpha test and the rule for
+// ties), which the includer includes first.
 //
 // GLSL: a kernel declares its two buffer bindings and the accessors over them
-//   (shared/bvh_buffers.h does both) and declares bvhAlphaTest (a prototype
-//   will do), then includes this file at global scope.
+//   (shared/bvh_buffers.h does all of it) and declares bvhAlphaTest (a
+//   prototype will do), then includes this file at global scope.
 // C++: host/bvh/bvh_view.h includes it inside the body of struct BvhView,
 //   whose member accessors read std::spans; the functions below become const
-//   member functions (VKP_BVH_CONST).
+//   member functions (VKP_BVH_CONST). The CPU reference traces an eight-wide
+//   tree built from this one instead (host/bvh/wide_bvh.h), with the same
+//   leaf test and so the same hits.
 //
 // There is no include guard: include it exactly once per scope.
 //
@@ -32,18 +30,6 @@
 // 2009): descend through interior nodes until a leaf, then test the leaf, so
 // the rays of a SIMD group run the same phase together (measured ~10% faster
 // for incoherent rays on lavapipe than one if/else per step).
-//
-// Ties: primitives are tested in leaf order and a hit must be strictly nearer
-// than the best so far (the interval is [0, tMax) and tMax shrinks to each hit),
-// so among hits at exactly the same distance the first found wins. Which one
-// that is depends on the tree and the order children are visited in (nearer
-// box entry first, the first child on equal entries).
-
-#ifdef __cplusplus
-#define VKP_BVH_CONST const
-#else
-#define VKP_BVH_CONST
-#endif
 
 // anyHit: stop at the first hit in [0, ray.tMax) (it need not be the closest).
 // alphaKey: passed to bvhAlphaTest (shared/alpha.h alphaRayKey).
@@ -99,27 +85,8 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
 
         // ---- a leaf: test its primitives --------------------------------------
         uint end = node.offset + node.count;
-        for (uint i = node.offset; i < end; ++i) {
-            BvhPrimitive primitive = bvhPrimitive(i);
-            float t;
-            vec2 barycentrics = vec2(0.0f, 0.0f);
-            bool found;
-            if (isSphere(primitive)) {
-                found = intersectSphere(ray.origin, ray.direction, primitive.p0, primitive.p1.x, hit.t,
-                                        t);
-            } else {
-                found = intersectTriangle(triangleRay, primitive.p0, primitive.p1, primitive.p2, hit.t,
-                                          t, barycentrics);
-                if (found && hasFeature(VKP_FEATURE_ALPHA))
-                    found = bvhAlphaTest(primitive, barycentrics, alphaKey);
-            }
-            if (found) {
-                hit.t = t;
-                hit.primitive = i;
-                hit.barycentrics = barycentrics;
-                if (anyHit) return hit;
-            }
-        }
+        for (uint i = node.offset; i < end; ++i)
+            if (bvhTestPrimitive(ray, triangleRay, i, alphaKey, hit) && anyHit) return hit;
         if (stackSize == 0u) break;
         stackSize -= 1u;
         index = stack[stackSize];

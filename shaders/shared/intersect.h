@@ -68,8 +68,10 @@ VKP_FN vec3 safeInverse(vec3 d) {
     return result;
 }
 
-// Whether the ray meets the box before tLimit; `entry` is where it enters
-// (0 when the origin is inside). Conservative: widened by VKP_BOX_SLACK.
+// Whether the ray meets the box before or at tLimit; `entry` is where it
+// enters (0 when the origin is inside). Conservative: widened by
+// VKP_BOX_SLACK. "At" keeps a box that may hold a hit tied with the current
+// one (shared/bvh_leaf.h), even at distance 0.
 VKP_FN bool intersectBox(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 inverseDirection,
                          float tLimit, VKP_OUT(float) entry) {
     vec3 t0 = (boundsMin - origin) * inverseDirection;
@@ -78,7 +80,7 @@ VKP_FN bool intersectBox(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 inver
     vec3 tFar = max(t0, t1);
     entry = max(max(tNear.x, tNear.y), max(tNear.z, 0.0f));
     float exit = min(min(tFar.x, tFar.y), tFar.z) * VKP_BOX_SLACK;
-    return entry <= exit && entry < tLimit * VKP_BOX_SLACK;
+    return entry <= exit && entry <= tLimit * VKP_BOX_SLACK;
 }
 
 // ---------------------------------------------------------------------------

@@ -21,36 +21,6 @@ using namespace vkpath::test::bvh;
 
 constexpr uint32_t RAYS_PER_MESH = 1000000;
 
-struct AimedRays {
-    std::vector<Ray> rays;
-    std::vector<float> distance;  // to the aimed-at point
-};
-
-// Rays from inside [-0.5, 0.5]^3 (1% from the exact origin) to points on the
-// mesh's edges (half) or exactly at its vertices (half).
-AimedRays raysAtEdgesAndVertices(const scene::Mesh& mesh, uint32_t count, uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<size_t> pickTriangle(0, mesh.triangles.size() - 1);
-    std::uniform_int_distribution<int> pickCorner(0, 2);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    AimedRays out;
-    out.rays.reserve(count);
-    out.distance.reserve(count);
-    while (out.rays.size() < count) {
-        const vec3 origin = out.rays.size() % 100 == 0 ? vec3(0.0f) : randomInBox(rng, vec3(-0.5f), vec3(0.5f));
-        const glm::uvec3 tri = mesh.triangles[pickTriangle(rng)];
-        const int corner = pickCorner(rng);
-        const vec3 a = mesh.positions[tri[corner]];
-        const vec3 b = mesh.positions[tri[(corner + 1) % 3]];
-        const vec3 target = out.rays.size() % 2 == 0 ? a : a + u(rng) * (b - a);
-        const vec3 to = target - origin;
-        const float length = glm::length(to);
-        out.rays.push_back(makeRay(origin, to / length));
-        out.distance.push_back(length);
-    }
-    return out;
-}
-
 struct Escapes {
     size_t missed = 0;
     size_t elsewhere = 0;  // hit, but not near the aimed-at point

@@ -1,0 +1,55 @@
+// What BVH traversal does at a leaf: test one primitive against the ray and
+// keep it when it is the nearer hit. Both traversals include it: the binary
+// tree's (shared/bvh_traverse.h, on GPU and CPU) and the CPU reference's
+// eight-wide one (host/bvh/wide_bvh.h). It reads through its includer's
+// accessors
+//
+//   BvhPrimitive bvhPrimitive(uint index);
+//   bool bvhAlphaTest(BvhPrimitive triangle, vec2 barycentrics, uint alphaKey);
+//
+// bvhAlphaTest says whether a triangle's candidate hit stands (alpha
+// coverage, shared/alpha.h; only kernels with VKP_FEATURE_ALPHA ask). A
+// rejected candidate is passed through: it neither shortens the interval nor
+// ends an any-hit trace. Includers without materials (the BVH test kernels,
+// host/bvh/bvh_view.h) answer true.
+//
+// Ties: a hit at exactly the distance of the best so far replaces it when
+// its leaf index is smaller. So the closest hit is the nearest candidate that
+// stands, and among those at the same distance the one of smallest index,
+// whatever order a traversal visits the leaves in: the binary and the wide
+// tree give the same hit, bit for bit. (Before this rule the first one found
+// won, which depended on the tree.)
+//
+// No include guard: include once per scope, before shared/bvh_traverse.h
+// (C++: inside the struct whose accessors it reads, VKP_BVH_CONST).
+
+#ifdef __cplusplus
+#define VKP_BVH_CONST const
+#else
+#define VKP_BVH_CONST
+#endif
+
+// Tests leaf primitive `index`; when it is hit in [0, hit.t), or at exactly
+// hit.t with an index below hit.primitive, makes it `hit` and returns true.
+VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index, uint alphaKey,
+                             VKP_INOUT(Hit) hit) VKP_BVH_CONST {
+    // The tests take a half-open interval [0, tLimit): one ulp more admits t == hit.t.
+    // hit.t of a found hit is finite and >= 0, so the next float up is its bits plus one.
+    bool winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
+    float tLimit = winsTie ? uintBitsToFloat(floatBitsToUint(hit.t) + 1u) : hit.t;
+    BvhPrimitive primitive = bvhPrimitive(index);
+    float t;
+    vec2 barycentrics = vec2(0.0f, 0.0f);
+    bool found;
+    if (isSphere(primitive)) {
+        found = intersectSphere(ray.origin, ray.direction, primitive.p0, primitive.p1.x, tLimit, t);
+    } else {
+        found = intersectTriangle(triangleRay, primitive.p0, primitive.p1, primitive.p2, tLimit, t, barycentrics);
+        if (found && hasFeature(VKP_FEATURE_ALPHA)) found = bvhAlphaTest(primitive, barycentrics, alphaKey);
+    }
+    if (!found) return false;
+    hit.t = t;
+    hit.primitive = index;
+    hit.barycentrics = barycentrics;
+    return true;
+}

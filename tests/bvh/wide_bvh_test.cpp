@@ -1,0 +1,161 @@
+// The CPU reference's eight-wide tree (host/bvh/wide_bvh.h): collapsing keeps
+// every leaf of the binary tree exactly once with its box, and traversal
+// returns the binary traversal's hit bit for bit (t, primitive,
+// barycentrics) and the same any-hit answer, on random rays and on rays aimed
+// at the edges and vertices of closed meshes. Both must also equal brute force
+// in leaf order exactly, primitive included: the rule for ties
+// (shared/bvh_leaf.h) makes the hit at a shared distance the one of smallest
+// leaf index, which is the one brute force keeps. Coincident triangles, tied
+// on every ray that meets them, check that rule head on.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+#include <ostream>
+#include <set>
+#include <string>
+
+#include "bvh/wide_bvh.h"
+#include "bvh_test_util.h"
+
+namespace {
+
+using namespace vkpath;
+using namespace vkpath::test::bvh;
+
+bool sameHit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
+
+struct Traced {
+    size_t rays = 0, hits = 0, wideDiffers = 0, binaryDiffers = 0, bruteDiffers = 0, occlusionDiffers = 0;
+};
+
+// Traces every ray through both trees and brute force.
+Traced traceAll(const bvh::BvhBuild& build, const std::vector<Ray>& rays) {
+    const shared::BvhView view{build.nodes, build.primitives};
+    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+    const std::vector<Hit> brute = bruteForceClosest(build.primitives, rays);
+    Traced t;
+    t.rays = rays.size();
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit binary = view.bvhClosestHit(rays[i]);
+        const Hit wideHit = bvh::traceWide(view, wide, rays[i], false, 0u);
+        t.hits += wideHit.primitive != VKP_NO_HIT;
+        t.wideDiffers += !sameHit(wideHit, binary);
+        t.binaryDiffers += !sameHit(binary, brute[i]);
+        t.bruteDiffers += !sameHit(wideHit, brute[i]);
+        const bool occluded = bvh::traceWide(view, wide, rays[i], true, 0u).primitive != VKP_NO_HIT;
+        t.occlusionDiffers += occluded != view.bvhOccluded(rays[i]) || occluded != (brute[i].primitive != VKP_NO_HIT);
+    }
+    return t;
+}
+
+void expectSameHits(const Traced& t) {
+    EXPECT_EQ(t.wideDiffers, 0u) << "wide traversal differs from the binary one";
+    EXPECT_EQ(t.binaryDiffers, 0u) << "binary traversal differs from brute force";
+    EXPECT_EQ(t.bruteDiffers, 0u) << "wide traversal differs from brute force";
+    EXPECT_EQ(t.occlusionDiffers, 0u) << "any-hit answers differ";
+    EXPECT_GT(t.hits, t.rays / 4) << "too few hits for the comparison to mean much";
+}
+
+// The binary leaves under `binaryIndex`, as (first primitive, count).
+void binaryLeaves(const bvh::BvhBuild& build, uint32_t binaryIndex, std::multiset<std::pair<uint32_t, uint32_t>>& out) {
+    const shared::BvhNode& node = build.nodes[binaryIndex];
+    if (node.count > 0) {
+        out.insert({node.offset, node.count});
+        return;
+    }
+    binaryLeaves(build, binaryIndex + 1, out);
+    binaryLeaves(build, node.offset, out);
+}
+
+// Checks the wide tree's structure against the binary tree it came from.
+void expectSoundCollapse(const bvh::BvhBuild& build) {
+    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+    std::multiset<std::pair<uint32_t, uint32_t>> expected, found;
+    binaryLeaves(build, 0, expected);
+    std::vector<int> visits(wide.nodes.size(), 0);
+    uint32_t deepest = 0;
+    std::function<void(uint32_t, uint32_t)> walk = [&](uint32_t index, uint32_t depth) {
+        ASSERT_LT(index, wide.nodes.size());
+        ++visits[index];
+        deepest = std::max(deepest, depth);
+        const bvh::WideBvh::Node& node = wide.nodes[index];
+        ASSERT_GE(node.children, 1u);
+        ASSERT_LE(node.children, bvh::WideBvh::WIDTH);
+        for (uint32_t i = 0; i < node.children; ++i) {
+            EXPECT_LE(node.minX[i], node.maxX[i]);
+            EXPECT_LE(node.minY[i], node.maxY[i]);
+            EXPECT_LE(node.minZ[i], node.maxZ[i]);
+            if (node.count[i] > 0)
+                found.insert({node.child[i], node.count[i]});
+            else
+                walk(node.child[i], depth + 1);
+        }
+    };
+    walk(0, 0);
+    EXPECT_EQ(found, expected) << "the wide leaves are not the binary leaves";
+    for (size_t i = 0; i < visits.size(); ++i) EXPECT_EQ(visits[i], 1) << "wide node " << i << " reached " << visits[i] << " times";
+    EXPECT_LE(deepest, build.stats.maxDepth);
+}
+
+TEST(WideBvh, CollapseKeepsEveryLeafOnce) {
+    for (const auto& [triangles, spheres] : {std::pair{1u, 0u}, {3u, 0u}, {0u, 9u}, {1000u, 0u}, {600u, 300u}}) {
+        SCOPED_TRACE(fmt::format("{} triangles, {} spheres", triangles, spheres));
+        scene::Scene s = emptyScene();
+        if (triangles) addTriangleSoup(s, triangles, 0.15f, 11);
+        if (spheres) addSphereField(s, spheres, 0.01f, 0.08f, 12);
+        expectSoundCollapse(buildChecked(s));
+    }
+    // Leaves of one primitive: the deepest trees, the most nodes to open.
+    scene::Scene s = emptyScene();
+    addTriangleSoup(s, 500, 0.15f, 13);
+    expectSoundCollapse(buildChecked(s, bvh::BvhOptions{.maxLeafSize = 1}));
+}
+
+TEST(WideBvh, EmptyTreeHitsNothing) {
+    const bvh::BvhBuild build = buildChecked(emptyScene());
+    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+    EXPECT_TRUE(wide.nodes.empty());
+    const shared::BvhView view{build.nodes, build.primitives};
+    EXPECT_EQ(bvh::traceWide(view, wide, makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f)), false, 0u).primitive,
+              VKP_NO_HIT);
+}
+
+TEST(WideBvh, RandomRaysHitWhatTheBinaryTreeHits) {
+    for (const auto& [triangles, spheres] : {std::pair{1000u, 0u}, {0u, 800u}, {600u, 300u}}) {
+        SCOPED_TRACE(fmt::format("{} triangles, {} spheres", triangles, spheres));
+        scene::Scene s = emptyScene();
+        if (triangles) addTriangleSoup(s, triangles, 0.15f, 11);
+        if (spheres) addSphereField(s, spheres, 0.01f, 0.08f, 12);
+        const bvh::BvhBuild build = buildChecked(s);
+        expectSameHits(traceAll(build, randomRays(build, 20000, 31)));
+    }
+}
+
+// Rays through shared edges and vertices meet two or more triangles, often
+// at exactly the same distance.
+TEST(WideBvh, RaysAtEdgesAndVerticesHitWhatTheBinaryTreeHits) {
+    for (const scene::Mesh& mesh : {icosphere(4, 1.0f, vec3(0.0f)), tessellatedCube(24)}) {
+        SCOPED_TRACE(mesh.name);
+        scene::Scene s = emptyScene();
+        s.meshes.push_back(mesh);
+        const bvh::BvhBuild build = buildChecked(s);
+        expectSameHits(traceAll(build, raysAtEdgesAndVertices(s.meshes[0], 20000, 41).rays));
+    }
+}
+
+// Every triangle twice, in leaves of one primitive so that each lies in a
+// leaf of its own: every ray that meets one meets its twin at the same
+// distance, and the two trees visit twins in different orders.
+TEST(WideBvh, CoincidentTrianglesGiveTheSmallerLeafIndex) {
+    scene::Scene s = emptyScene();
+    addTriangleSoup(s, 400, 0.15f, 17);
+    s.meshes.push_back(s.meshes[0]);
+    const bvh::BvhBuild build = buildChecked(s, bvh::BvhOptions{.maxLeafSize = 1});
+    const std::vector<Ray> rays = randomRays(build, 20000, 43);
+    const Traced t = traceAll(build, rays);
+    expectSameHits(t);
+}
+
+}  // namespace
