@@ -12,9 +12,28 @@ float surfaceArea(const shared::BvhNode& node) {
     return d.x * d.y + d.y * d.z + d.z * d.x;
 }
 
+// Appends the blocks of the leaf holding primitives [first, first + count);
+// returns the index of the first.
+uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t first, uint32_t count, WideBvh& wide) {
+    const auto start = uint32_t(wide.blocks.size());
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t lane = i % WideBvh::BLOCK;
+        if (lane == 0) wide.blocks.emplace_back();
+        WideBvh::Block& block = wide.blocks.back();
+        const shared::BvhPrimitive& p = primitives[first + i];
+        block.primitive[lane] = first + i;
+        const float* coordinates[9] = {&p.p0.x, &p.p0.y, &p.p0.z, &p.p1.x, &p.p1.y, &p.p1.z, &p.p2.x, &p.p2.y, &p.p2.z};
+        float* lanes[9] = {block.p0x, block.p0y, block.p0z, block.p1x, block.p1y, block.p1z, block.p2x, block.p2y, block.p2z};
+        for (int k = 0; k < 9; ++k) lanes[k][lane] = *coordinates[k];
+        (p.kind == VKP_PRIMITIVE_SPHERE ? block.spheres : block.triangles) |= 1u << lane;
+    }
+    return start;
+}
+
 // Appends the wide node whose children are `binaryIndex`'s subtree opened up
 // to WIDTH boxes; returns its index.
-uint32_t collapseNode(std::span<const shared::BvhNode> binary, uint32_t binaryIndex, WideBvh& wide) {
+uint32_t collapseNode(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives,
+                      uint32_t binaryIndex, WideBvh& wide) {
     std::vector<uint32_t> slots;
     const shared::BvhNode& root = binary[binaryIndex];
     if (isLeaf(root))
@@ -44,8 +63,13 @@ uint32_t collapseNode(std::span<const shared::BvhNode> binary, uint32_t binaryIn
         node.maxX[i] = child.boundsMax.x;
         node.maxY[i] = child.boundsMax.y;
         node.maxZ[i] = child.boundsMax.z;
-        node.count[i] = child.count;
-        node.child[i] = isLeaf(child) ? child.offset : collapseNode(binary, slots[i], wide);
+        if (isLeaf(child)) {
+            node.child[i] = appendBlocks(primitives, child.offset, child.count, wide);
+            node.count[i] = (child.count + WideBvh::BLOCK - 1) / WideBvh::BLOCK;
+        } else {
+            node.child[i] = collapseNode(binary, primitives, slots[i], wide);
+            node.count[i] = 0;
+        }
     }
     wide.nodes[index] = node;
     return index;
@@ -53,10 +77,12 @@ uint32_t collapseNode(std::span<const shared::BvhNode> binary, uint32_t binaryIn
 
 }  // namespace
 
-WideBvh collapseBvh(std::span<const shared::BvhNode> binary) {
+WideBvh collapseBvh(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives) {
     WideBvh wide;
     if (binary.empty() || (binary[0].count == 0 && binary[0].offset == 0)) return wide;  // empty tree
-    collapseNode(binary, 0, wide);
+    wide.boundsMin = binary[0].boundsMin;
+    wide.boundsMax = binary[0].boundsMax;
+    collapseNode(binary, primitives, 0, wide);
     return wide;
 }
 

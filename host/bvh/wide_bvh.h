@@ -4,14 +4,19 @@
 // tests two boxes per node, one after the other. The GPU kernels keep the
 // binary tree: on SIMD hardware each lane is a ray already.
 //
-//   bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+//   bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
 //   shared::Hit hit = bvh::traceWide(view, wide, ray, false, alphaKey);
 //
-// The leaves are the binary tree's (ranges of the same leaf-ordered primitive
-// array), tested with the same code (shared/bvh_leaf.h, through `view`), and a
-// box is culled by the same test (shared/intersect.h intersectBox, lane by
-// lane the same operations): so traceWide returns the binary traversal's hit
-// bit for bit, ties included (shared/bvh_leaf.h).
+// The leaves are the binary tree's, their primitives copied into blocks of
+// four in structure-of-arrays form: the triangles of a block are tested in
+// one pass of four-lane arithmetic, lane by lane the operations of
+// shared/intersect.h intersectTriangle (and that function itself where an
+// edge function is exactly zero and it recomputes in double); spheres are
+// tested one by one with shared/bvh_leaf.h through `view`. A box is culled by
+// the same test as in the binary traversal (shared/intersect.h intersectBox,
+// lane by lane the same operations). So traceWide returns the binary
+// traversal's hit bit for bit, ties included (shared/bvh_leaf.h: among equal
+// distances the smallest leaf index, whatever the order of the tests).
 //
 // Collapsing follows Wald, Benthin and Boulos, "Getting Rid of Packets:
 // Efficient SIMD Single-Ray Traversal using Multi-branching BVHs" (RT 2008):
@@ -27,7 +32,7 @@
 #include <span>
 #include <vector>
 
-#ifdef __AVX__
+#if defined(__AVX__) || defined(__SSE__)
 #include <immintrin.h>
 #endif
 
@@ -47,24 +52,48 @@ struct WideBvh {
     struct alignas(32) Node {
         float minX[WIDTH], minY[WIDTH], minZ[WIDTH];
         float maxX[WIDTH], maxY[WIDTH], maxZ[WIDTH];
-        uint32_t child[WIDTH];  // interior: index into nodes; leaf: its first primitive (leaf order)
-        uint32_t count[WIDTH];  // leaf: its primitives (>= 1); interior: 0
+        uint32_t child[WIDTH];  // interior: index into nodes; leaf: its first block in `blocks`
+        uint32_t count[WIDTH];  // leaf: its blocks (>= 1); interior: 0
         uint32_t children;      // slots in use, 1 to WIDTH
     };
 
-    std::vector<Node> nodes;  // root at 0; empty for an empty tree
+    static constexpr uint32_t BLOCK = 4;
+    // Up to four primitives of one leaf, in leaf order: lane i is
+    // primitive[i], a triangle (p0, p1, p2) or a sphere, or unused (neither bit).
+    struct alignas(16) Block {
+        float p0x[BLOCK], p0y[BLOCK], p0z[BLOCK];
+        float p1x[BLOCK], p1y[BLOCK], p1z[BLOCK];
+        float p2x[BLOCK], p2y[BLOCK], p2z[BLOCK];
+        uint32_t primitive[BLOCK];  // index into the leaf-ordered BvhPrimitive array
+        uint32_t triangles;         // bit i: lane i is a triangle
+        uint32_t spheres;           // bit i: lane i is a sphere
+    };
+
+    std::vector<Node> nodes;    // root at 0; empty for an empty tree
+    std::vector<Block> blocks;  // the leaves' primitives, leaf after leaf
+    // The binary root's box, tested first as the binary traversal does (a
+    // ray that misses the scene costs one box test, not eight).
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
 };
 
-// The wide tree over `binary` (a BvhBuild's depth-first node array).
-WideBvh collapseBvh(std::span<const shared::BvhNode> binary);
+// The wide tree over a BvhBuild's depth-first node array and its leaf-ordered primitives.
+WideBvh collapseBvh(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives);
 
 namespace wide_detail {
 
 using Floats = float __attribute__((vector_size(32)));
 using Ints = int32_t __attribute__((vector_size(32)));
 
+using Floats4 = float __attribute__((vector_size(16)));
+using Ints4 = int32_t __attribute__((vector_size(16)));
+
 inline Floats load(const float* values) {
     Floats v;
+    std::memcpy(&v, values, sizeof v);
+    return v;
+}
+inline Floats4 load4(const float* values) {
+    Floats4 v;
     std::memcpy(&v, values, sizeof v);
     return v;
 }
@@ -79,6 +108,16 @@ inline uint32_t laneBits(Ints mask) {
 #else
     uint32_t bits = 0;
     for (uint32_t i = 0; i < WideBvh::WIDTH; ++i) bits |= uint32_t(mask[i] != 0) << i;
+    return bits;
+#endif
+}
+
+inline uint32_t laneBits(Ints4 mask) {
+#ifdef __SSE__
+    return uint32_t(_mm_movemask_ps(__m128(mask)));
+#else
+    uint32_t bits = 0;
+    for (uint32_t i = 0; i < WideBvh::BLOCK; ++i) bits |= uint32_t(mask[i] != 0) << i;
     return bits;
 #endif
 }
@@ -102,6 +141,81 @@ inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origi
     return laneBits(hit) & ((1u << node.children) - 1u);
 }
 
+// The upper limit of primitive `index`'s interval, as shared/bvh_leaf.h sets it.
+inline float tieLimit(const shared::Hit& hit, uint32_t index) {
+    const bool winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
+    return winsTie ? glm::uintBitsToFloat(glm::floatBitsToUint(hit.t) + 1u) : hit.t;
+}
+
+// Tests a block's primitives as shared/bvh_leaf.h bvhTestPrimitive would,
+// each in turn, and updates `hit` alike. Returns whether it took a hit.
+template <typename View>
+bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray& ray,
+               const shared::TriangleRay& triangleRay, uint32_t alphaKey, bool anyHit, shared::Hit& hit) {
+    bool took = false;
+    for (uint32_t bits = block.spheres; bits != 0; bits &= bits - 1) {
+        if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)], alphaKey, hit)) {
+            if (anyHit) return true;
+            took = true;
+        }
+    }
+    if (block.triangles == 0) return took;
+
+    // intersectTriangle, four triangles at once: vertices relative to the
+    // origin in the permuted axes, the shear, the edge functions.
+    const glm::vec3 o = ray.origin;
+    const Floats4 p0[3] = {load4(block.p0x) - o.x, load4(block.p0y) - o.y, load4(block.p0z) - o.z};
+    const Floats4 p1[3] = {load4(block.p1x) - o.x, load4(block.p1y) - o.y, load4(block.p1z) - o.z};
+    const Floats4 p2[3] = {load4(block.p2x) - o.x, load4(block.p2y) - o.y, load4(block.p2z) - o.z};
+    const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
+    const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
+    const Floats4 ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
+    const Floats4 bx = dz * p1[kx] - dx * p1[kz], by = dz * p1[ky] - dy * p1[kz];
+    const Floats4 cx = dz * p2[kx] - dx * p2[kz], cy = dz * p2[ky] - dy * p2[kz];
+    const Floats4 u = cx * by - cy * bx;
+    const Floats4 v = ax * cy - ay * cx;
+    const Floats4 w = bx * ay - by * ax;
+    const Floats4 zero = {};
+    if ((laneBits((u == zero) | (v == zero) | (w == zero)) & block.triangles) != 0) {
+        // An edge function rounded to zero: intersectTriangle decides in double.
+        for (uint32_t bits = block.triangles; bits != 0; bits &= bits - 1) {
+            if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)], alphaKey, hit)) {
+                if (anyHit) return true;
+                took = true;
+            }
+        }
+        return took;
+    }
+    const Ints4 negative = (u < zero) | (v < zero) | (w < zero);
+    const Ints4 positive = (u > zero) | (v > zero) | (w > zero);
+    const Floats4 det = u + v + w;
+    const Floats4 scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
+    const Floats4 t = scaledT / (dz * det);
+    Floats4 limit;
+    for (uint32_t i = 0; i < WideBvh::BLOCK; ++i) limit[i] = tieLimit(hit, block.primitive[i]);
+    uint32_t candidates =
+        laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) & block.triangles;
+
+    // The candidates nearest first (the smaller index on equal distances)
+    // until one passes the alpha test: the one the tests in turn would keep.
+    while (candidates != 0) {
+        uint32_t best = uint32_t(__builtin_ctz(candidates));
+        for (uint32_t bits = candidates & (candidates - 1); bits != 0; bits &= bits - 1) {
+            const uint32_t lane = uint32_t(__builtin_ctz(bits));
+            if (t[lane] < t[best] || (t[lane] == t[best] && block.primitive[lane] < block.primitive[best])) best = lane;
+        }
+        candidates &= ~(1u << best);
+        const float inverseDet = 1.0f / det[best];
+        const glm::vec2 barycentrics(v[best] * inverseDet, w[best] * inverseDet);
+        const uint32_t index = block.primitive[best];
+        if (shared::hasFeature(VKP_FEATURE_ALPHA) && !view.bvhAlphaTest(view.bvhPrimitive(index), barycentrics, alphaKey))
+            continue;
+        hit = shared::Hit{t[best], index, barycentrics};
+        return true;
+    }
+    return took;
+}
+
 }  // namespace wide_detail
 
 // Closest hit (anyHit false) or any hit in [0, ray.tMax) of the tree `wide`
@@ -115,6 +229,9 @@ shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& 
     if (wide.nodes.empty()) return hit;
     const shared::TriangleRay triangleRay = shared::makeTriangleRay(ray.origin, ray.direction);
     const glm::vec3 inverseDirection = shared::safeInverse(ray.direction);
+    float rootEntry;
+    if (!shared::intersectBox(wide.boundsMin, wide.boundsMax, ray.origin, inverseDirection, hit.t, rootEntry))
+        return hit;
 
     struct Entry {
         uint32_t child, count;  // as in WideBvh::Node; the root is (0, 0)
@@ -128,8 +245,9 @@ shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& 
         const Entry top = stack[--size];
         if (!(top.entry <= hit.t * VKP_BOX_SLACK)) continue;  // the box lies beyond the hit found since
         if (top.count > 0) {
-            for (uint32_t i = top.child; i < top.child + top.count; ++i)
-                if (view.bvhTestPrimitive(ray, triangleRay, i, alphaKey, hit) && anyHit) return hit;
+            for (uint32_t b = top.child; b < top.child + top.count; ++b)
+                if (wide_detail::testBlock(view, wide.blocks[b], ray, triangleRay, alphaKey, anyHit, hit) && anyHit)
+                    return hit;
             continue;
         }
         const WideBvh::Node& node = wide.nodes[top.child];

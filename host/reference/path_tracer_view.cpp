@@ -8,7 +8,7 @@ namespace vkpath::shared {
 
 PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const SceneInfo& info)
     : BvhView{tables.bvh.nodes, tables.bvh.primitives},
-      m_wide(bvh::collapseBvh(tables.bvh.nodes)),
+      m_wide(bvh::collapseBvh(tables.bvh.nodes, tables.bvh.primitives)),
       m_info(info),
       m_materials(tables.materials),
       m_lights(tables.lights),

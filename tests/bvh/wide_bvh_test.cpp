@@ -1,5 +1,6 @@
 // The CPU reference's eight-wide tree (host/bvh/wide_bvh.h): collapsing keeps
-// every leaf of the binary tree exactly once with its box, and traversal
+// every leaf of the binary tree exactly once with its box, its primitives
+// copied into blocks of four in leaf order, and traversal
 // returns the binary traversal's hit bit for bit (t, primitive,
 // barycentrics) and the same any-hit answer, on random rays and on rays aimed
 // at the edges and vertices of closed meshes. Both must also equal brute force
@@ -33,7 +34,7 @@ struct Traced {
 // Traces every ray through both trees and brute force.
 Traced traceAll(const bvh::BvhBuild& build, const std::vector<Ray>& rays) {
     const shared::BvhView view{build.nodes, build.primitives};
-    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
     const std::vector<Hit> brute = bruteForceClosest(build.primitives, rays);
     Traced t;
     t.rays = rays.size();
@@ -69,9 +70,38 @@ void binaryLeaves(const bvh::BvhBuild& build, uint32_t binaryIndex, std::multise
     binaryLeaves(build, node.offset, out);
 }
 
+// The leaf that `count` blocks from `first` hold, as (first primitive,
+// count), after checking that they copy its primitives in leaf order, four
+// to a block but the last.
+std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::WideBvh& wide, uint32_t first,
+                                        uint32_t count) {
+    EXPECT_LE(first + count, wide.blocks.size());
+    const uint32_t start = wide.blocks[first].primitive[0];
+    uint32_t primitives = 0;
+    for (uint32_t b = first; b < first + count && b < wide.blocks.size(); ++b) {
+        const bvh::WideBvh::Block& block = wide.blocks[b];
+        EXPECT_EQ(block.triangles & block.spheres, 0u);
+        const uint32_t used = block.triangles | block.spheres;
+        EXPECT_EQ(used & (used + 1), 0u) << "lanes in use are not the first ones";
+        if (b + 1 < first + count) {
+            EXPECT_EQ(used, 0xfu) << "a block before the last is not full";
+        }
+        for (uint32_t lane = 0; lane < bvh::WideBvh::BLOCK && (used >> lane & 1u); ++lane, ++primitives) {
+            const uint32_t index = block.primitive[lane];
+            EXPECT_EQ(index, start + primitives);
+            const BvhPrimitive& p = build.primitives.at(index);
+            EXPECT_EQ((block.spheres >> lane & 1u) != 0, p.kind == VKP_PRIMITIVE_SPHERE);
+            EXPECT_EQ(vec3(block.p0x[lane], block.p0y[lane], block.p0z[lane]), p.p0);
+            EXPECT_EQ(vec3(block.p1x[lane], block.p1y[lane], block.p1z[lane]), p.p1);
+            EXPECT_EQ(vec3(block.p2x[lane], block.p2y[lane], block.p2z[lane]), p.p2);
+        }
+    }
+    return {start, primitives};
+}
+
 // Checks the wide tree's structure against the binary tree it came from.
 void expectSoundCollapse(const bvh::BvhBuild& build) {
-    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
     std::multiset<std::pair<uint32_t, uint32_t>> expected, found;
     binaryLeaves(build, 0, expected);
     std::vector<int> visits(wide.nodes.size(), 0);
@@ -88,7 +118,7 @@ void expectSoundCollapse(const bvh::BvhBuild& build) {
             EXPECT_LE(node.minY[i], node.maxY[i]);
             EXPECT_LE(node.minZ[i], node.maxZ[i]);
             if (node.count[i] > 0)
-                found.insert({node.child[i], node.count[i]});
+                found.insert(blockLeaf(build, wide, node.child[i], node.count[i]));
             else
                 walk(node.child[i], depth + 1);
         }
@@ -107,15 +137,20 @@ TEST(WideBvh, CollapseKeepsEveryLeafOnce) {
         if (spheres) addSphereField(s, spheres, 0.01f, 0.08f, 12);
         expectSoundCollapse(buildChecked(s));
     }
-    // Leaves of one primitive: the deepest trees, the most nodes to open.
-    scene::Scene s = emptyScene();
-    addTriangleSoup(s, 500, 0.15f, 13);
-    expectSoundCollapse(buildChecked(s, bvh::BvhOptions{.maxLeafSize = 1}));
+    // Leaves of one primitive (the deepest trees, the most nodes to open) and
+    // of up to 16 (several blocks each).
+    for (const uint32_t leaf : {1u, 16u}) {
+        SCOPED_TRACE(fmt::format("leaves of at most {}", leaf));
+        scene::Scene s = emptyScene();
+        addTriangleSoup(s, 500, 0.15f, 13);
+        addSphereField(s, 100, 0.01f, 0.08f, 14);
+        expectSoundCollapse(buildChecked(s, bvh::BvhOptions{.maxLeafSize = leaf}));
+    }
 }
 
 TEST(WideBvh, EmptyTreeHitsNothing) {
     const bvh::BvhBuild build = buildChecked(emptyScene());
-    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes);
+    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
     EXPECT_TRUE(wide.nodes.empty());
     const shared::BvhView view{build.nodes, build.primitives};
     EXPECT_EQ(bvh::traceWide(view, wide, makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f)), false, 0u).primitive,
@@ -128,8 +163,10 @@ TEST(WideBvh, RandomRaysHitWhatTheBinaryTreeHits) {
         scene::Scene s = emptyScene();
         if (triangles) addTriangleSoup(s, triangles, 0.15f, 11);
         if (spheres) addSphereField(s, spheres, 0.01f, 0.08f, 12);
-        const bvh::BvhBuild build = buildChecked(s);
-        expectSameHits(traceAll(build, randomRays(build, 20000, 31)));
+        for (const uint32_t leaf : {4u, 16u}) {
+            const bvh::BvhBuild build = buildChecked(s, bvh::BvhOptions{.maxLeafSize = leaf});
+            expectSameHits(traceAll(build, randomRays(build, 20000, 31)));
+        }
     }
 }
 
