@@ -239,6 +239,8 @@ void cpuTraceBenchmark(benchmark::State& state, const BenchScene* s, RayKind kin
     state.counters["rays"] = static_cast<double>(rays.size());
     state.counters["Mrays/s"] = benchmark::Counter(static_cast<double>(rays.size()) * 1e-6,
                                                    benchmark::Counter::kIsIterationInvariantRate);
+    // What the tree takes beside the binary one's arrays (which shading reads too).
+    if (wide) state.counters["wide MiB"] = static_cast<double>(wideBvh.bytes()) / (1024.0 * 1024.0);
 }
 
 void registerAll(const std::vector<std::filesystem::path>& scenePaths) {

@@ -27,6 +27,7 @@
 // skipped when popped.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -74,6 +75,8 @@ struct WideBvh {
     // The binary root's box, tested first as the binary traversal does (a
     // ray that misses the scene costs one box test, not eight).
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
+
+    size_t bytes() const { return nodes.size() * sizeof(Node) + blocks.size() * sizeof(Block); }
 };
 
 // The wide tree over a BvhBuild's depth-first node array and its leaf-ordered primitives.
@@ -101,25 +104,19 @@ inline Floats4 load4(const float* values) {
 inline Floats minOf(Floats a, Floats b) { return b < a ? b : a; }
 inline Floats maxOf(Floats a, Floats b) { return a < b ? b : a; }
 
-// Bit i set where lane i of `mask` is true (all ones).
-inline uint32_t laneBits(Ints mask) {
+// Bit i set where lane i of `mask` (4 or 8 lanes) is true (all ones).
+template <typename Mask>
+inline uint32_t laneBits(Mask mask) {
+    constexpr uint32_t lanes = sizeof(Mask) / sizeof(int32_t);
 #ifdef __AVX__
-    return uint32_t(_mm256_movemask_ps(__m256(mask)));
-#else
-    uint32_t bits = 0;
-    for (uint32_t i = 0; i < WideBvh::WIDTH; ++i) bits |= uint32_t(mask[i] != 0) << i;
-    return bits;
+    if constexpr (lanes == 8) return uint32_t(_mm256_movemask_ps(__m256(mask)));
 #endif
-}
-
-inline uint32_t laneBits(Ints4 mask) {
 #ifdef __SSE__
-    return uint32_t(_mm_movemask_ps(__m128(mask)));
-#else
-    uint32_t bits = 0;
-    for (uint32_t i = 0; i < WideBvh::BLOCK; ++i) bits |= uint32_t(mask[i] != 0) << i;
-    return bits;
+    if constexpr (lanes == 4) return uint32_t(_mm_movemask_ps(__m128(mask)));
 #endif
+    uint32_t bits = 0;
+    for (uint32_t i = 0; i < lanes; ++i) bits |= uint32_t(mask[i] != 0) << i;
+    return bits;
 }
 
 // shared/intersect.h intersectBox for the node's eight boxes: bit i of the
