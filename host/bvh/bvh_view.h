@@ -1,7 +1,9 @@
 // CPU traversal of a flattened BVH with the kernels' own code: the bodies of
-// shaders/shared/bvh_leaf.h and bvh_traverse.h become the const member functions of BvhView,
-// reading the two arrays through std::span where a kernel reads its storage
-// buffers. The CPU reference renderer and the tests trace with it:
+// shaders/shared/bvh_leaf.h and bvh_traverse.h become the const member
+// functions of BvhView, reading the two arrays through std::span where a
+// kernel reads its texel buffers. The tests and benchmarks trace with it, as
+// the yardstick of the GPU's traversal and of the CPU reference's wide tree
+// (host/bvh/wide_bvh.h, which tests leaves through it):
 //
 //   shared::BvhView view{build.nodes, build.primitives};
 //   shared::Hit hit = view.bvhClosestHit(ray);

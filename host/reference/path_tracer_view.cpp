@@ -7,7 +7,7 @@
 namespace vkpath::shared {
 
 PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const SceneInfo& info)
-    : BvhView{tables.bvh.nodes, tables.bvh.primitives},
+    : m_primitives(tables.bvh.primitives),
       m_wide(bvh::collapseBvh(tables.bvh.nodes, tables.bvh.primitives)),
       m_info(info),
       m_materials(tables.materials),
@@ -28,16 +28,16 @@ PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const Scene
     auto require = [](bool ok, const std::string& what) {
         if (!ok) throw std::invalid_argument("scene tables: " + what);
     };
-    require(!nodes.empty(), "no BVH root node");
-    for (const BvhPrimitive& p : primitives)
+    require(!tables.bvh.nodes.empty(), "no BVH root node");
+    for (const BvhPrimitive& p : m_primitives)
         require(p.material < m_materials.size(), fmt::format("material {} of {}", p.material, m_materials.size()));
     require(m_lights.size() == info.lightCount && m_lightAlias.size() == info.lightCount,
             fmt::format("{} lights and {} alias entries for lightCount {}", m_lights.size(), m_lightAlias.size(),
                         info.lightCount));
-    require(m_primitiveLight.empty() || m_primitiveLight.size() == primitives.size(),
-            fmt::format("{} primitive-light entries for {} primitives", m_primitiveLight.size(), primitives.size()));
+    require(m_primitiveLight.empty() || m_primitiveLight.size() == m_primitives.size(),
+            fmt::format("{} primitive-light entries for {} primitives", m_primitiveLight.size(), m_primitives.size()));
     if (info.triangleAttributes != 0u) {
-        for (const BvhPrimitive& p : primitives)
+        for (const BvhPrimitive& p : m_primitives)
             require(p.kind != VKP_PRIMITIVE_TRIANGLE || p.id < m_triangleVertices.size(),
                     fmt::format("triangle {} of {} with vertex attributes", p.id, m_triangleVertices.size()));
         for (const TriangleVertices& t : m_triangleVertices)

@@ -20,7 +20,6 @@
 
 #include <span>
 
-#include "bvh/bvh_view.h"
 #include "bvh/wide_bvh.h"
 #include "shared/alias.h"
 #include "shared/alpha.h"
@@ -39,15 +38,15 @@
 
 namespace vkpath::shared {
 
-struct PathTracerView : BvhView {
+struct PathTracerView {
     // `tables` must outlive the view; `info` is the render's SceneInfo
     // (wavefront::renderSceneInfo). Throws std::invalid_argument when the
     // tables' sizes disagree with each other or with `info`, the one thing
     // the GPU would read out of bounds without a word.
     PathTracerView(const wavefront::SceneTables& tables, const SceneInfo& info);
 
-    // The accessors shared/path_tracer.h reads through (bvhPrimitive comes
-    // from BvhView).
+    // The accessors shared/bvh_leaf.h and path_tracer.h read through.
+    BvhPrimitive bvhPrimitive(uint index) const { return m_primitives[index]; }
     SceneInfo sceneInfo() const { return m_info; }
     Material sceneMaterial(uint index) const { return m_materials[index]; }
     Light sceneLight(uint index) const { return m_lights[index]; }
@@ -70,8 +69,8 @@ struct PathTracerView : BvhView {
     }
     MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
 
-    // What shared/integrator.h traces with: the wide tree, the same hits as
-    // BvhView's binary traversal (which these hide).
+    // What shared/integrator.h traces with: the wide tree, the hits of the
+    // kernels' binary traversal.
     Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) const {
         return bvh::traceWide(*this, m_wide, ray, false, alphaKey);
     }
@@ -86,6 +85,7 @@ struct PathTracerView : BvhView {
 #include "shared/integrator.h"
 
   private:
+    std::span<const BvhPrimitive> m_primitives;  // leaf order
     bvh::WideBvh m_wide;
     SceneInfo m_info;
     std::span<const Material> m_materials;
