@@ -22,8 +22,10 @@ uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t
         WideBvh::Block& block = wide.blocks.back();
         const shared::BvhPrimitive& p = primitives[first + i];
         block.primitive[lane] = first + i;
-        const float* coordinates[9] = {&p.p0.x, &p.p0.y, &p.p0.z, &p.p1.x, &p.p1.y, &p.p1.z, &p.p2.x, &p.p2.y, &p.p2.z};
-        float* lanes[9] = {block.p0x, block.p0y, block.p0z, block.p1x, block.p1y, block.p1z, block.p2x, block.p2y, block.p2z};
+        const float* coordinates[9] = {&p.p0.x, &p.p0.y, &p.p0.z, &p.p1.x, &p.p1.y,
+                                       &p.p1.z, &p.p2.x, &p.p2.y, &p.p2.z};
+        float* lanes[9] = {block.p0x, block.p0y, block.p0z, block.p1x, block.p1y,
+                           block.p1z, block.p2x, block.p2y, block.p2z};
         for (int k = 0; k < 9; ++k) lanes[k][lane] = *coordinates[k];
         (p.kind == VKP_PRIMITIVE_SPHERE ? block.spheres : block.triangles) |= 1u << lane;
     }
@@ -43,7 +45,8 @@ uint32_t collapseNode(std::span<const shared::BvhNode> binary, std::span<const s
     while (slots.size() < WideBvh::WIDTH) {
         auto largest = slots.end();
         for (auto it = slots.begin(); it != slots.end(); ++it)
-            if (!isLeaf(binary[*it]) && (largest == slots.end() || surfaceArea(binary[*it]) > surfaceArea(binary[*largest])))
+            if (!isLeaf(binary[*it]) &&
+                (largest == slots.end() || surfaceArea(binary[*it]) > surfaceArea(binary[*largest])))
                 largest = it;
         if (largest == slots.end()) break;
         const uint32_t opened = *largest;

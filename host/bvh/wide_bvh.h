@@ -90,13 +90,10 @@ using Ints = int32_t __attribute__((vector_size(32)));
 using Floats4 = float __attribute__((vector_size(16)));
 using Ints4 = int32_t __attribute__((vector_size(16)));
 
-inline Floats load(const float* values) {
-    Floats v;
-    std::memcpy(&v, values, sizeof v);
-    return v;
-}
-inline Floats4 load4(const float* values) {
-    Floats4 v;
+// A vector (Floats or Floats4) of the floats at `values`.
+template <typename Vector>
+inline Vector load(const float* values) {
+    Vector v;
     std::memcpy(&v, values, sizeof v);
     return v;
 }
@@ -124,24 +121,18 @@ inline uint32_t laneBits(Mask mask) {
 // where it enters.
 inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origin, const glm::vec3& inverseDirection,
                                float tLimit, float entries[WideBvh::WIDTH]) {
-    const Floats t0x = (load(node.minX) - origin.x) * inverseDirection.x;
-    const Floats t0y = (load(node.minY) - origin.y) * inverseDirection.y;
-    const Floats t0z = (load(node.minZ) - origin.z) * inverseDirection.z;
-    const Floats t1x = (load(node.maxX) - origin.x) * inverseDirection.x;
-    const Floats t1y = (load(node.maxY) - origin.y) * inverseDirection.y;
-    const Floats t1z = (load(node.maxZ) - origin.z) * inverseDirection.z;
+    const Floats t0x = (load<Floats>(node.minX) - origin.x) * inverseDirection.x;
+    const Floats t0y = (load<Floats>(node.minY) - origin.y) * inverseDirection.y;
+    const Floats t0z = (load<Floats>(node.minZ) - origin.z) * inverseDirection.z;
+    const Floats t1x = (load<Floats>(node.maxX) - origin.x) * inverseDirection.x;
+    const Floats t1y = (load<Floats>(node.maxY) - origin.y) * inverseDirection.y;
+    const Floats t1z = (load<Floats>(node.maxZ) - origin.z) * inverseDirection.z;
     const Floats zero = {};
     const Floats entry = maxOf(maxOf(minOf(t0x, t1x), minOf(t0y, t1y)), maxOf(minOf(t0z, t1z), zero));
     const Floats exit = minOf(minOf(maxOf(t0x, t1x), maxOf(t0y, t1y)), maxOf(t0z, t1z)) * VKP_BOX_SLACK;
     const Ints hit = (entry <= exit) & (entry <= tLimit * VKP_BOX_SLACK);
     std::memcpy(entries, &entry, sizeof entry);
     return laneBits(hit) & ((1u << node.children) - 1u);
-}
-
-// The upper limit of primitive `index`'s interval, as shared/bvh_leaf.h sets it.
-inline float tieLimit(const shared::Hit& hit, uint32_t index) {
-    const bool winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
-    return winsTie ? glm::uintBitsToFloat(glm::floatBitsToUint(hit.t) + 1u) : hit.t;
 }
 
 // Tests a block's primitives as shared/bvh_leaf.h bvhTestPrimitive would,
@@ -161,9 +152,12 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
     // intersectTriangle, four triangles at once: vertices relative to the
     // origin in the permuted axes, the shear, the edge functions.
     const glm::vec3 o = ray.origin;
-    const Floats4 p0[3] = {load4(block.p0x) - o.x, load4(block.p0y) - o.y, load4(block.p0z) - o.z};
-    const Floats4 p1[3] = {load4(block.p1x) - o.x, load4(block.p1y) - o.y, load4(block.p1z) - o.z};
-    const Floats4 p2[3] = {load4(block.p2x) - o.x, load4(block.p2y) - o.y, load4(block.p2z) - o.z};
+    const Floats4 p0[3] = {load<Floats4>(block.p0x) - o.x, load<Floats4>(block.p0y) - o.y,
+                            load<Floats4>(block.p0z) - o.z};
+    const Floats4 p1[3] = {load<Floats4>(block.p1x) - o.x, load<Floats4>(block.p1y) - o.y,
+                            load<Floats4>(block.p1z) - o.z};
+    const Floats4 p2[3] = {load<Floats4>(block.p2x) - o.x, load<Floats4>(block.p2y) - o.y,
+                            load<Floats4>(block.p2z) - o.z};
     const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
     const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
     const Floats4 ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
@@ -189,7 +183,7 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
     const Floats4 scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
     const Floats4 t = scaledT / (dz * det);
     Floats4 limit;
-    for (uint32_t i = 0; i < WideBvh::BLOCK; ++i) limit[i] = tieLimit(hit, block.primitive[i]);
+    for (uint32_t i = 0; i < WideBvh::BLOCK; ++i) limit[i] = shared::bvhIntervalEnd(hit, block.primitive[i]);
     uint32_t candidates =
         laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) & block.triangles;
 
@@ -205,7 +199,8 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
         const float inverseDet = 1.0f / det[best];
         const glm::vec2 barycentrics(v[best] * inverseDet, w[best] * inverseDet);
         const uint32_t index = block.primitive[best];
-        if (shared::hasFeature(VKP_FEATURE_ALPHA) && !view.bvhAlphaTest(view.bvhPrimitive(index), barycentrics, alphaKey))
+        if (shared::hasFeature(VKP_FEATURE_ALPHA) &&
+            !view.bvhAlphaTest(view.bvhPrimitive(index), barycentrics, alphaKey))
             continue;
         hit = shared::Hit{t[best], index, barycentrics};
         return true;

@@ -83,6 +83,15 @@ VKP_FN bool isSphere(VKP_IN(BvhPrimitive) primitive) {
     return primitive.kind == VKP_PRIMITIVE_SPHERE;
 }
 
+// The end of the half-open interval [0, end) in which primitive `index` may
+// still become `hit` (shared/bvh_leaf.h has the rule for ties): hit.t, or one
+// ulp beyond it when `index` would win a tie at exactly hit.t. hit.t of a
+// found hit is finite and >= 0, so the next float up is its bits plus one.
+VKP_FN float bvhIntervalEnd(VKP_IN(Hit) hit, uint index) {
+    bool winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
+    return winsTie ? uintBitsToFloat(floatBitsToUint(hit.t) + 1u) : hit.t;
+}
+
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus

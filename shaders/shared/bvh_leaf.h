@@ -33,10 +33,7 @@
 // hit.t with an index below hit.primitive, makes it `hit` and returns true.
 VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index, uint alphaKey,
                              VKP_INOUT(Hit) hit) VKP_BVH_CONST {
-    // The tests take a half-open interval [0, tLimit): one ulp more admits t == hit.t.
-    // hit.t of a found hit is finite and >= 0, so the next float up is its bits plus one.
-    bool winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
-    float tLimit = winsTie ? uintBitsToFloat(floatBitsToUint(hit.t) + 1u) : hit.t;
+    float tLimit = bvhIntervalEnd(hit, index);
     BvhPrimitive primitive = bvhPrimitive(index);
     float t;
     vec2 barycentrics = vec2(0.0f, 0.0f);

@@ -125,7 +125,8 @@ void expectSoundCollapse(const bvh::BvhBuild& build) {
     };
     walk(0, 0);
     EXPECT_EQ(found, expected) << "the wide leaves are not the binary leaves";
-    for (size_t i = 0; i < visits.size(); ++i) EXPECT_EQ(visits[i], 1) << "wide node " << i << " reached " << visits[i] << " times";
+    for (size_t i = 0; i < visits.size(); ++i)
+        EXPECT_EQ(visits[i], 1) << "wide node " << i << " reached " << visits[i] << " times";
     EXPECT_LE(deepest, build.stats.maxDepth);
 }
 
