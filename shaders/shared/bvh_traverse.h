@@ -65,21 +65,24 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
                                      entryA);
             bool hitB = intersectBox(b.boundsMin, b.boundsMax, ray.origin, inverseDirection, hit.t,
                                      entryB);
+            // The next node is one of the two just read, or read from the stack.
             if (hitA && hitB) {
                 bool firstNearer = entryA <= entryB;
                 stack[stackSize] = firstNearer ? second : first;
                 stackSize += 1u;
                 index = firstNearer ? first : second;
+                node = firstNearer ? a : b;
             } else if (hitA || hitB) {
                 index = hitA ? first : second;
+                node = hitA ? a : b;
             } else if (stackSize > 0u) {
                 stackSize -= 1u;
                 index = stack[stackSize];
+                node = bvhNode(index);
             } else {
                 exhausted = true;
                 break;
             }
-            node = bvhNode(index);
         }
         if (exhausted) break;
 
