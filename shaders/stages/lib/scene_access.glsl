@@ -50,11 +50,20 @@ layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Tri
 };
 
 SceneInfo sceneInfo() { return sceneInfoData; }
+// A material's texels are read only where a feature of the kernel reads
+// their fields (the others stay zero, which no code of the kernel reads): on
+// lavapipe each texel fetch is a call into a sampling function, and a
+// glass-and-diffuse box reads three of the five.
 Material sceneMaterial(uint i) {
     int t = int(5u * i);
-    uvec4 a = texelFetch(materialTexels, t), b = texelFetch(materialTexels, t + 1),
-          c = texelFetch(materialTexels, t + 2), d = texelFetch(materialTexels, t + 3),
-          e = texelFetch(materialTexels, t + 4);
+    uvec4 a = texelFetch(materialTexels, t);
+    uvec4 b = hasFeature(VKP_FEATURE_GLASS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
+                  ? texelFetch(materialTexels, t + 1) : uvec4(0u);  // transmittance (k, F0), ior
+    uvec4 c = hasFeature(VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_TEXTURES | VKP_FEATURE_NORMAL_MAPS)
+                  ? texelFetch(materialTexels, t + 2) : uvec4(0u);  // emission, textures
+    uvec4 d = hasFeature(VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
+                  ? texelFetch(materialTexels, t + 3) : uvec4(0u);  // roughness, metallic, specular, flags
+    uvec4 e = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialTexels, t + 4) : uvec4(0u);  // attenuation
     Material m;
     m.reflectance = uintBitsToFloat(a.xyz);
     m.kind = a.w;
