@@ -49,9 +49,9 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
-        path.radiance += path.throughput * emittedRadiance(shading.material, hit.primitive, shading.surface,
-                                                           path.ray.direction, path.previousPosition,
-                                                           path.specular, path.bsdfPdf);
+        path.radiance += path.throughput * emittedRadiance(shading.material, primitive, hit.primitive,
+                                                           shading.surface, path.ray.direction,
+                                                           path.previousPosition, path.specular, path.bsdfPdf);
     return bounce < sceneInfo().maxDepth;
 }
 
