@@ -45,8 +45,11 @@ layout(constant_id = VKP_SPEC_SCENE_BY_ADDRESS) const bool sceneByAddress = fals
 // reads a storage buffer at an index that differs between SIMD lanes one
 // lane and one 4-byte component at a time, each behind its own bounds test
 // and branch (12 of them per lane for a primitive); a texel fetch is one
-// gather per texel for the whole SIMD group. The traversal ran 1.5x faster
-// so (docs/BENCHMARKS.md), and GPUs fetch texels as fast as they load.
+// call per texel for the whole SIMD group, into a sampling function lavapipe
+// compiles for the binding (GALLIVM_DEBUG=asm shows both). The traversal ran
+// 1.5x faster so (docs/BENCHMARKS.md), and GPUs fetch texels as fast as they
+// load. Each fetch still costs a call and the spilling of live registers
+// around it, so the traversal reads each node once (shared/bvh_traverse.h).
 layout(binding = VKP_BVH_NODES_BINDING) uniform utextureBuffer bvhNodeTexels;
 layout(binding = VKP_BVH_PRIMITIVES_BINDING) uniform utextureBuffer bvhPrimitiveTexels;
 
