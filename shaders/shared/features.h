@@ -12,7 +12,10 @@
 //
 // Rules for adding a feature (textures, normal maps, microfacet lobes...):
 // one bit here, one line in host/wavefront/kernel_features.cpp that sets it
-// from the scene tables or settings, and hasFeature() around its code.
+// from the scene tables or settings, and hasFeature() around its code. A
+// feature that reads a Material field adds its bit to the condition under
+// which stages/lib/scene_access.glsl sceneMaterial fetches that field's texel
+// (a kernel without it reads the field as zero).
 #ifndef VKPATH_SHARED_FEATURES_H
 #define VKPATH_SHARED_FEATURES_H
 
