@@ -268,6 +268,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     const wavefront::RenderControl control = renderControl(o, identity, samples, resume, saved);
     if (o.device == "cpu") {
         const reference::ReferenceRenderer renderer(scene, settings);
+        std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
         const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);

@@ -59,7 +59,8 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "path); default: the faster on the device's type")
         ->check(CLI::IsMember({"wavefront", "megakernel"}));
     cmd.add_flag("--no-specialize", o.noSpecialize,
-                 "GPU: the general kernels, not kernels specialised to the scene's features (same image, slower)");
+                 "The general kernels (GPU) or the general build of the CPU reference, not code specialised to "
+                 "the scene's features (same image, slower)");
     cmd.add_option("--device", o.device, "gpu: the Vulkan renderer; cpu: the CPU reference (same math)")
         ->check(CLI::IsMember({"gpu", "cpu"}))
         ->capture_default_str();
@@ -146,8 +147,8 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
     settings.regularize = o.regularize;
-    if ((!o.kernel.empty() || o.noSpecialize) && o.device == "cpu")
-        throw InputError("--kernel and --no-specialize choose GPU kernels: not with --device cpu");
+    if (!o.kernel.empty() && o.device == "cpu")
+        throw InputError("--kernel chooses a GPU kernel form: not with --device cpu");
     if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);
     settings.specialize = !o.noSpecialize;
     settings.workgroupSize = o.workgroupSize;

@@ -6,7 +6,7 @@
 
 namespace vkpath::shared {
 
-PathTracerView::PathTracerView(const wavefront::SceneTables& tables, const SceneInfo& info)
+SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const SceneInfo& info)
     : m_primitives(tables.bvh.primitives),
       m_wide(bvh::collapseBvh(tables.bvh.nodes, tables.bvh.primitives)),
       m_info(info),

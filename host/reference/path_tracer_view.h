@@ -1,18 +1,24 @@
 // The kernels' path-tracing math on the CPU: the bodies of
-// shaders/shared/path_tracer.h and integrator.h (the per-path loop) become the const member functions of
-// PathTracerView, which reads the scene tables (wavefront::SceneTables, what
-// the GPU buffers hold) through std::span where the shade kernel reads its
-// texel buffers (shaders/stages/lib/scene_access.glsl). Rays are traced
-// through the eight-wide tree collapsed from the scene's BVH
-// (host/bvh/wide_bvh.h), whose leaves are tested by shared/bvh_leaf.h
-// included here, so with this view's alpha test (path_tracer.h
-// bvhAlphaTest, which reads materials and textures): the hits the kernels'
-// binary traversal finds, bit for bit. One object answers everything a path
-// vertex asks:
+// shaders/shared/path_tracer.h and integrator.h (the per-path loop) become the
+// const member functions of PathTracerViewOf<Features>, which reads the scene
+// tables (wavefront::SceneTables, what the GPU buffers hold) through
+// std::span where the shade kernel reads its texel buffers
+// (shaders/stages/lib/scene_access.glsl). Rays are traced through the
+// eight-wide tree collapsed from the scene's BVH (host/bvh/wide_bvh.h), whose
+// leaves are tested by shared/bvh_leaf.h included here, so with this view's
+// alpha test (path_tracer.h bvhAlphaTest, which reads materials and
+// textures): the hits the kernels' binary traversal finds, bit for bit. One
+// object answers everything a path vertex asks:
 //
 //   shared::PathTracerView view(tables, info);
 //   shared::Hit hit = view.bvhClosestHit(ray);
 //   shared::ShadowRequest r = view.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
+//
+// Features is the translation unit's shared::kernelFeatures (a static_assert
+// says so): the general code everywhere, except in the CPU reference's
+// profile translation units (host/reference/cpu_profiles.h), which compile
+// the shared code for a feature set as the GPU's specialised pipelines do.
+// PathTracerView names the view of the translation unit's features.
 //
 // It lives in vkpath::shared because the included code names shared types and
 // GLM functions unqualified, as GLSL does.
@@ -27,6 +33,7 @@
 #include "shared/path_state.h"
 #include "shared/constants.h"
 #include "shared/environment_sampling.h"
+#include "shared/features.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
@@ -38,12 +45,14 @@
 
 namespace vkpath::shared {
 
-struct PathTracerView {
+// The scene as the shared code's accessors read it, with the wide tree: what
+// every feature set's view reads alike.
+struct SceneTablesView {
     // `tables` must outlive the view; `info` is the render's SceneInfo
     // (wavefront::renderSceneInfo). Throws std::invalid_argument when the
     // tables' sizes disagree with each other or with `info`, the one thing
     // the GPU would read out of bounds without a word.
-    PathTracerView(const wavefront::SceneTables& tables, const SceneInfo& info);
+    SceneTablesView(const wavefront::SceneTables& tables, const SceneInfo& info);
 
     // The accessors shared/bvh_leaf.h and path_tracer.h read through.
     BvhPrimitive bvhPrimitive(uint index) const { return m_primitives[index]; }
@@ -69,20 +78,7 @@ struct PathTracerView {
     }
     MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
 
-    // What shared/integrator.h traces with: the wide tree, the hits of the
-    // kernels' binary traversal.
-    Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) const {
-        return bvh::traceWide(*this, m_wide, ray, false, alphaKey);
-    }
-    bool bvhOccluded(VKP_IN(Ray) ray, uint alphaKey) const {
-        return bvh::traceWide(*this, m_wide, ray, true, alphaKey).primitive != VKP_NO_HIT;
-    }
-    Hit bvhClosestHit(VKP_IN(Ray) ray) const { return bvhClosestHit(ray, 0u); }
-    bool bvhOccluded(VKP_IN(Ray) ray) const { return bvhOccluded(ray, 0u); }
-
-#include "shared/bvh_leaf.h"
-#include "shared/path_tracer.h"
-#include "shared/integrator.h"
+    const bvh::WideBvh& wideBvh() const { return m_wide; }
 
   private:
     std::span<const BvhPrimitive> m_primitives;  // leaf order
@@ -104,5 +100,38 @@ struct PathTracerView {
     std::span<const uvec2> m_texels;
     std::span<const MaterialAlpha> m_materialAlpha;
 };
+
+template <uint Features>
+struct PathTracerViewOf : SceneTablesView {
+    static_assert(Features == kernelFeatures,
+                  "a view is compiled with the shared code of its own features: define VKP_CPU_FEATURES "
+                  "before the first include (host/reference/cpu_profiles.h)");
+    static constexpr uint features = Features;
+
+    using SceneTablesView::SceneTablesView;
+
+    // What shared/integrator.h traces with: the wide tree, the hits of the
+    // kernels' binary traversal.
+    Hit bvhClosestHit(VKP_IN(Ray) ray, uint alphaKey) const {
+        return bvh::traceWide(*this, wideBvh(), ray, false, alphaKey);
+    }
+    bool bvhOccluded(VKP_IN(Ray) ray, uint alphaKey) const {
+        return bvh::traceWide(*this, wideBvh(), ray, true, alphaKey).primitive != VKP_NO_HIT;
+    }
+    Hit bvhClosestHit(VKP_IN(Ray) ray) const { return bvhClosestHit(ray, 0u); }
+    bool bvhOccluded(VKP_IN(Ray) ray) const { return bvhOccluded(ray, 0u); }
+
+    // The included functions become members: plain inline, also where the
+    // free functions of a profile's translation unit are static.
+#pragma push_macro("VKP_FN")
+#undef VKP_FN
+#define VKP_FN inline
+#include "shared/bvh_leaf.h"
+#include "shared/path_tracer.h"
+#include "shared/integrator.h"
+#pragma pop_macro("VKP_FN")
+};
+
+using PathTracerView = PathTracerViewOf<kernelFeatures>;
 
 }  // namespace vkpath::shared

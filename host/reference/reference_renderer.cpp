@@ -15,7 +15,7 @@
 
 #include "input_error.h"
 #include "scene/camera.h"
-#include "shared/rng.h"
+#include "wavefront/kernel_features.h"
 
 namespace vkpath::reference {
 namespace {
@@ -77,19 +77,33 @@ ReferenceRenderer::ReferenceRenderer(wavefront::SceneTables tables, const wavefr
     : m_settings(settings),
       m_tables(withSettings(std::move(tables), settings)),
       m_camera(scene::makeGpuCamera(m_tables.camera, settings.width, settings.height)),
-      m_view(m_tables, m_tables.info) {}
+      m_features(wavefront::renderFeatures(m_tables, m_tables.info)),
+      m_sampler(makePathSampler(m_tables, m_tables.info, m_features, settings.specialize)) {}
 
 uint32_t ReferenceRenderer::threads() const {
     if (m_settings.threads > 0) return m_settings.threads;
     return std::max(1u, std::thread::hardware_concurrency());
 }
 
+std::string ReferenceRenderer::describe() const {
+    constexpr uint32_t defined = (1u << VKP_FEATURE_COUNT) - 1u;
+    std::string build;
+    if (m_sampler->features() != VKP_FEATURES_ALL)
+        build = fmt::format("the integrator built for the '{}' profile (without {})", m_sampler->name(),
+                            wavefront::describeFeatures(defined & ~m_sampler->features()));
+    else if (!m_settings.specialize)
+        build = "the integrator's general build (--no-specialize)";
+    else
+        build = "the integrator's general build (no profile holds all of the render's features)";
+    return fmt::format("CPU reference: {} threads, {}; the render's features: {}", threads(), build,
+                       wavefront::describeFeatures(m_features));
+}
+
 glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
                                        uint64_t& rejectedLightSamples) const {
     // The loop the GPU runs (shared/integrator.h), one path at a time.
-    const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);
     shared::PathTally tally{};
-    const glm::vec3 radiance = m_view.tracePath(shared::startPath(m_camera, pixel, key), key, tally);
+    const glm::vec3 radiance = m_sampler->tracePath(m_camera, pixel, sampleIndex, tally);
     rays.closest += tally.closestRays;
     rays.shadow += tally.shadowRays;
     rejectedLightSamples += tally.rejectedLightSamples;

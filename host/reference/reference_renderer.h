@@ -1,6 +1,7 @@
 // The CPU reference path tracer: the wavefront renderer's estimator written
 // as a plain loop over each path's bounces, with the kernels' own math
-// (shaders/shared/path_tracer.h through PathTracerView) and the same random
+// (shaders/shared/path_tracer.h through PathTracerView, compiled for the
+// scene's features: reference/path_sampler.h) and the same random
 // numbers (key (pixel, sampleIndex, seed), the same dimension per decision).
 // With the same seed both renderers follow the same paths, so the difference
 // of their images measures the wavefront machinery (queues, compaction,
@@ -20,7 +21,10 @@
 
 #include <functional>
 
-#include "reference/path_tracer_view.h"
+#include <memory>
+#include <string>
+
+#include "reference/path_sampler.h"
 #include "scene/scene.h"
 #include "shared/camera.h"
 #include "wavefront/gpu_scene.h"
@@ -60,12 +64,20 @@ class ReferenceRenderer {
     const wavefront::SceneTables& tables() const { return m_tables; }
     // Worker threads render() uses.
     uint32_t threads() const;
+    // The integrator's build it runs: "general" (settings.specialize false, or
+    // no profile covers the scene) or a profile of reference/cpu_profiles.h.
+    const PathSampler& sampler() const { return *m_sampler; }
+    // The render's features (wavefront::renderFeatures).
+    uint32_t features() const { return m_features; }
+    // One line for a user: the threads, the build and the scene's features.
+    std::string describe() const;
 
   private:
     wavefront::RenderSettings m_settings;
     wavefront::SceneTables m_tables;
     shared::Camera m_camera;
-    shared::PathTracerView m_view;  // reads m_tables: declared after it
+    uint32_t m_features;
+    std::unique_ptr<const PathSampler> m_sampler;  // reads m_tables: declared after it
 };
 
 }  // namespace vkpath::reference

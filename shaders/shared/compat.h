@@ -15,8 +15,15 @@
     using namespace glm;
 #define VKP_NAMESPACE_END }
 // Functions defined in shared headers: `inline` in C++ (one definition in many
-// translation units), nothing in GLSL.
+// translation units), nothing in GLSL. A translation unit that compiles the
+// shared code for a feature set of its own (VKP_CPU_FEATURES, shared/features.h)
+// gets its own copies: `static`, so that the linker never takes one
+// translation unit's copy, compiled for other features, for another's.
+#ifdef VKP_CPU_FEATURES
+#define VKP_FN static inline
+#else
 #define VKP_FN inline
+#endif
 // Parameters written by a function: references in C++, `inout`/`out` in GLSL.
 #define VKP_INOUT(T) T&
 #define VKP_OUT(T) T&

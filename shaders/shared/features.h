@@ -62,8 +62,16 @@
 VKP_NAMESPACE_BEGIN
 
 #ifdef __cplusplus
-// The CPU reference runs the general code: each test is a branch on data.
+// C++ compiles the general code (each test a branch on data) unless the
+// translation unit defines VKP_CPU_FEATURES before its first include: the
+// CPU reference's integrator compiled for a feature profile
+// (host/reference/cpu_profiles.h), whose functions are then its own
+// (shared/compat.h VKP_FN).
+#ifdef VKP_CPU_FEATURES
+constexpr uint kernelFeatures = VKP_CPU_FEATURES;
+#else
 constexpr uint kernelFeatures = VKP_FEATURES_ALL;
+#endif
 #else
 layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeatures = VKP_FEATURES_ALL;
 #endif

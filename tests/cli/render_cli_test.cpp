@@ -1,7 +1,7 @@
 // `vkpath render` as a user meets it: Scotty3D's -w, the EXR's metadata, the
 // PNG preview and its exposure, the summary line and the progress bar,
-// bit-identical reruns, --time-budget, and waves made smaller by
-// --max-wave-ms and --max-device-memory.
+// bit-identical reruns, --time-budget, waves made smaller by --max-wave-ms
+// and --max-device-memory, and the CPU reference's builds.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -131,6 +131,32 @@ TEST(RenderCli, SameSeedSamePixelBytes) {
     ma.erase("vkpath:renderSeconds");
     mb.erase("vkpath:renderSeconds");
     EXPECT_EQ(ma, mb);
+}
+
+// --device cpu says which build of the integrator it runs; --no-specialize
+// takes the general one, with the same pixels. --kernel is the GPU's alone.
+TEST(RenderCli, CpuReferenceNamesItsBuildAndNoSpecializeKeepsThePixels) {
+    const test::TempDir dir;
+    auto render = [&](const std::string& name, const std::string& flags) {
+        const std::string path = (dir / name).string();
+        const auto r = test::runVkpath("render " + test::sourcePath("assets/cornell_box_diffuse.gltf").string() +
+                                       " -d 24x18 -s 2 --device cpu -o " + path + " " + flags);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return std::pair{path, r.err};
+    };
+    const auto [profile, profileLog] = render("profile.exr", "");
+    EXPECT_NE(profileLog.find("the integrator built for the 'smooth' profile"), std::string::npos) << profileLog;
+    const auto [general, generalLog] = render("general.exr", "--no-specialize");
+    EXPECT_NE(generalLog.find("the integrator's general build (--no-specialize)"), std::string::npos) << generalLog;
+    const auto pixels = storedPixels(profile, OIIO::TypeDesc::FLOAT);
+    ASSERT_FALSE(pixels.empty());
+    EXPECT_EQ(pixels, storedPixels(general, OIIO::TypeDesc::FLOAT));
+
+    const std::string exr = (dir / "x.exr").string();
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 --device cpu --kernel megakernel -o " + exr);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(exr));
 }
 
 // --time-budget without -s renders past the default 16 spp until the budget

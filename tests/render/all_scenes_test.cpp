@@ -3,7 +3,8 @@
 // no NaN or infinite sample and a finite, non-negative image, and its BVH
 // passes the integrity check. On every one, the GPU's four kernel builds
 // (wavefront or megakernel, specialised or general) give the same image bit
-// for bit.
+// for bit, and so do the CPU reference's builds (a profile and the general
+// code).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "bvh/bvh.h"
+#include "reference/reference_renderer.h"
 #include "scene/load.h"
 #include "support/test_context.h"
 #include "wavefront/gpu_scene.h"
@@ -132,6 +134,50 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
                 EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
                 EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
             }
+    }
+}
+
+// The CPU reference compiled for a profile (reference/cpu_profiles.h) leaves
+// out only code that the scene's data never takes: the image of its general
+// build, bit for bit, in the two settings above. A scene whose features a
+// profile holds runs the first such profile.
+TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
+    const scene::Scene s = scene::loadScene(GetParam());
+    for (const bool defaults : {true, false}) {
+        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, sobol, no roulette, regularised");
+        wavefront::RenderSettings settings;
+        settings.width = 32;
+        settings.height = 24;
+        settings.samplesPerPixel = 2;
+        settings.maxDepth = 5;
+        if (!defaults) {
+            settings.lightSamples = 3;
+            settings.sampler = wavefront::SamplerKind::Sobol;
+            settings.rouletteDepth = 6;
+            settings.regularize = 0.2f;
+        }
+        settings.specialize = false;
+        const reference::ReferenceRenderer general(s, settings);
+        EXPECT_EQ(general.sampler().features(), uint32_t(VKP_FEATURES_ALL));
+        settings.specialize = true;
+        const reference::ReferenceRenderer specialised(s, settings);
+        const uint32_t features = specialised.features();
+        const auto profiles = reference::cpuProfiles();
+        const auto holding = std::find_if(profiles.begin(), profiles.end(), [&](const reference::CpuProfile& p) {
+            return (features & ~p.features) == 0;
+        });
+        EXPECT_EQ(specialised.sampler().features(),
+                  holding == profiles.end() ? uint32_t(VKP_FEATURES_ALL) : holding->features);
+        SCOPED_TRACE(specialised.describe());
+
+        const auto expected = general.render();
+        const auto r = specialised.render();
+        EXPECT_TRUE(sameBits(r.image, expected.image));
+        EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
+        EXPECT_EQ(r.rays.closest, expected.rays.closest);
+        EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
+        EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
+        EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
     }
 }
 

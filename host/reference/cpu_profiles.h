@@ -1,0 +1,41 @@
+// The feature sets the CPU reference's integrator is compiled for, beside the
+// general code: the C++ counterpart of the GPU's specialised pipelines. A GPU
+// kernel is specialised to a scene's exact features when its pipeline is
+// built; C++ is compiled ahead of time, so the reference renderer carries a
+// build of the shared code per profile below and runs the first whose
+// features hold the render's (reference/path_sampler.h makePathSampler), the
+// general build when none does or with --no-specialize. Each profile is one translation unit,
+// cpu_profile_NAME.cpp:
+//
+//   #define VKP_CPU_FEATURES VKP_CPU_PROFILE_SMOOTH   // before any include
+//   #include "reference/cpu_profiles.h"
+//   #include "reference/path_sampler_of.h"
+//
+// There the shared functions are static (shared/compat.h VKP_FN) and
+// shared::kernelFeatures is the profile's bits, so the compiler removes the
+// code of every feature outside it, as the pipeline compiler does with the
+// specialisation constant. A profile gains what the code it leaves out cost
+// (docs/BENCHMARKS.md, "The CPU reference specialised": 1.10 to 1.15x for
+// this one). Profiles that kept the microfacet materials (every kind without
+// textures; every kind with textures) measured 0.95 to 1.03x there and are not
+// built: the gain is in leaving the microfacet code out.
+//
+// Only macros here, no includes: a profile's translation unit reads this
+// header before shared/features.h defines the bits the masks name.
+#ifndef VKPATH_REFERENCE_CPU_PROFILES_H
+#define VKPATH_REFERENCE_CPU_PROFILES_H
+
+// Smooth materials (Lambertian, mirror, glass) without textures: every
+// Scotty3D scene and the bundled cornell_box_diffuse (a glTF metal is a
+// conductor, even a smooth one: outside it). Any light, environment, sampler
+// and light-sample count; interpolated normals. Leaves out the microfacet
+// materials, textures, vertex colours, normal maps, alpha, path
+// regularisation and absorption.
+#define VKP_CPU_PROFILE_SMOOTH                                                                                    \
+    (VKP_FEATURES_PRIMITIVES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS |                   \
+     VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_POINT_LIGHTS | VKP_FEATURE_SPOT_LIGHTS |                        \
+     VKP_FEATURE_DIRECTIONAL_LIGHTS | VKP_FEATURES_ENVIRONMENT | VKP_FEATURE_SAMPLER_INDEPENDENT |              \
+     VKP_FEATURE_SAMPLER_SOBOL | VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES |               \
+     VKP_FEATURE_ROULETTE | VKP_FEATURE_SHADING_NORMALS)
+
+#endif  // VKPATH_REFERENCE_CPU_PROFILES_H

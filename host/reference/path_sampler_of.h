@@ -1,0 +1,33 @@
+// PathSampler for the feature set of the translation unit that includes this
+// (shared::kernelFeatures): the general build in path_sampler.cpp, a profile
+// in each cpu_profile_NAME.cpp (reference/cpu_profiles.h). Included by those
+// alone: PathSamplerOf<F> must be instantiated only where the shared code is
+// compiled for F (PathTracerViewOf asserts it).
+#pragma once
+
+#include "reference/path_sampler.h"
+#include "reference/path_tracer_view.h"
+
+namespace vkpath::reference {
+
+template <uint32_t Features>
+class PathSamplerOf final : public PathSampler {
+  public:
+    PathSamplerOf(const char* name, const wavefront::SceneTables& tables, const shared::SceneInfo& info)
+        : m_name(name), m_view(tables, info) {}
+
+    uint32_t features() const override { return Features; }
+    const char* name() const override { return m_name; }
+
+    glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel, uint32_t sampleIndex,
+                        shared::PathTally& tally) const override {
+        const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);
+        return m_view.tracePath(shared::startPath(camera, pixel, key), key, tally);
+    }
+
+  private:
+    const char* m_name;
+    shared::PathTracerViewOf<Features> m_view;
+};
+
+}  // namespace vkpath::reference
