@@ -32,8 +32,12 @@ wavefront::SceneTables withSettings(wavefront::SceneTables tables, const wavefro
     return tables;
 }
 
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-bool fitsFloat(glm::dvec3 v) { return glm::all(glm::lessThanEqual(glm::abs(v), glm::dvec3(FLT_MAX))); }
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+// Whether every component of both (finite) sums still fits a float.
+bool fitFloat(const glm::dvec3& a, const glm::dvec3& b) {
+    const glm::dvec3 m = glm::max(glm::abs(a), glm::abs(b));
+    return std::max(std::max(m.x, m.y), m.z) <= FLT_MAX;
+}
 
 // Per pixel and channel: the sum of the samples and of their squares.
 struct PixelSums {
@@ -61,7 +65,7 @@ void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info, Sa
     if (info.clampRadiance > 0.0f && largest > info.clampRadiance) l *= info.clampRadiance / largest;
     const glm::dvec3 d(l);
     const PixelSums next{pixel.sum + d, pixel.sumSquares + d * d};
-    if (!finite(l * l) || !fitsFloat(next.sum) || !fitsFloat(next.sumSquares)) {
+    if (!finite(l * l) || !fitFloat(next.sum, next.sumSquares)) {
         ++counts.dropped;
         return;
     }
