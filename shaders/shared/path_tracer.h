@@ -356,8 +356,9 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material)) return request;
 
     uint dim = bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
-    uint bucket = aliasBucket(rngBits(key, dim), info.lightCount);
-    uint lightIndex = aliasResolve(sceneLightAlias(bucket), bucket, rngBits(key, dim + 1u));
+    uvec2 lightChoice = rngBits2(key, dim);
+    uint bucket = aliasBucket(lightChoice.x, info.lightCount);
+    uint lightIndex = aliasResolve(sceneLightAlias(bucket), bucket, lightChoice.y);
     float choice = sceneLightAlias(lightIndex).probability;
     Light light = sceneLight(lightIndex);
 
@@ -370,8 +371,9 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
             ls.pdf = uniformSpherePdf();
         } else {
             uint texels = env.width * env.height;
-            uint envBucket = aliasBucket(rngBits(key, dim + 2u), texels);
-            uint texel = aliasResolve(sceneEnvAlias(envBucket), envBucket, rngBits(key, dim + 3u));
+            uvec2 texelChoice = rngBits2(key, dim + 2u);
+            uint envBucket = aliasBucket(texelChoice.x, texels);
+            uint texel = aliasResolve(sceneEnvAlias(envBucket), envBucket, texelChoice.y);
             EnvSample es = envSampleInTexel(env, texel, rngUniform2(key, dim + 4u));
             ls.direction = es.direction;
             ls.pdf = envDirectionPdf(env, sceneEnvAlias(es.pdfTexel).probability, es.direction);

@@ -100,8 +100,21 @@ VKP_FN float rngUniform(RngKey key, uint dimension) {
     return uintToUnitFloat(rngBits(key, dimension));
 }
 
+// Dimensions `dimension` and `dimension` + 1: the bits of two rngBits calls.
+// With the Sobol' sampler an even `dimension` starts a pair, whose two
+// coordinates share one hash and one index shuffle: half the work of two
+// calls (the CPU reference spent a quarter of its time in the Sobol' sampler).
+VKP_FN uvec2 rngBits2(RngKey key, uint dimension) {
+    if (key.samplerKind == VKP_SAMPLER_SOBOL && (dimension & 1u) == 0u) {
+        uvec4 h = pcg4d(uvec4(key.pixel, dimension >> 1u, key.seed, 0u));
+        return scrambledSobol2Point(key.sampleIndex, h.x, h.y, h.z);
+    }
+    return uvec2(rngBits(key, dimension), rngBits(key, dimension + 1u));
+}
+
 VKP_FN vec2 rngUniform2(RngKey key, uint dimension) {
-    return vec2(rngUniform(key, dimension), rngUniform(key, dimension + 1u));
+    uvec2 bits = rngBits2(key, dimension);
+    return vec2(uintToUnitFloat(bits.x), uintToUnitFloat(bits.y));
 }
 
 VKP_NAMESPACE_END

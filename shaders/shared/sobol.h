@@ -78,11 +78,23 @@ VKP_FN uint reversedSobolDimension1(uint index) {
 // the coordinate is bitfieldReverse(shuffled) (dimension 0, van der Corput)
 // or the dimension-1 fraction of it, and the result is its
 // nestedUniformScramble with scrambleSeed. The bit reversals that cancel
-// are left out: both coordinates are scrambled in bit-reversed form.
+// are left out: both coordinates are scrambled in bit-reversed form
+// (scrambledCoordinate).
+VKP_FN uint scrambledCoordinate(uint reversedBits, uint scrambleSeed) {
+    return bitfieldReverse(laineKarrasPermutation(reversedBits, scrambleSeed));
+}
+
 VKP_FN uint scrambledSobol2(uint index, uint component, uint shuffleSeed, uint scrambleSeed) {
     uint shuffled = nestedUniformScramble(index, shuffleSeed);
-    uint reversedBits = component == 0u ? shuffled : reversedSobolDimension1(shuffled);
-    return bitfieldReverse(laineKarrasPermutation(reversedBits, scrambleSeed));
+    return scrambledCoordinate(component == 0u ? shuffled : reversedSobolDimension1(shuffled), scrambleSeed);
+}
+
+// Both coordinates of point `index`: scrambledSobol2 of components 0 and 1,
+// the index shuffled once for the two.
+VKP_FN uvec2 scrambledSobol2Point(uint index, uint shuffleSeed, uint scrambleSeed0, uint scrambleSeed1) {
+    uint shuffled = nestedUniformScramble(index, shuffleSeed);
+    return uvec2(scrambledCoordinate(shuffled, scrambleSeed0),
+                 scrambledCoordinate(reversedSobolDimension1(shuffled), scrambleSeed1));
 }
 
 VKP_NAMESPACE_END

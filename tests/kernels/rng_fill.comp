@@ -1,6 +1,8 @@
 // Test kernel: writes rngBits(key, dimension) of either sampler for a grid of
 // counters, so the RNG and sampler tests can compare GPU bits with the same
-// function on the CPU.
+// function on the CPU. Dimensions 4k and 4k + 1 come from rngBits, 4k + 2 and
+// 4k + 3 from the two halves of rngBits2(key, 4k + 2), which must give the
+// same bits.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -25,5 +27,10 @@ void main() {
     uint pixel = i % pixels;
     uint dimension = (i / pixels) % dimensions;
     uint sampleIndex = firstSample + i / (pixels * dimensions);
-    bits[i] = rngBits(makeRngKey(pixel, sampleIndex, seed, samplerKind), dimension);
+    RngKey key = makeRngKey(pixel, sampleIndex, seed, samplerKind);
+    uint pairStart = dimension & ~1u;
+    if ((dimension & 2u) == 0u)
+        bits[i] = rngBits(key, dimension);
+    else
+        bits[i] = (dimension & 1u) == 0u ? rngBits2(key, pairStart).x : rngBits2(key, pairStart).y;
 }

@@ -68,6 +68,22 @@ TEST(SobolSampler, GpuMatchesCpuBitForBit) {
     }
 }
 
+// rngBits2 gives the bits of two rngBits calls, for either sampler and a
+// pair starting at an even dimension (the Sobol' pair computed together) or
+// an odd one (two pairs). The GPU's rngBits2 is checked by the test above:
+// rng_fill.comp writes half of its dimensions through it.
+TEST(SobolSampler, PairsOfNumbersAreTwoSingleNumbers) {
+    for (const uint32_t sampler : {VKP_SAMPLER_INDEPENDENT, VKP_SAMPLER_SOBOL})
+        for (uint32_t pixel = 0; pixel < 64; ++pixel)
+            for (const uint32_t sample : {0u, 1u, 7u, 1000u, 0xffffffffu})
+                for (uint32_t d = 0; d < 42; ++d) {
+                    const shared::RngKey key = shared::makeRngKey(pixel * 7919u, sample, 12345u, sampler);
+                    const glm::uvec2 pair = shared::rngBits2(key, d);
+                    ASSERT_EQ(pair.x, shared::rngBits(key, d)) << sampler << " " << pixel << " " << sample << " " << d;
+                    ASSERT_EQ(pair.y, shared::rngBits(key, d + 1u)) << sampler << " " << pixel << " " << sample << " " << d;
+                }
+}
+
 // Each uniformity test at 1% significance, Sidak-corrected over all of them:
 // 20 single dimensions, within-pair and across-pair 2-D tests, first samples.
 // shared/sobol.h's scrambledSobol2 as its comment writes it out: dimension
