@@ -19,8 +19,12 @@ class PathSamplerOf final : public PathSampler {
     uint32_t features() const override { return Features; }
     const char* name() const override { return m_name; }
 
-    glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel, uint32_t sampleIndex,
-                        shared::PathTally& tally) const override {
+    // The whole path in one function: `flatten` inlines every call in it
+    // (the bounce, the traversals, the light and BSDF samples), which GCC
+    // left as calls passing structs through memory. 1.07-1.08x on CBspheres,
+    // CBbunny and material_spheres (docs/BENCHMARKS.md).
+    __attribute__((flatten)) glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel,
+                                                 uint32_t sampleIndex, shared::PathTally& tally) const override {
         const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);
         return m_view.tracePath(shared::startPath(camera, pixel, key), key, tally);
     }
