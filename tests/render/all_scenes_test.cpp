@@ -92,28 +92,45 @@ bool sameBits(const image::Image& a, const image::Image& b) {
            std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
 }
 
-// Specialisation removes only code that the scene's data never takes, and
-// the megakernel runs the wavefront stages' functions in the same order
-// (shared/integrator.h): with the same seed, the same bits. Two settings: the
-// defaults (one light sample, independent sampler, roulette from bounce 4),
-// and their opposites (three light samples, Sobol', no roulette, path
+// The same image and variance bit for bit, and the same counts.
+void expectSameRender(const wavefront::RenderResult& r, const wavefront::RenderResult& expected) {
+    EXPECT_TRUE(sameBits(r.image, expected.image));
+    EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
+    EXPECT_EQ(r.rays.closest, expected.rays.closest);
+    EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
+    EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
+    EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
+}
+
+// The two settings the same-image tests render with: the defaults (one light
+// sample, the Sobol' sampler, roulette from bounce 5 of 5), and their
+// opposites (three light samples, the independent sampler, no roulette, path
 // regularisation), so that every feature bit of the settings is both on and
 // off somewhere.
+wavefront::RenderSettings sameImageSettings(bool defaults) {
+    wavefront::RenderSettings settings;
+    settings.width = 32;
+    settings.height = 24;
+    settings.samplesPerPixel = 2;
+    settings.maxDepth = 5;
+    if (!defaults) {
+        settings.lightSamples = 3;
+        settings.sampler = wavefront::SamplerKind::Independent;
+        settings.rouletteDepth = 6;
+        settings.regularize = 0.2f;
+    }
+    return settings;
+}
+
+// Specialisation removes only code that the scene's data never takes, and
+// the megakernel runs the wavefront stages' functions in the same order
+// (shared/integrator.h): with the same seed, the same bits, in both of
+// sameImageSettings.
 TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
     const scene::Scene s = scene::loadScene(GetParam());
     for (const bool defaults : {true, false}) {
-        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, sobol, no roulette, regularised");
-        wavefront::RenderSettings settings;
-        settings.width = 32;
-        settings.height = 24;
-        settings.samplesPerPixel = 2;
-        settings.maxDepth = 5;
-        if (!defaults) {
-            settings.lightSamples = 3;
-            settings.sampler = wavefront::SamplerKind::Sobol;
-            settings.rouletteDepth = 6;
-            settings.regularize = 0.2f;
-        }
+        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, independent, no roulette, regularised");
+        wavefront::RenderSettings settings = sameImageSettings(defaults);
         settings.kernel = wavefront::KernelForm::Wavefront;
         wavefront::GpuRenderer reference(test::context(), s, settings);
         const auto expected = reference.render();
@@ -126,36 +143,20 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
                 settings.specialize = specialize;
                 wavefront::GpuRenderer renderer(test::context(), s, settings);
                 EXPECT_EQ(renderer.features(), specialize ? reference.features() : uint32_t(VKP_FEATURES_ALL));
-                const auto r = renderer.render();
-                EXPECT_TRUE(sameBits(r.image, expected.image));
-                EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
-                EXPECT_EQ(r.rays.closest, expected.rays.closest);
-                EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
-                EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
-                EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
+                expectSameRender(renderer.render(), expected);
             }
     }
 }
 
 // The CPU reference compiled for a profile (reference/cpu_profiles.h) leaves
 // out only code that the scene's data never takes: the image of its general
-// build, bit for bit, in the two settings above. A scene whose features a
+// build, bit for bit, in both of sameImageSettings. A scene whose features a
 // profile holds runs the first such profile.
 TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
     const scene::Scene s = scene::loadScene(GetParam());
     for (const bool defaults : {true, false}) {
-        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, sobol, no roulette, regularised");
-        wavefront::RenderSettings settings;
-        settings.width = 32;
-        settings.height = 24;
-        settings.samplesPerPixel = 2;
-        settings.maxDepth = 5;
-        if (!defaults) {
-            settings.lightSamples = 3;
-            settings.sampler = wavefront::SamplerKind::Sobol;
-            settings.rouletteDepth = 6;
-            settings.regularize = 0.2f;
-        }
+        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, independent, no roulette, regularised");
+        wavefront::RenderSettings settings = sameImageSettings(defaults);
         settings.specialize = false;
         const reference::ReferenceRenderer general(s, settings);
         EXPECT_EQ(general.sampler().features(), uint32_t(VKP_FEATURES_ALL));
@@ -170,14 +171,7 @@ TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
                   holding == profiles.end() ? uint32_t(VKP_FEATURES_ALL) : holding->features);
         SCOPED_TRACE(specialised.describe());
 
-        const auto expected = general.render();
-        const auto r = specialised.render();
-        EXPECT_TRUE(sameBits(r.image, expected.image));
-        EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
-        EXPECT_EQ(r.rays.closest, expected.rays.closest);
-        EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
-        EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
-        EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
+        expectSameRender(specialised.render(), general.render());
     }
 }
 
