@@ -15,7 +15,9 @@
 // from the scene tables or settings, and hasFeature() around its code. A
 // feature that reads a Material field adds its bit to the condition under
 // which stages/lib/scene_access.glsl sceneMaterial fetches that field's texel
-// (a kernel without it reads the field as zero).
+// (a kernel without it reads the field as zero). The CPU reference's
+// profiles (host/reference/cpu_profiles.h) hold a new bit only once it is
+// added to one: until then a scene with it runs the general build.
 #ifndef VKPATH_SHARED_FEATURES_H
 #define VKPATH_SHARED_FEATURES_H
 
