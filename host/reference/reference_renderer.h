@@ -20,7 +20,6 @@
 #pragma once
 
 #include <functional>
-
 #include <memory>
 #include <string>
 
