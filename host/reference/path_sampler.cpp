@@ -8,7 +8,8 @@
 namespace vkpath::reference {
 
 // Defined in the profiles' translation units.
-std::unique_ptr<PathSampler> makeSmoothPathSampler(const wavefront::SceneTables&, const shared::SceneInfo&);
+std::unique_ptr<PathSampler> makeSmoothPathSampler(const char*, const wavefront::SceneTables&,
+                                                   const shared::SceneInfo&);
 
 namespace {
 
@@ -24,7 +25,7 @@ std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& table
                                              uint32_t features, bool specialize) {
     if (specialize)
         for (const CpuProfile& profile : PROFILES)
-            if ((features & ~profile.features) == 0) return profile.make(tables, info);
+            if ((features & ~profile.features) == 0) return profile.make(profile.name, tables, info);
     return std::make_unique<PathSamplerOf<VKP_FEATURES_ALL>>("general", tables, info);
 }
 

@@ -38,7 +38,8 @@ class PathSampler {
                                 shared::PathTally& tally) const = 0;
 };
 
-using MakePathSampler = std::unique_ptr<PathSampler> (*)(const wavefront::SceneTables& tables,
+// A profile's build, named `name` (CpuProfile::name).
+using MakePathSampler = std::unique_ptr<PathSampler> (*)(const char* name, const wavefront::SceneTables& tables,
                                                          const shared::SceneInfo& info);
 
 struct CpuProfile {
