@@ -125,6 +125,18 @@ TEST(SobolSampler, ClosedFormMatchesTheDirectionNumbers) {
     EXPECT_EQ(mismatches, 0u);
 }
 
+// shared::bitfieldReverse, GFNI's on x86 machines that have it
+// (shared/compat.h), against GLM's: every single bit, then hashed words.
+TEST(SobolSampler, BitReversalIsGlms) {
+    for (uint32_t bit = 0; bit < 32; ++bit) EXPECT_EQ(shared::bitfieldReverse(1u << bit), 1u << (31u - bit));
+    uint32_t mismatches = 0;
+    for (uint32_t i = 0; i < 1000000u; ++i) {
+        const uint32_t word = shared::pcg4d(glm::uvec4(i, 3u, 5u, 7u)).x;
+        if (shared::bitfieldReverse(word) != glm::bitfieldReverse(word)) ++mismatches;
+    }
+    EXPECT_EQ(mismatches, 0u);
+}
+
 constexpr int UNIFORMITY_TESTS = 20 + 2 + 1;
 const double ALPHA = test::sidakAlpha(0.01, UNIFORMITY_TESTS);
 
