@@ -47,6 +47,7 @@ fuzz: deps
 # start-up time with and without caches. Figures and commands: docs/BENCHMARKS.md.
 bench: build
 	@$(BUILD)/bvh_bench
+	@$(BUILD)/sampler_bench
 	@tools/bench/render-bench --vkpath $(VKPATH)
 	@tools/bench/startup-bench --vkpath $(VKPATH)
 
