@@ -42,7 +42,7 @@ fuzz-smoke: deps
 fuzz: deps
 	@tools/fuzz-smoke $(FUZZ_SECONDS)
 
-# Benchmarks (not part of `make test`): the BVH (Google Benchmark), the path
+# Benchmarks (not part of `make test`): the BVH and the samplers (Google Benchmark), the path
 # tracer on CBspheres.dae (its kernel forms and builds side by side) and the
 # start-up time with and without caches. Figures and commands: docs/BENCHMARKS.md.
 bench: build
