@@ -7,16 +7,20 @@
 //   bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
 //   shared::Hit hit = bvh::traceWide(view, wide, ray, false, alphaKey);
 //
-// The leaves are the binary tree's, their primitives copied into blocks of
-// four in structure-of-arrays form: the triangles of a block are tested in
-// one pass of four-lane arithmetic, lane by lane the operations of
-// shared/intersect.h intersectTriangle (and that function itself where an
-// edge function is exactly zero and it recomputes in double); spheres are
-// tested one by one with shared/bvh_leaf.h through `view`. A box is culled by
-// the same test as in the binary traversal (shared/intersect.h intersectBox,
-// lane by lane the same operations). So traceWide returns the binary
-// traversal's hit bit for bit, ties included (shared/bvh_leaf.h: among equal
-// distances the smallest leaf index, whatever the order of the tests).
+// A leaf is a binary leaf or a whole binary subtree of at most
+// LEAF_PRIMITIVES primitives (where the surface area heuristic expects
+// testing them together to cost less than descending: wide_bvh.cpp), its
+// primitives copied into blocks of eight of one kind in structure-of-arrays
+// form, each block tested in one pass of eight-lane arithmetic, lane by lane
+// the operations of shared/intersect.h intersectTriangle (and that function
+// itself where an edge function is exactly zero and it recomputes in double)
+// or intersectSphere. A box is culled by the same test as in the binary
+// traversal (shared/intersect.h intersectBox, lane by lane the same
+// operations), and a leaf that merges binary leaves only adds tests of
+// primitives whose boxes the binary traversal may have culled, which cannot
+// yield a nearer hit. So traceWide returns the binary traversal's hit bit for
+// bit, ties included (shared/bvh_leaf.h: among equal distances the smallest
+// leaf index, whatever the order of the tests).
 //
 // Collapsing follows Wald, Benthin and Boulos, "Getting Rid of Packets:
 // Efficient SIMD Single-Ray Traversal using Multi-branching BVHs" (RT 2008):
@@ -27,6 +31,7 @@
 // skipped when popped.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -58,10 +63,15 @@ struct WideBvh {
         uint32_t children;      // slots in use, 1 to WIDTH
     };
 
-    static constexpr uint32_t BLOCK = 4;
-    // Up to four primitives of one leaf, in leaf order: lane i is
-    // primitive[i], a triangle (p0, p1, p2) or a sphere, or unused (neither bit).
-    struct alignas(16) Block {
+    // A wide leaf is a binary leaf, or a binary subtree of at most
+    // LEAF_PRIMITIVES primitives whose primitives are tested together, a
+    // block of BLOCK at a time, without the subtree's inner boxes.
+    static constexpr uint32_t LEAF_PRIMITIVES = 8;
+    static constexpr uint32_t BLOCK = 8;
+    // Up to eight primitives of one leaf and one kind, in leaf order: lane i
+    // is primitive[i], a triangle (p0, p1, p2) or a sphere (centre p0, radius
+    // p1x), or unused (neither bit). A leaf's triangle blocks come first.
+    struct alignas(32) Block {
         float p0x[BLOCK], p0y[BLOCK], p0z[BLOCK];
         float p1x[BLOCK], p1y[BLOCK], p1z[BLOCK];
         float p2x[BLOCK], p2y[BLOCK], p2z[BLOCK];
@@ -87,12 +97,14 @@ namespace wide_detail {
 using Floats = float __attribute__((vector_size(32)));
 using Ints = int32_t __attribute__((vector_size(32)));
 
-using Floats4 = float __attribute__((vector_size(16)));
-using Ints4 = int32_t __attribute__((vector_size(16)));
+// A block's lanes.
+using BlockFloats = float __attribute__((vector_size(4 * WideBvh::BLOCK)));
+using BlockInts = int32_t __attribute__((vector_size(4 * WideBvh::BLOCK)));
+using BlockUints = uint32_t __attribute__((vector_size(4 * WideBvh::BLOCK)));
 
-// A vector (Floats or Floats4) of the floats at `values`.
-template <typename Vector>
-inline Vector load(const float* values) {
+// A vector of the values at `values`.
+template <typename Vector, typename Value>
+inline Vector load(const Value* values) {
     Vector v;
     std::memcpy(&v, values, sizeof v);
     return v;
@@ -135,57 +147,116 @@ inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origi
     return laneBits(hit) & ((1u << node.children) - 1u);
 }
 
+// shared::bvhIntervalEnd for each lane's primitive: hit.t, or one ulp beyond
+// it where the lane's primitive would win a tie.
+inline BlockFloats intervalEnds(const WideBvh::Block& block, const shared::Hit& hit) {
+    const BlockUints primitives = load<BlockUints>(block.primitive);
+    const BlockInts winsTie = hit.primitive != VKP_NO_HIT ? BlockInts(primitives < hit.primitive) : BlockInts{};
+    BlockUints bits = BlockUints{} + glm::floatBitsToUint(hit.t);
+    bits -= BlockUints(winsTie);  // true lanes are all ones: minus -1 adds one
+    BlockFloats ends;
+    std::memcpy(&ends, &bits, sizeof ends);
+    return ends;
+}
+
+// The square root of each lane, correctly rounded as std::sqrt is (lanes
+// below zero give NaN, without std::sqrt's call to set errno).
+template <typename Vector>
+inline Vector squareRoot(Vector x) {
+    constexpr uint32_t lanes = sizeof(Vector) / sizeof(float);
+#ifdef __AVX__
+    if constexpr (lanes == 8) return Vector(_mm256_sqrt_ps(__m256(x)));
+#endif
+#ifdef __SSE__
+    if constexpr (lanes == 4) return Vector(_mm_sqrt_ps(__m128(x)));
+#endif
+    for (uint32_t i = 0; i < lanes; ++i) x[i] = x[i] >= 0.0f ? std::sqrt(x[i]) : 0.0f;
+    return x;
+}
+
+// shared/intersect.h intersectSphere for a block of spheres, lane by lane the
+// same operations (glm's dot is (x + y) + z): bit i of the result says
+// whether sphere i is hit in [0, limit[i]), t[i] is where.
+inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, BlockFloats limit, BlockFloats& t) {
+    const glm::vec3 o = ray.origin, d = ray.direction;
+    const BlockFloats fx = o.x - load<BlockFloats>(block.p0x), fy = o.y - load<BlockFloats>(block.p0y),
+                 fz = o.z - load<BlockFloats>(block.p0z);
+    const BlockFloats radius = load<BlockFloats>(block.p1x);
+    const float a = glm::dot(d, d);
+    const BlockFloats b = -((fx * d.x + fy * d.y) + fz * d.z);
+    const BlockFloats closestX = a * fx + b * d.x, closestY = a * fy + b * d.y, closestZ = a * fz + b * d.z;
+    const BlockFloats scaledRadius = a * radius;
+    const BlockFloats discriminant =
+        scaledRadius * scaledRadius - ((closestX * closestX + closestY * closestY) + closestZ * closestZ);
+    const BlockFloats zero = {};
+    uint32_t hit = laneBits(discriminant >= zero) & block.spheres;
+    if (hit == 0) return 0;
+    const BlockFloats c = ((fx * fx + fy * fy) + fz * fz) - radius * radius;
+    const BlockFloats root = squareRoot(discriminant / a);
+    const BlockFloats q = b + (b >= zero ? root : -root);
+    hit &= laneBits(q != zero);
+    const BlockFloats t0 = c / q, t1 = q / a;
+    const BlockFloats tNear = t1 < t0 ? t1 : t0, tFar = t0 < t1 ? t1 : t0;
+    const BlockInts nearIn = (tNear >= zero) & (tNear < limit);
+    t = nearIn ? tNear : tFar;
+    return hit & laneBits(nearIn | ((tFar >= zero) & (tFar < limit)));
+}
+
+// shared/intersect.h intersectTriangle for a block of triangles, lane by lane
+// the same operations: bit i of the result says whether triangle i is hit in
+// [0, limit[i]), t[i] and (v[i], w[i]) / det[i] are where. Returns
+// `fallback` true, and nothing else, when an edge function of a lane rounds
+// to zero: there intersectTriangle decides in double.
+inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::TriangleRay& triangleRay, BlockFloats limit,
+                                   BlockFloats& t, BlockFloats& v, BlockFloats& w, BlockFloats& det, bool& fallback) {
+    // Vertices relative to the origin in the permuted axes, the shear, the edge functions.
+    const glm::vec3 o = triangleRay.origin;
+    const BlockFloats p0[3] = {load<BlockFloats>(block.p0x) - o.x, load<BlockFloats>(block.p0y) - o.y, load<BlockFloats>(block.p0z) - o.z};
+    const BlockFloats p1[3] = {load<BlockFloats>(block.p1x) - o.x, load<BlockFloats>(block.p1y) - o.y, load<BlockFloats>(block.p1z) - o.z};
+    const BlockFloats p2[3] = {load<BlockFloats>(block.p2x) - o.x, load<BlockFloats>(block.p2y) - o.y, load<BlockFloats>(block.p2z) - o.z};
+    const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
+    const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
+    const BlockFloats ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
+    const BlockFloats bx = dz * p1[kx] - dx * p1[kz], by = dz * p1[ky] - dy * p1[kz];
+    const BlockFloats cx = dz * p2[kx] - dx * p2[kz], cy = dz * p2[ky] - dy * p2[kz];
+    const BlockFloats u = cx * by - cy * bx;
+    v = ax * cy - ay * cx;
+    w = bx * ay - by * ax;
+    const BlockFloats zero = {};
+    fallback = (laneBits((u == zero) | (v == zero) | (w == zero)) & block.triangles) != 0;
+    if (fallback) return 0;
+    const BlockInts negative = (u < zero) | (v < zero) | (w < zero);
+    const BlockInts positive = (u > zero) | (v > zero) | (w > zero);
+    det = u + v + w;
+    const BlockFloats scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
+    t = scaledT / (dz * det);
+    return laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) & block.triangles;
+}
+
 // Tests a block's primitives as shared/bvh_leaf.h bvhTestPrimitive would,
 // each in turn, and updates `hit` alike. Returns whether it took a hit.
 template <typename View>
 bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray& ray,
                const shared::TriangleRay& triangleRay, uint32_t alphaKey, bool anyHit, shared::Hit& hit) {
-    bool took = false;
-    for (uint32_t bits = block.spheres; bits != 0; bits &= bits - 1) {
-        if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)], alphaKey, hit)) {
-            if (anyHit) return true;
-            took = true;
-        }
-    }
-    if (block.triangles == 0) return took;
-
-    // intersectTriangle, four triangles at once: vertices relative to the
-    // origin in the permuted axes, the shear, the edge functions.
-    const glm::vec3 o = ray.origin;
-    const Floats4 p0[3] = {load<Floats4>(block.p0x) - o.x, load<Floats4>(block.p0y) - o.y,
-                            load<Floats4>(block.p0z) - o.z};
-    const Floats4 p1[3] = {load<Floats4>(block.p1x) - o.x, load<Floats4>(block.p1y) - o.y,
-                            load<Floats4>(block.p1z) - o.z};
-    const Floats4 p2[3] = {load<Floats4>(block.p2x) - o.x, load<Floats4>(block.p2y) - o.y,
-                            load<Floats4>(block.p2z) - o.z};
-    const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
-    const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
-    const Floats4 ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
-    const Floats4 bx = dz * p1[kx] - dx * p1[kz], by = dz * p1[ky] - dy * p1[kz];
-    const Floats4 cx = dz * p2[kx] - dx * p2[kz], cy = dz * p2[ky] - dy * p2[kz];
-    const Floats4 u = cx * by - cy * bx;
-    const Floats4 v = ax * cy - ay * cx;
-    const Floats4 w = bx * ay - by * ax;
-    const Floats4 zero = {};
-    if ((laneBits((u == zero) | (v == zero) | (w == zero)) & block.triangles) != 0) {
-        // An edge function rounded to zero: intersectTriangle decides in double.
-        for (uint32_t bits = block.triangles; bits != 0; bits &= bits - 1) {
-            if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)], alphaKey, hit)) {
-                if (anyHit) return true;
-                took = true;
+    const BlockFloats limit = intervalEnds(block, hit);
+    BlockFloats t, v, w, det;
+    uint32_t candidates;
+    if (block.spheres != 0) {
+        candidates = intersectSpheres(block, ray, limit, t);
+    } else {
+        bool fallback;
+        candidates = intersectTriangles(block, triangleRay, limit, t, v, w, det, fallback);
+        if (fallback) {
+            bool took = false;
+            for (uint32_t bits = block.triangles; bits != 0; bits &= bits - 1) {
+                if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)], alphaKey, hit)) {
+                    if (anyHit) return true;
+                    took = true;
+                }
             }
+            return took;
         }
-        return took;
     }
-    const Ints4 negative = (u < zero) | (v < zero) | (w < zero);
-    const Ints4 positive = (u > zero) | (v > zero) | (w > zero);
-    const Floats4 det = u + v + w;
-    const Floats4 scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
-    const Floats4 t = scaledT / (dz * det);
-    Floats4 limit;
-    for (uint32_t i = 0; i < WideBvh::BLOCK; ++i) limit[i] = shared::bvhIntervalEnd(hit, block.primitive[i]);
-    uint32_t candidates =
-        laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) & block.triangles;
 
     // The candidates nearest first (the smaller index on equal distances)
     // until one passes the alpha test: the one the tests in turn would keep.
@@ -196,16 +267,19 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
             if (t[lane] < t[best] || (t[lane] == t[best] && block.primitive[lane] < block.primitive[best])) best = lane;
         }
         candidates &= ~(1u << best);
-        const float inverseDet = 1.0f / det[best];
-        const glm::vec2 barycentrics(v[best] * inverseDet, w[best] * inverseDet);
         const uint32_t index = block.primitive[best];
-        if (shared::hasFeature(VKP_FEATURE_ALPHA) &&
-            !view.bvhAlphaTest(view.bvhPrimitive(index), barycentrics, alphaKey))
-            continue;
+        glm::vec2 barycentrics(0.0f);
+        if (block.spheres == 0) {
+            const float inverseDet = 1.0f / det[best];
+            barycentrics = glm::vec2(v[best] * inverseDet, w[best] * inverseDet);
+            if (shared::hasFeature(VKP_FEATURE_ALPHA) &&
+                !view.bvhAlphaTest(view.bvhPrimitive(index), barycentrics, alphaKey))
+                continue;
+        }
         hit = shared::Hit{t[best], index, barycentrics};
         return true;
     }
-    return took;
+    return false;
 }
 
 }  // namespace wide_detail

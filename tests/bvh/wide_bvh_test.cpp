@@ -1,6 +1,7 @@
-// The CPU reference's eight-wide tree (host/bvh/wide_bvh.h): collapsing keeps
-// every leaf of the binary tree exactly once with its box, its primitives
-// copied into blocks of four in leaf order, and traversal
+// The CPU reference's eight-wide tree (host/bvh/wide_bvh.h): collapsing makes
+// each primitive part of exactly one wide leaf, a binary leaf or a binary
+// subtree of at most LEAF_PRIMITIVES primitives with that node's box, copied
+// into blocks of eight of one kind in leaf order, and traversal
 // returns the binary traversal's hit bit for bit (t, primitive,
 // barycentrics) and the same any-hit answer, on random rays and on rays aimed
 // at the edges and vertices of closed meshes. Both must also equal brute force
@@ -13,6 +14,7 @@
 
 #include <cstring>
 #include <functional>
+#include <map>
 #include <ostream>
 #include <set>
 #include <string>
@@ -59,36 +61,46 @@ void expectSameHits(const Traced& t) {
     EXPECT_GT(t.hits, t.rays / 4) << "too few hits for the comparison to mean much";
 }
 
-// The binary leaves under `binaryIndex`, as (first primitive, count).
-void binaryLeaves(const bvh::BvhBuild& build, uint32_t binaryIndex, std::multiset<std::pair<uint32_t, uint32_t>>& out) {
-    const shared::BvhNode& node = build.nodes[binaryIndex];
-    if (node.count > 0) {
-        out.insert({node.offset, node.count});
-        return;
+// The primitives of binary node `index`'s subtree, (first, count), for
+// every node: a depth-first tree's subtree holds a contiguous range.
+std::pair<uint32_t, uint32_t> subtreeRanges(const bvh::BvhBuild& build, uint32_t index,
+                                            std::map<std::pair<uint32_t, uint32_t>, uint32_t>& nodeOfRange) {
+    const shared::BvhNode& node = build.nodes[index];
+    std::pair<uint32_t, uint32_t> range{node.offset, node.count};
+    if (node.count == 0) {
+        const auto left = subtreeRanges(build, index + 1, nodeOfRange);
+        const auto right = subtreeRanges(build, node.offset, nodeOfRange);
+        EXPECT_EQ(left.first + left.second, right.first);
+        range = {left.first, left.second + right.second};
     }
-    binaryLeaves(build, binaryIndex + 1, out);
-    binaryLeaves(build, node.offset, out);
+    nodeOfRange[range] = index;
+    return range;
 }
 
 // The leaf that `count` blocks from `first` hold, as (first primitive,
-// count), after checking that they copy its primitives in leaf order, four
-// to a block but the last.
+// count), after checking that they copy its primitives, triangles and
+// spheres in blocks of their own, each kind in leaf order, eight to a block
+// but the last of each kind.
 std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::WideBvh& wide, uint32_t first,
                                         uint32_t count) {
     EXPECT_LE(first + count, wide.blocks.size());
-    const uint32_t start = wide.blocks[first].primitive[0];
-    uint32_t primitives = 0;
+    std::set<uint32_t> indices;
     for (uint32_t b = first; b < first + count && b < wide.blocks.size(); ++b) {
         const bvh::WideBvh::Block& block = wide.blocks[b];
-        EXPECT_EQ(block.triangles & block.spheres, 0u);
+        EXPECT_TRUE(block.triangles == 0 || block.spheres == 0) << "a block mixes triangles and spheres";
         const uint32_t used = block.triangles | block.spheres;
+        EXPECT_NE(used, 0u);
         EXPECT_EQ(used & (used + 1), 0u) << "lanes in use are not the first ones";
-        if (b + 1 < first + count) {
-            EXPECT_EQ(used, 0xfu) << "a block before the last is not full";
+        const bool last = b + 1 == first + count || ((wide.blocks[b + 1].spheres != 0) != (block.spheres != 0));
+        if (!last) {
+            EXPECT_EQ(used, (1u << bvh::WideBvh::BLOCK) - 1u) << "a block before its kind's last is not full";
         }
-        for (uint32_t lane = 0; lane < bvh::WideBvh::BLOCK && (used >> lane & 1u); ++lane, ++primitives) {
+        for (uint32_t lane = 0; lane < bvh::WideBvh::BLOCK && (used >> lane & 1u); ++lane) {
             const uint32_t index = block.primitive[lane];
-            EXPECT_EQ(index, start + primitives);
+            if (lane > 0) {
+                EXPECT_LT(block.primitive[lane - 1], index) << "a block's lanes are not in leaf order";
+            }
+            EXPECT_TRUE(indices.insert(index).second) << "primitive " << index << " twice in a leaf";
             const BvhPrimitive& p = build.primitives.at(index);
             EXPECT_EQ((block.spheres >> lane & 1u) != 0, p.kind == VKP_PRIMITIVE_SPHERE);
             EXPECT_EQ(vec3(block.p0x[lane], block.p0y[lane], block.p0z[lane]), p.p0);
@@ -96,15 +108,21 @@ std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::W
             EXPECT_EQ(vec3(block.p2x[lane], block.p2y[lane], block.p2z[lane]), p.p2);
         }
     }
-    return {start, primitives};
+    if (indices.empty()) return {0, 0};
+    EXPECT_EQ(*indices.rbegin() - *indices.begin() + 1, indices.size()) << "a leaf's primitives are not a range";
+    return {*indices.begin(), uint32_t(indices.size())};
 }
 
-// Checks the wide tree's structure against the binary tree it came from.
+// Checks the wide tree's structure against the binary tree it came from:
+// each wide leaf is a binary leaf or a binary subtree of at most
+// LEAF_PRIMITIVES primitives, with that node's box, and the wide leaves
+// hold every primitive once.
 void expectSoundCollapse(const bvh::BvhBuild& build) {
     const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
-    std::multiset<std::pair<uint32_t, uint32_t>> expected, found;
-    binaryLeaves(build, 0, expected);
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> nodeOfRange;
+    subtreeRanges(build, 0, nodeOfRange);
     std::vector<int> visits(wide.nodes.size(), 0);
+    std::vector<int> covered(build.primitives.size(), 0);
     uint32_t deepest = 0;
     std::function<void(uint32_t, uint32_t)> walk = [&](uint32_t index, uint32_t depth) {
         ASSERT_LT(index, wide.nodes.size());
@@ -117,14 +135,22 @@ void expectSoundCollapse(const bvh::BvhBuild& build) {
             EXPECT_LE(node.minX[i], node.maxX[i]);
             EXPECT_LE(node.minY[i], node.maxY[i]);
             EXPECT_LE(node.minZ[i], node.maxZ[i]);
-            if (node.count[i] > 0)
-                found.insert(blockLeaf(build, wide, node.child[i], node.count[i]));
-            else
+            if (node.count[i] == 0) {
                 walk(node.child[i], depth + 1);
+                continue;
+            }
+            const auto range = blockLeaf(build, wide, node.child[i], node.count[i]);
+            const auto binary = nodeOfRange.find(range);
+            ASSERT_NE(binary, nodeOfRange.end()) << "a wide leaf is no binary subtree";
+            const shared::BvhNode& b = build.nodes[binary->second];
+            EXPECT_TRUE(b.count > 0 || range.second <= bvh::WideBvh::LEAF_PRIMITIVES);
+            EXPECT_EQ(vec3(node.minX[i], node.minY[i], node.minZ[i]), b.boundsMin);
+            EXPECT_EQ(vec3(node.maxX[i], node.maxY[i], node.maxZ[i]), b.boundsMax);
+            for (uint32_t p = range.first; p < range.first + range.second; ++p) ++covered.at(p);
         }
     };
     walk(0, 0);
-    EXPECT_EQ(found, expected) << "the wide leaves are not the binary leaves";
+    for (size_t p = 0; p < covered.size(); ++p) EXPECT_EQ(covered[p], 1) << "primitive " << p;
     for (size_t i = 0; i < visits.size(); ++i)
         EXPECT_EQ(visits[i], 1) << "wide node " << i << " reached " << visits[i] << " times";
     EXPECT_LE(deepest, build.stats.maxDepth);
