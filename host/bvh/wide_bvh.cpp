@@ -150,8 +150,6 @@ struct Collapse {
 WideBvh collapseBvh(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives) {
     WideBvh wide;
     if (binary.empty() || (binary[0].count == 0 && binary[0].offset == 0)) return wide;  // empty tree
-    wide.boundsMin = binary[0].boundsMin;
-    wide.boundsMax = binary[0].boundsMax;
     Collapse collapse{binary, primitives, std::vector<Subtree>(binary.size()), wide};
     measureSubtree(binary, primitives, 0, collapse.subtrees);
     collapse.node(0);

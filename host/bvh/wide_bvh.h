@@ -82,9 +82,6 @@ struct WideBvh {
 
     std::vector<Node> nodes;    // root at 0; empty for an empty tree
     std::vector<Block> blocks;  // the leaves' primitives, leaf after leaf
-    // The binary root's box, tested first as the binary traversal does (a
-    // ray that misses the scene costs one box test, not eight).
-    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
 
     size_t bytes() const { return nodes.size() * sizeof(Node) + blocks.size() * sizeof(Block); }
 };
@@ -295,9 +292,9 @@ shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& 
     if (wide.nodes.empty()) return hit;
     const shared::TriangleRay triangleRay = shared::makeTriangleRay(ray.origin, ray.direction);
     const glm::vec3 inverseDirection = shared::safeInverse(ray.direction);
-    float rootEntry;
-    if (!shared::intersectBox(wide.boundsMin, wide.boundsMax, ray.origin, inverseDirection, hit.t, rootEntry))
-        return hit;
+    // No test of the scene's box first, as the binary traversal makes: the
+    // root's boxes take one vector pass, what that one box takes in scalar
+    // code, and nearly every ray of a path starts inside the scene's box.
 
     struct Entry {
         uint32_t child, count;  // as in WideBvh::Node; the root is (0, 0)
