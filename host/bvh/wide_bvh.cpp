@@ -74,7 +74,8 @@ Subtree measureSubtree(std::span<const shared::BvhNode> binary, std::span<const 
                        uint32_t index, std::vector<Subtree>& subtrees) {
     const shared::BvhNode& node = binary[index];
     auto leafCost = [&](uint32_t first, uint32_t count) { return float(blockCount(primitives, first, count)); };
-    if (isLeaf(node)) return subtrees[index] = Subtree{node.offset, node.count, true, leafCost(node.offset, node.count)};
+    if (isLeaf(node))
+        return subtrees[index] = Subtree{node.offset, node.count, true, leafCost(node.offset, node.count)};
     const Subtree left = measureSubtree(binary, primitives, index + 1, subtrees);
     const Subtree right = measureSubtree(binary, primitives, node.offset, subtrees);
     if (left.first + left.count != right.first) throw std::logic_error("BVH subtree primitives are not contiguous");

@@ -156,8 +156,9 @@ inline BlockFloats intervalEnds(const WideBvh::Block& block, const shared::Hit& 
     return ends;
 }
 
-// The square root of each lane, correctly rounded as std::sqrt is (lanes
-// below zero give NaN, without std::sqrt's call to set errno).
+// The square root of each lane, correctly rounded as std::sqrt is, without
+// std::sqrt's call into libm to set errno for a lane below zero (such lanes,
+// which callers mask, give NaN, or 0 without SSE).
 template <typename Vector>
 inline Vector squareRoot(Vector x) {
     constexpr uint32_t lanes = sizeof(Vector) / sizeof(float);
@@ -174,10 +175,11 @@ inline Vector squareRoot(Vector x) {
 // shared/intersect.h intersectSphere for a block of spheres, lane by lane the
 // same operations (glm's dot is (x + y) + z): bit i of the result says
 // whether sphere i is hit in [0, limit[i]), t[i] is where.
-inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, BlockFloats limit, BlockFloats& t) {
+inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, BlockFloats limit,
+                                 BlockFloats& t) {
     const glm::vec3 o = ray.origin, d = ray.direction;
     const BlockFloats fx = o.x - load<BlockFloats>(block.p0x), fy = o.y - load<BlockFloats>(block.p0y),
-                 fz = o.z - load<BlockFloats>(block.p0z);
+                      fz = o.z - load<BlockFloats>(block.p0z);
     const BlockFloats radius = load<BlockFloats>(block.p1x);
     const float a = glm::dot(d, d);
     const BlockFloats b = -((fx * d.x + fy * d.y) + fz * d.z);
@@ -204,13 +206,17 @@ inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray&
 // [0, limit[i]), t[i] and (v[i], w[i]) / det[i] are where. Returns
 // `fallback` true, and nothing else, when an edge function of a lane rounds
 // to zero: there intersectTriangle decides in double.
-inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::TriangleRay& triangleRay, BlockFloats limit,
-                                   BlockFloats& t, BlockFloats& v, BlockFloats& w, BlockFloats& det, bool& fallback) {
+inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::TriangleRay& triangleRay,
+                                   BlockFloats limit, BlockFloats& t, BlockFloats& v, BlockFloats& w,
+                                   BlockFloats& det, bool& fallback) {
     // Vertices relative to the origin in the permuted axes, the shear, the edge functions.
     const glm::vec3 o = triangleRay.origin;
-    const BlockFloats p0[3] = {load<BlockFloats>(block.p0x) - o.x, load<BlockFloats>(block.p0y) - o.y, load<BlockFloats>(block.p0z) - o.z};
-    const BlockFloats p1[3] = {load<BlockFloats>(block.p1x) - o.x, load<BlockFloats>(block.p1y) - o.y, load<BlockFloats>(block.p1z) - o.z};
-    const BlockFloats p2[3] = {load<BlockFloats>(block.p2x) - o.x, load<BlockFloats>(block.p2y) - o.y, load<BlockFloats>(block.p2z) - o.z};
+    const BlockFloats p0[3] = {load<BlockFloats>(block.p0x) - o.x, load<BlockFloats>(block.p0y) - o.y,
+                               load<BlockFloats>(block.p0z) - o.z};
+    const BlockFloats p1[3] = {load<BlockFloats>(block.p1x) - o.x, load<BlockFloats>(block.p1y) - o.y,
+                               load<BlockFloats>(block.p1z) - o.z};
+    const BlockFloats p2[3] = {load<BlockFloats>(block.p2x) - o.x, load<BlockFloats>(block.p2y) - o.y,
+                               load<BlockFloats>(block.p2z) - o.z};
     const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
     const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
     const BlockFloats ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
