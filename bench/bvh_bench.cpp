@@ -279,9 +279,11 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
                 const std::string cpuName = "trace-cpu/" + s.name +
                                             (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest" +
                                             (wide ? "/wide" : "/binary");
+                // Half a second of passes over the rays: two passes (tens of
+                // milliseconds) spread by +-25% between runs on a shared VM.
                 benchmark::RegisterBenchmark(cpuName.c_str(), cpuTraceBenchmark, &s, kind, wide)
                     ->Unit(benchmark::kMillisecond)
-                    ->Iterations(2);
+                    ->MinTime(0.5);
             }
             const std::string group = s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent");
             for (bool anyHit : {false, true}) {
