@@ -280,7 +280,8 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
                                             (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest" +
                                             (wide ? "/wide" : "/binary");
                 // Half a second of passes over the rays: two passes (tens of
-                // milliseconds) spread by +-25% between runs on a shared VM.
+                // milliseconds) spread by 0.90-1.09 between runs of one binary
+                // on a shared VM (docs/BENCHMARKS.md).
                 benchmark::RegisterBenchmark(cpuName.c_str(), cpuTraceBenchmark, &s, kind, wide)
                     ->Unit(benchmark::kMillisecond)
                     ->MinTime(0.5);

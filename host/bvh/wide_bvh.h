@@ -91,13 +91,11 @@ WideBvh collapseBvh(std::span<const shared::BvhNode> binary, std::span<const sha
 
 namespace wide_detail {
 
-using Floats = float __attribute__((vector_size(32)));
-using Ints = int32_t __attribute__((vector_size(32)));
-
-// A block's lanes.
-using BlockFloats = float __attribute__((vector_size(4 * WideBvh::BLOCK)));
-using BlockInts = int32_t __attribute__((vector_size(4 * WideBvh::BLOCK)));
-using BlockUints = uint32_t __attribute__((vector_size(4 * WideBvh::BLOCK)));
+// Eight lanes: a node's boxes, or a block's primitives.
+static_assert(WideBvh::BLOCK == WideBvh::WIDTH, "a block's lanes are a node's");
+using Floats = float __attribute__((vector_size(4 * WideBvh::WIDTH)));
+using Ints = int32_t __attribute__((vector_size(4 * WideBvh::WIDTH)));
+using Uints = uint32_t __attribute__((vector_size(4 * WideBvh::WIDTH)));
 
 // A vector of the values at `values`.
 template <typename Vector, typename Value>
@@ -110,19 +108,15 @@ inline Vector load(const Value* values) {
 inline Floats minOf(Floats a, Floats b) { return b < a ? b : a; }
 inline Floats maxOf(Floats a, Floats b) { return a < b ? b : a; }
 
-// Bit i set where lane i of `mask` (4 or 8 lanes) is true (all ones).
-template <typename Mask>
-inline uint32_t laneBits(Mask mask) {
-    constexpr uint32_t lanes = sizeof(Mask) / sizeof(int32_t);
+// Bit i set where lane i of `mask` is true (all ones).
+inline uint32_t laneBits(Ints mask) {
 #ifdef __AVX__
-    if constexpr (lanes == 8) return uint32_t(_mm256_movemask_ps(__m256(mask)));
-#endif
-#ifdef __SSE__
-    if constexpr (lanes == 4) return uint32_t(_mm_movemask_ps(__m128(mask)));
-#endif
+    return uint32_t(_mm256_movemask_ps(__m256(mask)));
+#else
     uint32_t bits = 0;
-    for (uint32_t i = 0; i < lanes; ++i) bits |= uint32_t(mask[i] != 0) << i;
+    for (uint32_t i = 0; i < WideBvh::WIDTH; ++i) bits |= uint32_t(mask[i] != 0) << i;
     return bits;
+#endif
 }
 
 // shared/intersect.h intersectBox for the node's eight boxes: bit i of the
@@ -146,57 +140,52 @@ inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origi
 
 // shared::bvhIntervalEnd for each lane's primitive: hit.t, or one ulp beyond
 // it where the lane's primitive would win a tie.
-inline BlockFloats intervalEnds(const WideBvh::Block& block, const shared::Hit& hit) {
-    const BlockUints primitives = load<BlockUints>(block.primitive);
-    const BlockInts winsTie = hit.primitive != VKP_NO_HIT ? BlockInts(primitives < hit.primitive) : BlockInts{};
-    BlockUints bits = BlockUints{} + glm::floatBitsToUint(hit.t);
-    bits -= BlockUints(winsTie);  // true lanes are all ones: minus -1 adds one
-    BlockFloats ends;
+inline Floats intervalEnds(const WideBvh::Block& block, const shared::Hit& hit) {
+    const Uints primitives = load<Uints>(block.primitive);
+    const Ints winsTie = hit.primitive != VKP_NO_HIT ? Ints(primitives < hit.primitive) : Ints{};
+    Uints bits = Uints{} + glm::floatBitsToUint(hit.t);
+    bits -= Uints(winsTie);  // true lanes are all ones: minus -1 adds one
+    Floats ends;
     std::memcpy(&ends, &bits, sizeof ends);
     return ends;
 }
 
 // The square root of each lane, correctly rounded as std::sqrt is, without
 // std::sqrt's call into libm to set errno for a lane below zero (such lanes,
-// which callers mask, give NaN, or 0 without SSE).
-template <typename Vector>
-inline Vector squareRoot(Vector x) {
-    constexpr uint32_t lanes = sizeof(Vector) / sizeof(float);
+// which callers mask, give NaN, or 0 without AVX).
+inline Floats squareRoot(Floats x) {
 #ifdef __AVX__
-    if constexpr (lanes == 8) return Vector(_mm256_sqrt_ps(__m256(x)));
-#endif
-#ifdef __SSE__
-    if constexpr (lanes == 4) return Vector(_mm_sqrt_ps(__m128(x)));
-#endif
-    for (uint32_t i = 0; i < lanes; ++i) x[i] = x[i] >= 0.0f ? std::sqrt(x[i]) : 0.0f;
+    return Floats(_mm256_sqrt_ps(__m256(x)));
+#else
+    for (uint32_t i = 0; i < WideBvh::WIDTH; ++i) x[i] = x[i] >= 0.0f ? std::sqrt(x[i]) : 0.0f;
     return x;
+#endif
 }
 
 // shared/intersect.h intersectSphere for a block of spheres, lane by lane the
 // same operations (glm's dot is (x + y) + z): bit i of the result says
 // whether sphere i is hit in [0, limit[i]), t[i] is where.
-inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, BlockFloats limit,
-                                 BlockFloats& t) {
+inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, Floats limit, Floats& t) {
     const glm::vec3 o = ray.origin, d = ray.direction;
-    const BlockFloats fx = o.x - load<BlockFloats>(block.p0x), fy = o.y - load<BlockFloats>(block.p0y),
-                      fz = o.z - load<BlockFloats>(block.p0z);
-    const BlockFloats radius = load<BlockFloats>(block.p1x);
+    const Floats fx = o.x - load<Floats>(block.p0x), fy = o.y - load<Floats>(block.p0y),
+                 fz = o.z - load<Floats>(block.p0z);
+    const Floats radius = load<Floats>(block.p1x);
     const float a = glm::dot(d, d);
-    const BlockFloats b = -((fx * d.x + fy * d.y) + fz * d.z);
-    const BlockFloats closestX = a * fx + b * d.x, closestY = a * fy + b * d.y, closestZ = a * fz + b * d.z;
-    const BlockFloats scaledRadius = a * radius;
-    const BlockFloats discriminant =
+    const Floats b = -((fx * d.x + fy * d.y) + fz * d.z);
+    const Floats closestX = a * fx + b * d.x, closestY = a * fy + b * d.y, closestZ = a * fz + b * d.z;
+    const Floats scaledRadius = a * radius;
+    const Floats discriminant =
         scaledRadius * scaledRadius - ((closestX * closestX + closestY * closestY) + closestZ * closestZ);
-    const BlockFloats zero = {};
+    const Floats zero = {};
     uint32_t hit = laneBits(discriminant >= zero) & block.spheres;
     if (hit == 0) return 0;
-    const BlockFloats c = ((fx * fx + fy * fy) + fz * fz) - radius * radius;
-    const BlockFloats root = squareRoot(discriminant / a);
-    const BlockFloats q = b + (b >= zero ? root : -root);
+    const Floats c = ((fx * fx + fy * fy) + fz * fz) - radius * radius;
+    const Floats root = squareRoot(discriminant / a);
+    const Floats q = b + (b >= zero ? root : -root);
     hit &= laneBits(q != zero);
-    const BlockFloats t0 = c / q, t1 = q / a;
-    const BlockFloats tNear = t1 < t0 ? t1 : t0, tFar = t0 < t1 ? t1 : t0;
-    const BlockInts nearIn = (tNear >= zero) & (tNear < limit);
+    const Floats t0 = c / q, t1 = q / a;
+    const Floats tNear = t1 < t0 ? t1 : t0, tFar = t0 < t1 ? t1 : t0;
+    const Ints nearIn = (tNear >= zero) & (tNear < limit);
     t = nearIn ? tNear : tFar;
     return hit & laneBits(nearIn | ((tFar >= zero) & (tFar < limit)));
 }
@@ -206,32 +195,28 @@ inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray&
 // [0, limit[i]), t[i] and (v[i], w[i]) / det[i] are where. Returns
 // `fallback` true, and nothing else, when an edge function of a lane rounds
 // to zero: there intersectTriangle decides in double.
-inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::TriangleRay& triangleRay,
-                                   BlockFloats limit, BlockFloats& t, BlockFloats& v, BlockFloats& w,
-                                   BlockFloats& det, bool& fallback) {
+inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::TriangleRay& triangleRay, Floats limit,
+                                   Floats& t, Floats& v, Floats& w, Floats& det, bool& fallback) {
     // Vertices relative to the origin in the permuted axes, the shear, the edge functions.
     const glm::vec3 o = triangleRay.origin;
-    const BlockFloats p0[3] = {load<BlockFloats>(block.p0x) - o.x, load<BlockFloats>(block.p0y) - o.y,
-                               load<BlockFloats>(block.p0z) - o.z};
-    const BlockFloats p1[3] = {load<BlockFloats>(block.p1x) - o.x, load<BlockFloats>(block.p1y) - o.y,
-                               load<BlockFloats>(block.p1z) - o.z};
-    const BlockFloats p2[3] = {load<BlockFloats>(block.p2x) - o.x, load<BlockFloats>(block.p2y) - o.y,
-                               load<BlockFloats>(block.p2z) - o.z};
+    const Floats p0[3] = {load<Floats>(block.p0x) - o.x, load<Floats>(block.p0y) - o.y, load<Floats>(block.p0z) - o.z};
+    const Floats p1[3] = {load<Floats>(block.p1x) - o.x, load<Floats>(block.p1y) - o.y, load<Floats>(block.p1z) - o.z};
+    const Floats p2[3] = {load<Floats>(block.p2x) - o.x, load<Floats>(block.p2y) - o.y, load<Floats>(block.p2z) - o.z};
     const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
     const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
-    const BlockFloats ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
-    const BlockFloats bx = dz * p1[kx] - dx * p1[kz], by = dz * p1[ky] - dy * p1[kz];
-    const BlockFloats cx = dz * p2[kx] - dx * p2[kz], cy = dz * p2[ky] - dy * p2[kz];
-    const BlockFloats u = cx * by - cy * bx;
+    const Floats ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
+    const Floats bx = dz * p1[kx] - dx * p1[kz], by = dz * p1[ky] - dy * p1[kz];
+    const Floats cx = dz * p2[kx] - dx * p2[kz], cy = dz * p2[ky] - dy * p2[kz];
+    const Floats u = cx * by - cy * bx;
     v = ax * cy - ay * cx;
     w = bx * ay - by * ax;
-    const BlockFloats zero = {};
+    const Floats zero = {};
     fallback = (laneBits((u == zero) | (v == zero) | (w == zero)) & block.triangles) != 0;
     if (fallback) return 0;
-    const BlockInts negative = (u < zero) | (v < zero) | (w < zero);
-    const BlockInts positive = (u > zero) | (v > zero) | (w > zero);
+    const Ints negative = (u < zero) | (v < zero) | (w < zero);
+    const Ints positive = (u > zero) | (v > zero) | (w > zero);
     det = u + v + w;
-    const BlockFloats scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
+    const Floats scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
     t = scaledT / (dz * det);
     return laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) & block.triangles;
 }
@@ -241,8 +226,8 @@ inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::Tr
 template <typename View>
 bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray& ray,
                const shared::TriangleRay& triangleRay, uint32_t alphaKey, bool anyHit, shared::Hit& hit) {
-    const BlockFloats limit = intervalEnds(block, hit);
-    BlockFloats t, v, w, det;
+    const Floats limit = intervalEnds(block, hit);
+    Floats t, v, w, det;
     uint32_t candidates;
     if (block.spheres != 0) {
         candidates = intersectSpheres(block, ray, limit, t);
