@@ -65,6 +65,13 @@ struct BvhBuild {
     size_t bytes() const { return nodeBytes() + primitiveBytes(); }
 };
 
+// The kernel feature bits the tree's traversal needs (shared/features.h):
+// VKP_FEATURE_DEEP_BVH when a leaf lies below VKP_BVH_SHALLOW_DEPTH, so that
+// the kernels keep their stack in an array (shared/bvh_traverse.h).
+inline uint32_t traversalFeatures(const BvhBuild& bvh) {
+    return bvh.stats.maxDepth > VKP_BVH_SHALLOW_DEPTH ? VKP_FEATURE_DEEP_BVH : 0u;
+}
+
 // Builds the BVH of every non-degenerate triangle and sphere of `scene`.
 // Deterministic: the same scene and options give the same arrays bit for bit,
 // whatever the number of threads. Throws InputError for a triangle whose

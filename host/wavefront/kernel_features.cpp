@@ -40,6 +40,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_ALPHA, "alpha"},
     {VKP_FEATURE_REGULARIZE, "regularize"},
     {VKP_FEATURE_ABSORPTION, "absorption"},
+    {VKP_FEATURE_DEEP_BVH, "deep-bvh"},
 }};
 
 }  // namespace
@@ -62,6 +63,7 @@ uint32_t sceneFeatures(const SceneTables& t) {
         if (light.type == VKP_LIGHT_SPOT) f |= VKP_FEATURE_SPOT_LIGHTS;
         if (light.type == VKP_LIGHT_DIRECTIONAL) f |= VKP_FEATURE_DIRECTIONAL_LIGHTS;
     }
+    f |= bvh::traversalFeatures(t.bvh);
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_TANGENTS) f |= VKP_FEATURE_NORMAL_MAPS;

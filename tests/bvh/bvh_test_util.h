@@ -345,8 +345,8 @@ class GpuTracer {
     GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build, bool byAddress = false)
         : m_context(context),
           m_bvh(vkpath::bvh::uploadBvh(context, build, byAddress)),
-          m_closest(context, "bvh_closest", options(byAddress)),
-          m_anyHit(context, "bvh_anyhit", options(byAddress)) {}
+          m_closest(context, "bvh_closest", options(build, byAddress)),
+          m_anyHit(context, "bvh_anyhit", options(build, byAddress)) {}
 
     std::vector<Hit> closest(const std::vector<Ray>& rays) {
         vk::Buffer rayBuffer = vk::Buffer::fromSpan(m_context, std::span(rays));
@@ -377,8 +377,12 @@ class GpuTracer {
     double lastMilliseconds() const { return m_lastMilliseconds; }
 
   private:
-    static vk::KernelOptions options(bool byAddress) {
-        return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress)}};
+    // Specialised as a render's kernels are to the tree's depth (the stack in
+    // variables or in an array); every other feature bit set.
+    static vk::KernelOptions options(const vkpath::bvh::BvhBuild& build, bool byAddress) {
+        const uint32_t features = (VKP_FEATURES_ALL & ~VKP_FEATURE_DEEP_BVH) | vkpath::bvh::traversalFeatures(build);
+        return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress),
+                                                    {VKP_SPEC_FEATURES, features}}};
     }
 
     vk::Context& m_context;

@@ -40,9 +40,9 @@ scene::Scene makeScene(const TraceCase& c) {
     return s;
 }
 
-TEST_P(BvhTrace, GpuClosestAndAnyHitMatchBruteForce) {
-    const scene::Scene s = makeScene(GetParam());
-    const bvh::BvhBuild build = buildChecked(s);
+// The GPU kernels, specialised to the tree's depth as a render's are, on
+// RAY_COUNT random rays.
+void expectGpuMatchesBruteForce(const bvh::BvhBuild& build) {
     const std::vector<Ray> rays = randomRays(build, RAY_COUNT, 21);
     const std::vector<Hit> expected = bruteForceClosest(build.primitives, rays);
 
@@ -52,13 +52,34 @@ TEST_P(BvhTrace, GpuClosestAndAnyHitMatchBruteForce) {
     EXPECT_EQ(c.mismatches, 0u) << c.first;
     EXPECT_GT(c.hits, RAY_COUNT / 3) << "too few hits for the comparison to mean much";
     EXPECT_LE(c.ties, RAY_COUNT / 10000) << "more ties than random geometry should give";
-    RecordProperty("ties", static_cast<int>(c.ties));
+    testing::Test::RecordProperty("ties", static_cast<int>(c.ties));
 
     // Any hit over the full ray: occluded exactly when brute force hits.
     const std::vector<uint32_t> occluded = tracer.occluded(rays);
     size_t wrong = 0;
     for (size_t i = 0; i < rays.size(); ++i) wrong += occluded[i] != (expected[i].primitive != VKP_NO_HIT ? 1u : 0u);
     EXPECT_EQ(wrong, 0u);
+}
+
+TEST_P(BvhTrace, GpuClosestAndAnyHitMatchBruteForce) {
+    const bvh::BvhBuild build = buildChecked(makeScene(GetParam()));
+    expectGpuMatchesBruteForce(build);
+}
+
+// A tree no deeper than VKP_BVH_SHALLOW_DEPTH is traversed with its stack in
+// eight variables (shared/bvh_traverse.h): here one held to that depth over
+// as many primitives as fit (2^8; the builder's guard splits down to single
+// primitives), so that rays fill every level, against brute force.
+TEST(BvhTraceShallow, TheStackInVariablesAtItsFullDepth) {
+    const scene::Scene s = makeScene({"Mixed", 170, 86});
+    const bvh::BvhBuild deep = buildChecked(s);
+    EXPECT_GT(deep.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH);
+    EXPECT_EQ(bvh::traversalFeatures(deep), uint32_t(VKP_FEATURE_DEEP_BVH));
+
+    const bvh::BvhBuild shallow = buildChecked(s, {.maxDepth = VKP_BVH_SHALLOW_DEPTH});
+    ASSERT_EQ(shallow.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH);
+    ASSERT_EQ(bvh::traversalFeatures(shallow), 0u);
+    expectGpuMatchesBruteForce(shallow);
 }
 
 TEST_P(BvhTrace, CpuTraversalMatchesBruteForceExactly) {
@@ -82,7 +103,7 @@ TEST_P(BvhTrace, CpuTraversalMatchesBruteForceExactly) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, BvhTrace,
                          testing::Values(TraceCase{"TriangleSoup", 1000, 0}, TraceCase{"SphereField", 0, 800},
-                                         TraceCase{"Mixed", 600, 300}),
+                                         TraceCase{"Mixed", 600, 300}, TraceCase{"SmallMixed", 24, 16}),
                          [](const testing::TestParamInfo<TraceCase>& p) { return std::string(p.param.name); });
 
 }  // namespace
