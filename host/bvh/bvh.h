@@ -67,7 +67,7 @@ struct BvhBuild {
 
 // The kernel feature bits the tree's traversal needs (shared/features.h):
 // VKP_FEATURE_DEEP_BVH when a leaf lies below VKP_BVH_SHALLOW_DEPTH, so that
-// the kernels keep their stack in an array (shared/bvh_traverse.h).
+// the kernels' stack can spill to an array (shared/bvh_traverse.h).
 inline uint32_t traversalFeatures(const BvhBuild& bvh) {
     return bvh.stats.maxDepth > VKP_BVH_SHALLOW_DEPTH ? VKP_FEATURE_DEEP_BVH : 0u;
 }

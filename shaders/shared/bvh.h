@@ -19,8 +19,9 @@
 // The deepest a leaf may be (root at depth 0). Traversal pushes at most one
 // node per level, so this is also the size of its stack.
 #define VKP_BVH_MAX_DEPTH 64
-// A tree whose leaves all lie at depth <= this is traversed with its stack in
-// variables (shared/bvh_traverse.h); a deeper one sets VKP_FEATURE_DEEP_BVH.
+// The traversal stack's entries kept in variables (shared/bvh_traverse.h); a
+// tree with a leaf deeper than this sets VKP_FEATURE_DEEP_BVH, whose kernels
+// keep the entries below these in an array.
 #define VKP_BVH_SHALLOW_DEPTH 8u
 
 // BvhPrimitive::kind

@@ -24,28 +24,28 @@
 // The traversal keeps an explicit stack of node indices. At an interior node
 // both children's boxes are tested; the nearer is visited next and the other
 // pushed, so the stack holds at most one node per level below the root, and
-// the builder keeps every leaf at depth <= VKP_BVH_MAX_DEPTH: the stack of
-// VKP_BVH_MAX_DEPTH entries cannot overflow (nor the shallow tree's eight,
-// below). The loop is "while-while" (Aila and Laine, "Understanding the
-// Efficiency of Ray Traversal on GPUs", HPG 2009): descend through interior
-// nodes until a leaf, then test the leaf, so the rays of a SIMD group run the
-// same phase together (measured ~10% faster for incoherent rays on lavapipe
-// than one if/else per step).
+// the builder keeps every leaf at depth <= VKP_BVH_MAX_DEPTH: a stack of
+// VKP_BVH_MAX_DEPTH entries cannot overflow. The loop is "while-while" (Aila
+// and Laine, "Understanding the Efficiency of Ray Traversal on GPUs", HPG
+// 2009): descend through interior nodes until a leaf, then test the leaf, so
+// the rays of a SIMD group run the same phase together (measured ~10% faster
+// for incoherent rays on lavapipe than one if/else per step).
 
-// The stack of a shallow tree, whose kernels lack VKP_FEATURE_DEEP_BVH: its
-// eight entries in two vectors, the top in near.x, every entry shifted by one
-// on a push and a pop. lavapipe keeps a lane's stack array in memory and
-// masks every access for the lanes that make it; variables stay in vector
-// registers (CBspheres renders 1.07 to 1.10x faster on lavapipe; 4 or 32
-// entries measured no better, docs/BENCHMARKS.md). Only a tree with no leaf
-// below depth VKP_BVH_SHALLOW_DEPTH may use it (the stack holds at most one
-// entry per level below the root).
-VKP_FN void bvhPushShallow(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far, uint index) VKP_BVH_CONST {
+// The stack's top eight entries live in two vectors, the top in near.x, every
+// entry shifted by one on a push and a pop. lavapipe keeps a lane's stack
+// array in memory and masks every access for the lanes that make it;
+// variables stay in vector registers. A tree deeper than
+// VKP_BVH_SHALLOW_DEPTH (VKP_FEATURE_DEEP_BVH) keeps the entries below those
+// eight in an array, written and read only while the stack holds more than
+// eight: on lavapipe CBspheres (shallow) renders 1.07 to 1.10x faster than
+// with the whole stack in an array, CBbunny (deep) 1.04 to 1.07x; four or
+// 32 entries in variables measured slower (docs/BENCHMARKS.md).
+VKP_FN void bvhStackPush(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far, uint index) VKP_BVH_CONST {
     far = uvec4(near.w, far.x, far.y, far.z);
     near = uvec4(index, near.x, near.y, near.z);
 }
 
-VKP_FN uint bvhPopShallow(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far) VKP_BVH_CONST {
+VKP_FN uint bvhStackPop(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far) VKP_BVH_CONST {
     uint top = near.x;
     near = uvec4(near.y, near.z, near.w, far.x);
     far = uvec4(far.y, far.z, far.w, 0u);
@@ -69,9 +69,10 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
         return hit;
     }
 
-    // One of the two stacks is used, the other compiled out.
-    uint stack[VKP_BVH_MAX_DEPTH];
-    uvec4 shallowNear = uvec4(0u), shallowFar = uvec4(0u);
+    // The stack: its top eight entries in near and far, the rest in overflow
+    // (overflow[0] the bottom entry), which a shallow tree's kernels compile out.
+    uvec4 near = uvec4(0u), far = uvec4(0u);
+    uint overflow[VKP_BVH_MAX_DEPTH - VKP_BVH_SHALLOW_DEPTH];
     uint stackSize = 0u;
     uint index = 0u;
     while (true) {
@@ -91,9 +92,9 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
             // The next node is one of the two just read, or read from the stack.
             if (hitA && hitB) {
                 bool firstNearer = entryA <= entryB;
-                uint farther = firstNearer ? second : first;
-                if (hasFeature(VKP_FEATURE_DEEP_BVH)) stack[stackSize] = farther;
-                else bvhPushShallow(shallowNear, shallowFar, farther);
+                if (hasFeature(VKP_FEATURE_DEEP_BVH) && stackSize >= VKP_BVH_SHALLOW_DEPTH)
+                    overflow[stackSize - VKP_BVH_SHALLOW_DEPTH] = far.w;
+                bvhStackPush(near, far, firstNearer ? second : first);
                 stackSize += 1u;
                 index = firstNearer ? first : second;
                 node = firstNearer ? a : b;
@@ -101,9 +102,10 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
                 index = hitA ? first : second;
                 node = hitA ? a : b;
             } else if (stackSize > 0u) {
+                index = bvhStackPop(near, far);
                 stackSize -= 1u;
-                index = hasFeature(VKP_FEATURE_DEEP_BVH) ? stack[stackSize]
-                                                         : bvhPopShallow(shallowNear, shallowFar);
+                if (hasFeature(VKP_FEATURE_DEEP_BVH) && stackSize >= VKP_BVH_SHALLOW_DEPTH)
+                    far.w = overflow[stackSize - VKP_BVH_SHALLOW_DEPTH];
                 node = bvhNode(index);
             } else {
                 exhausted = true;
@@ -117,8 +119,10 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
         for (uint i = node.offset; i < end; ++i)
             if (bvhTestPrimitive(ray, triangleRay, i, alphaKey, hit) && anyHit) return hit;
         if (stackSize == 0u) break;
+        index = bvhStackPop(near, far);
         stackSize -= 1u;
-        index = hasFeature(VKP_FEATURE_DEEP_BVH) ? stack[stackSize] : bvhPopShallow(shallowNear, shallowFar);
+        if (hasFeature(VKP_FEATURE_DEEP_BVH) && stackSize >= VKP_BVH_SHALLOW_DEPTH)
+            far.w = overflow[stackSize - VKP_BVH_SHALLOW_DEPTH];
         node = bvhNode(index);
     }
     return hit;

@@ -66,11 +66,11 @@ TEST_P(BvhTrace, GpuClosestAndAnyHitMatchBruteForce) {
     expectGpuMatchesBruteForce(build);
 }
 
-// A tree no deeper than VKP_BVH_SHALLOW_DEPTH is traversed with its stack in
-// eight variables (shared/bvh_traverse.h): here one held to that depth over
-// as many primitives as fit (2^8; the builder's guard splits down to single
-// primitives), so that rays fill every level, against brute force.
-TEST(BvhTraceShallow, TheStackInVariablesAtItsFullDepth) {
+// A tree no deeper than VKP_BVH_SHALLOW_DEPTH is traversed with its whole
+// stack in eight variables (shared/bvh_traverse.h): here one held to that
+// depth over as many primitives as fit (2^8; the builder's guard splits down
+// to single primitives), so that rays fill every level, against brute force.
+TEST(BvhTraceStack, TheStackInVariablesAtItsFullDepth) {
     const scene::Scene s = makeScene({"Mixed", 170, 86});
     const bvh::BvhBuild deep = buildChecked(s);
     EXPECT_GT(deep.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH);
@@ -99,6 +99,50 @@ TEST_P(BvhTrace, CpuTraversalMatchesBruteForceExactly) {
         if (occluded != (expected[i].primitive != VKP_NO_HIT)) ++mismatches;
     }
     EXPECT_EQ(mismatches, 0u);
+}
+
+// A deeper tree's stack spills below its top eight entries to an array and
+// refills from it. Thin beads strung along x, each at its own place in a
+// 2 x 2 cross-section (so the heuristic splits along the row): a ray along
+// the row crosses both boxes of every level above the beads' own, so the
+// stack grows by one per level, past eight, and the bead it hits lies about
+// a thousand beads on, in a subtree pushed near the root and refilled from
+// the array.
+TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
+    constexpr int COUNT = 4096;
+    constexpr float RADIUS = 0.036f;  // a ray meets pi r^2 / 4 = 1/1000 of the beads
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<float> across(-1.0f, 1.0f);
+    scene::Scene s = emptyScene();
+    for (int i = 0; i < COUNT; ++i)
+        s.spheres.push_back({.name = "bead", .center = vec3(float(i), across(rng), across(rng)), .radius = RADIUS});
+    const bvh::BvhBuild build = buildChecked(s);
+    ASSERT_GE(build.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH + 3) << "the stack would not spill";
+    ASSERT_EQ(bvh::traversalFeatures(build), uint32_t(VKP_FEATURE_DEEP_BVH));
+
+    std::vector<Ray> rays;
+    for (int i = 0; i < 4000; ++i) {
+        const float y = across(rng), z = across(rng);
+        rays.push_back(i % 2 ? makeRay(vec3(-5, y, z), vec3(1, 0, 0)) : makeRay(vec3(COUNT + 5, y, z), vec3(-1, 0, 0)));
+    }
+    const std::vector<Hit> expected = bruteForceClosest(build.primitives, rays);
+    GpuTracer tracer(test::context(), build);
+    const Comparison c = compareHits(build, rays, tracer.closest(rays), expected);
+    EXPECT_EQ(c.mismatches, 0u) << c.first;
+    EXPECT_GT(c.hits, rays.size() / 2);
+    const std::vector<uint32_t> occluded = tracer.occluded(rays);
+    size_t wrong = 0;
+    for (size_t i = 0; i < rays.size(); ++i) wrong += occluded[i] != (expected[i].primitive != VKP_NO_HIT ? 1u : 0u);
+    EXPECT_EQ(wrong, 0u);
+
+    // The same code on the CPU, exactly.
+    const shared::BvhView view{build.nodes, build.primitives};
+    size_t cpuMismatches = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit h = view.bvhClosestHit(rays[i]);
+        cpuMismatches += h.t != expected[i].t || h.primitive != expected[i].primitive;
+    }
+    EXPECT_EQ(cpuMismatches, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, BvhTrace,
