@@ -38,7 +38,7 @@
 // VKP_BVH_SHALLOW_DEPTH (VKP_FEATURE_DEEP_BVH) keeps the entries below those
 // eight in an array, written and read only while the stack holds more than
 // eight: on lavapipe CBspheres (shallow) renders 1.07 to 1.10x faster than
-// with the whole stack in an array, CBbunny (deep) 1.04 to 1.07x; four or
+// with the whole stack in an array, CBbunny (deep) 1.02 to 1.08x; four or
 // 32 entries in variables measured slower (docs/BENCHMARKS.md).
 VKP_FN void bvhStackPush(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far, uint index) VKP_BVH_CONST {
     far = uvec4(near.w, far.x, far.y, far.z);
