@@ -377,8 +377,8 @@ class GpuTracer {
     double lastMilliseconds() const { return m_lastMilliseconds; }
 
   private:
-    // Specialised as a render's kernels are to the tree's depth (the stack in
-    // variables or in an array); every other feature bit set.
+    // Specialised as a render's kernels are to the tree's depth (whether the
+    // stack may spill to an array); every other feature bit set.
     static vk::KernelOptions options(const vkpath::bvh::BvhBuild& build, bool byAddress) {
         const uint32_t features = (VKP_FEATURES_ALL & ~VKP_FEATURE_DEEP_BVH) | vkpath::bvh::traversalFeatures(build);
         return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress),
