@@ -128,7 +128,7 @@ std::vector<shared::Ray> cameraRays(const shared::Camera& camera) {
 // From every camera-ray hit, one ray in a uniformly random direction of the
 // hemisphere it came from (a diffuse bounce): incoherent secondary rays.
 std::vector<shared::Ray> bounceRays(const bvh::BvhBuild& build, const std::vector<shared::Ray>& primary) {
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     std::mt19937 rng(1);
     std::normal_distribution<float> n(0.0f, 1.0f);
     std::vector<shared::Ray> rays;
@@ -231,7 +231,7 @@ void cpuTraceBenchmark(benchmark::State& state, const BenchScene* s, RayKind kin
     const bvh::BvhBuild build = bvh::buildBvh(s->scene);
     std::vector<shared::Ray> rays = cameraRays(s->camera);
     if (kind == RayKind::Incoherent) rays = bounceRays(build, rays);
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     const bvh::WideBvh wideBvh = bvh::collapseBvh(build.nodes, build.primitives);
     for (auto _ : state)
         for (const shared::Ray& r : rays)
@@ -264,7 +264,7 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime()
             ->Iterations(triangles > 500000 ? 2 : 5);
-        for (uint32_t leaf : {1u, 2u, 4u, 8u, 16u}) {
+        for (uint32_t leaf : {1u, 2u, 4u, 8u, 15u}) {
             const std::string name = "build/" + s.name + "/leaf:" + std::to_string(leaf);
             benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene, bvh::BvhOptions{.maxLeafSize = leaf})
                 ->Unit(benchmark::kMillisecond)

@@ -8,6 +8,7 @@
 // depth-first order into a vector of its own, and the parent appends it, so
 // the result is the serial build's bit for bit.
 #include "bvh/bvh.h"
+#include "bvh/traversal_nodes.h"
 
 #include <fmt/format.h>
 
@@ -275,8 +276,9 @@ class Builder {
 };
 
 void validate(const BvhOptions& options) {
-    if (options.maxLeafSize < 1)
-        throw std::invalid_argument("BVH: maxLeafSize must be at least 1");
+    if (options.maxLeafSize < 1 || options.maxLeafSize > VKP_BVH_MAX_LEAF_COUNT)
+        throw std::invalid_argument(
+            fmt::format("BVH: maxLeafSize must be 1 to {}, not {}", VKP_BVH_MAX_LEAF_COUNT, options.maxLeafSize));
     if (options.binCount < 2 || options.binCount > 256)
         throw std::invalid_argument(
             fmt::format("BVH: binCount must be 2 to 256, not {}", options.binCount));
@@ -435,6 +437,7 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
             }
         }
     }
+    result.traversalNodes = packTraversalNodes(result.nodes);
     result.stats.sahCost = sahCost(result.nodes, options.traversalCost);
     result.stats.buildMilliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

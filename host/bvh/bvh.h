@@ -5,7 +5,7 @@
 //   bvh::BvhBuild build = bvh::buildBvh(scene);               // host arrays + stats
 //   std::vector<std::string> problems = bvh::integrityCheck(build, scene);
 //   bvh::GpuBvh gpu = bvh::uploadBvh(context, build);         // host/bvh/gpu_bvh.h
-//   shared::BvhView view{build.nodes, build.primitives};     // CPU traversal, host/bvh/bvh_view.h
+//   shared::BvhView view{build.traversalNodes, build.primitives};  // CPU traversal, host/bvh/bvh_view.h
 #pragma once
 
 #include <cstddef>
@@ -24,6 +24,7 @@ struct BvhOptions {
     // between a leaf and a split. Measured on lavapipe (docs/BENCHMARKS.md):
     // 1 is ~5% slower, 2 to 8 are within noise of each other; 4 leaves the
     // SAH room without long leaves on meshes whose SAH would pack them.
+    // 1 to VKP_BVH_MAX_LEAF_COUNT (15, what a traversal node word holds).
     uint32_t maxLeafSize = 4;
     // Bins per axis for the SAH sweep, 2 to 256.
     uint32_t binCount = 16;
@@ -58,11 +59,14 @@ struct BvhStats {
 struct BvhBuild {
     std::vector<shared::BvhNode> nodes;            // depth-first preorder, root at 0
     std::vector<shared::BvhPrimitive> primitives;  // in leaf order
+    std::vector<glm::uvec4> traversalNodes;        // the nodes as traversal reads them (traversal_nodes.h)
     BvhStats stats;
 
     size_t nodeBytes() const { return nodes.size() * sizeof(shared::BvhNode); }
+    size_t traversalNodeBytes() const { return traversalNodes.size() * sizeof(glm::uvec4); }
     size_t primitiveBytes() const { return primitives.size() * sizeof(shared::BvhPrimitive); }
-    size_t bytes() const { return nodeBytes() + primitiveBytes(); }
+    // What the device holds: the traversal's nodes and the primitives.
+    size_t bytes() const { return traversalNodeBytes() + primitiveBytes(); }
 };
 
 // The kernel feature bits the tree's traversal needs (shared/features.h):

@@ -22,13 +22,13 @@
 namespace vkpath::shared {
 
 struct BvhView {
-    std::span<const BvhNode> nodes;            // depth-first, as bvh::BvhBuild::nodes
+    std::span<const uvec4> nodes;              // as bvh::BvhBuild::traversalNodes
     std::span<const BvhPrimitive> primitives;  // leaf order, as bvh::BvhBuild::primitives
 
     // The accessors shared/bvh_leaf.h and bvh_traverse.h read through, and its alpha test:
     // a BVH alone has no materials, so every candidate hit stands
     // (reference/path_tracer_view.h tests alpha).
-    BvhNode bvhNode(uint index) const { return nodes[index]; }
+    uvec4 bvhNodeTexel(uint texel) const { return nodes[texel]; }
     BvhPrimitive bvhPrimitive(uint index) const { return primitives[index]; }
     bool bvhAlphaTest(BvhPrimitive, vec2, uint) const { return true; }
 

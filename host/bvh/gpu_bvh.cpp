@@ -27,7 +27,7 @@ shared::BvhAddresses GpuBvh::addresses() const {
 }
 
 std::array<vk::ArrayExtent, 2> arrayExtents(const BvhBuild& bvh) {
-    return {vk::ArrayExtent{"BVH node", bvh.nodeBytes(), bvh.nodes.size()},
+    return {vk::ArrayExtent{"BVH node", bvh.traversalNodeBytes(), bvh.traversalNodes.size()},
             vk::ArrayExtent{"BVH primitive", bvh.primitiveBytes(), bvh.primitives.size()}};
 }
 
@@ -39,7 +39,7 @@ GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh) {
 GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
     GpuBvh gpu;
     gpu.byAddress = byAddress;
-    gpu.nodes = vk::Buffer::fromSpan(context, std::span(bvh.nodes), "bvh nodes");
+    gpu.nodes = vk::Buffer::fromSpan(context, std::span(bvh.traversalNodes), "bvh nodes");
     if (bvh.primitives.empty()) {
         // A binding (or an address) needs a buffer; the empty tree never reads it.
         const std::vector<shared::BvhPrimitive> placeholder(1, shared::BvhPrimitive{});
@@ -54,7 +54,7 @@ GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
 
 std::string describeMemory(const BvhBuild& bvh) {
     return fmt::format("BVH: {} nodes ({}) + {} primitives ({}) = {}", bvh.nodes.size(),
-                       formatBytes(bvh.nodeBytes()), bvh.primitives.size(),
+                       formatBytes(bvh.traversalNodeBytes()), bvh.primitives.size(),
                        formatBytes(bvh.primitiveBytes()), formatBytes(bvh.bytes()));
 }
 

@@ -20,7 +20,7 @@ class Context;
 namespace vkpath::bvh {
 
 struct GpuBvh {
-    vk::Buffer nodes;         // BvhNode[], depth-first
+    vk::Buffer nodes;         // BvhBuild::traversalNodes
     vk::Buffer primitives;    // BvhPrimitive[], leaf order
     bool byAddress = false;   // kernels read both by address (VKP_SPEC_SCENE_BY_ADDRESS)
     vk::Buffer placeholder;   // bound in place of both when byAddress (never read)

@@ -1,10 +1,11 @@
-// The bounding volume hierarchy as the kernels read it: a depth-first array of
-// 32-byte nodes and an array of 48-byte primitives in leaf order, both built
-// and flattened by host/bvh/ and uploaded as two device buffers (read as texel
-// buffers of 16-byte texels, shared/bvh_buffers.h), plus the hit
-// record that closest-hit traversal returns.
+// The bounding volume hierarchy as the kernels read it: the builder's tree (a
+// depth-first array of 32-byte nodes, BvhNode) packed into the records that
+// traversal reads (below), and an array of 48-byte primitives in leaf order,
+// all built by host/bvh/ and uploaded as two device buffers (read as texel
+// buffers of 16-byte texels, shared/bvh_buffers.h), plus the hit record that
+// closest-hit traversal returns.
 //
-// Node layout (depth-first preorder, root at index 0):
+// The builder's tree (depth-first preorder, root at index 0):
 //   interior node i: children i + 1 and `offset`, count == 0
 //   leaf:            primitives [offset, offset + count), count >= 1
 //   empty BVH:       a single node with offset == 0 and count == 0 (no ray hits it)
@@ -23,6 +24,29 @@
 // tree with a leaf deeper than this sets VKP_FEATURE_DEEP_BVH, whose kernels
 // keep the entries below these in an array.
 #define VKP_BVH_SHALLOW_DEPTH 8u
+
+// The node array traversal reads (shared/bvh_traverse.h), packed from the
+// tree above by host/bvh (packTraversalNodes): 16-byte texels, each interior
+// node one record of three texels that holds its two children's boxes, so a
+// traversal step reads three texels and a pop reads none (the child's box was
+// tested in its parent; leaves have no record). The twelve words are the
+// boxes' floats in the order A.min.xyz A.max.xyz B.min.xyz B.max.xyz (A the
+// first child). The low VKP_BVH_WORD_BITS bits of each box's six floats hold
+// that child's word (bits 0-5 in A.min.x, 6-11 in A.min.y, ..., 30-31 in
+// A.max.z): the floats were moved outward to the nearest values with those
+// bits, up to 127 ulps (host/bvh/traversal_nodes.cpp), so every box still
+// holds its subtree and is read as it is, without decoding.
+//   child word: (count << 28) | index
+//     count 0:      an interior node whose record starts at texel `index`
+//     count 1..15:  a leaf of primitives [index, index + count)
+// The root's record is at texel 0. A tree that is a single leaf has a record
+// whose two children are that leaf; an empty tree's record holds two boxes
+// of NaN, which no ray enters.
+#define VKP_BVH_WORD_BITS 6u
+#define VKP_BVH_WORD_COUNT_SHIFT 28u
+#define VKP_BVH_WORD_INDEX_MASK 0x0fffffffu
+#define VKP_BVH_MAX_LEAF_COUNT 15u
+#define VKP_BVH_RECORD_TEXELS 3u
 
 // BvhPrimitive::kind
 #define VKP_PRIMITIVE_TRIANGLE 0u
@@ -66,11 +90,19 @@ struct Hit {
     vec2 barycentrics;  // triangle: weights of p1 and p2 (p0's is 1 - x - y); sphere: (0, 0)
 };
 
+// The child word held in the low bits of a box's six floats (as bits:
+// minimum, then maximum), as packed by host/bvh/traversal_nodes.cpp.
+VKP_FN uint bvhChildWord(uvec3 boxMin, uvec3 boxMax) {
+    const uint m = (1u << VKP_BVH_WORD_BITS) - 1u;
+    return (boxMin.x & m) | ((boxMin.y & m) << 6u) | ((boxMin.z & m) << 12u) | ((boxMax.x & m) << 18u) |
+           ((boxMax.y & m) << 24u) | ((boxMax.z & 3u) << 30u);
+}
+
 // Where the BVH's two arrays lie in device memory, for kernels that read it by
 // address (VKP_SPEC_SCENE_BY_ADDRESS): VkDeviceAddress as (low, high) words,
 // GL_EXT_buffer_reference_uvec2. Zero when the arrays are bound instead.
 struct BvhAddresses {
-    uvec2 nodes;       // BvhNode[]
+    uvec2 nodes;       // the traversal's node texels (uvec4[], above)
     uvec2 primitives;  // BvhPrimitive[]
 };
 

@@ -41,7 +41,7 @@
 layout(constant_id = VKP_SPEC_SCENE_BY_ADDRESS) const bool sceneByAddress = false;
 
 // Bound, the arrays are read as uniform texel buffers of 16-byte texels
-// (R32G32B32A32_UINT): a node is two texels, a primitive three. lavapipe
+// (R32G32B32A32_UINT): a node record is three texels, a primitive three. lavapipe
 // reads a storage buffer at an index that differs between SIMD lanes one
 // lane and one 4-byte component at a time, each behind its own bounds test
 // and branch (12 of them per lane for a primitive); a texel fetch is one
@@ -55,23 +55,16 @@ layout(binding = VKP_BVH_PRIMITIVES_BINDING) uniform utextureBuffer bvhPrimitive
 
 // 16: the arrays start at a buffer's start, and every node and primitive at a
 // multiple of 16 bytes within it (32- and 48-byte elements).
-layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer BvhNodeArray {
-    BvhNode v[];
+layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer BvhNodeTexelArray {
+    uvec4 v[];
 };
 layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer BvhPrimitiveArray {
     BvhPrimitive v[];
 };
 
-BvhNode bvhNode(uint index) {
-    if (sceneByAddress) return BvhNodeArray(VKP_BVH_ADDRESSES.nodes).v[index];
-    uvec4 a = texelFetch(bvhNodeTexels, int(2u * index));
-    uvec4 b = texelFetch(bvhNodeTexels, int(2u * index + 1u));
-    BvhNode node;
-    node.boundsMin = uintBitsToFloat(a.xyz);
-    node.offset = a.w;
-    node.boundsMax = uintBitsToFloat(b.xyz);
-    node.count = b.w;
-    return node;
+uvec4 bvhNodeTexel(uint texel) {
+    if (sceneByAddress) return BvhNodeTexelArray(VKP_BVH_ADDRESSES.nodes).v[texel];
+    return texelFetch(bvhNodeTexels, int(texel));
 }
 BvhPrimitive bvhPrimitive(uint index) {
     if (sceneByAddress) return BvhPrimitiveArray(VKP_BVH_ADDRESSES.primitives).v[index];

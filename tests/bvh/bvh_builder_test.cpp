@@ -30,7 +30,8 @@ scene::Scene mixedScene() {
 bool identical(const BvhBuild& a, const BvhBuild& b) {
     return a.nodes.size() == b.nodes.size() && a.primitives.size() == b.primitives.size() &&
            std::memcmp(a.nodes.data(), b.nodes.data(), a.nodeBytes()) == 0 &&
-           std::memcmp(a.primitives.data(), b.primitives.data(), a.primitiveBytes()) == 0;
+           std::memcmp(a.primitives.data(), b.primitives.data(), a.primitiveBytes()) == 0 &&
+           a.traversalNodes == b.traversalNodes;
 }
 
 TEST(BvhBuilder, IntegrityAcrossScenesAndOptions) {
@@ -63,7 +64,7 @@ TEST(BvhBuilder, IntegrityAcrossScenesAndOptions) {
         scenes.emplace_back("flat", s);
     }
     const BvhOptions options[] = {
-        {}, {.maxLeafSize = 1}, {.maxLeafSize = 8, .binCount = 12}, {.maxLeafSize = 16, .binCount = 32},
+        {}, {.maxLeafSize = 1}, {.maxLeafSize = 8, .binCount = 12}, {.maxLeafSize = 15, .binCount = 32},
         {.maxLeafSize = 2, .binCount = 2, .traversalCost = 0.25f}};
     for (const auto& [name, s] : scenes) {
         for (const BvhOptions& o : options) {
@@ -146,7 +147,7 @@ TEST(BvhBuilder, DepthStaysWithinTheTraversalStack) {
     }
     // Nothing is lost to the guard: the deep tree still finds every triangle.
     const BvhBuild bounded = buildChecked(s, {.maxDepth = 6});
-    const shared::BvhView view{bounded.nodes, bounded.primitives};
+    const shared::BvhView view{bounded.traversalNodes, bounded.primitives};
     for (const shared::BvhPrimitive& p : bounded.primitives) {
         const vec3 target = (p.p0 + p.p1 + p.p2) / 3.0f;
         const Hit h = view.bvhClosestHit(makeRay(target + vec3(0, 0, 1), vec3(0, 0, -1)));
@@ -201,6 +202,7 @@ TEST(BvhBuilder, BadInputAndOptionsAreRejected) {
     EXPECT_THROW(bvh::buildBvh(s), InputError);
     const scene::Scene ok = mixedScene();
     EXPECT_THROW(bvh::buildBvh(ok, {.maxLeafSize = 0}), std::invalid_argument);
+    EXPECT_THROW(bvh::buildBvh(ok, {.maxLeafSize = VKP_BVH_MAX_LEAF_COUNT + 1}), std::invalid_argument);
     EXPECT_THROW(bvh::buildBvh(ok, {.binCount = 1}), std::invalid_argument);
     EXPECT_THROW(bvh::buildBvh(ok, {.binCount = 257}), std::invalid_argument);
     EXPECT_THROW(bvh::buildBvh(ok, {.maxDepth = VKP_BVH_MAX_DEPTH + 1}), std::invalid_argument);
@@ -220,12 +222,12 @@ TEST(BvhBuilder, UploadReportsItsMemory) {
     const scene::Scene s = mixedScene();
     const BvhBuild build = buildChecked(s);
     const auto extents = bvh::arrayExtents(build);
-    EXPECT_EQ(extents[0].bytes, build.nodeBytes());
-    EXPECT_EQ(extents[0].count, build.nodes.size());
+    EXPECT_EQ(extents[0].bytes, build.traversalNodeBytes());
+    EXPECT_EQ(extents[0].count, build.traversalNodes.size());
     EXPECT_EQ(extents[1].bytes, build.primitiveBytes());
     EXPECT_EQ(extents[1].count, build.primitives.size());
     // A limit one byte below the larger array sends the scene to the address path.
-    const uint64_t larger = std::max(build.nodeBytes(), build.primitiveBytes());
+    const uint64_t larger = std::max(build.traversalNodeBytes(), build.primitiveBytes());
     EXPECT_TRUE(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger}));
     EXPECT_FALSE(vk::chooseAddressAccess(extents, vk::BufferLimits{larger, larger}));
     EXPECT_THROW(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger - 1}), InputError);
@@ -233,7 +235,7 @@ TEST(BvhBuilder, UploadReportsItsMemory) {
     for (bool byAddress : {false, true}) {
         const bvh::GpuBvh gpu = bvh::uploadBvh(test::context(), build, byAddress);
         EXPECT_EQ(gpu.bytes(), build.bytes());
-        EXPECT_EQ(gpu.nodes.download<shared::BvhNode>().size(), build.nodes.size());
+        EXPECT_EQ(gpu.nodes.download<glm::uvec4>(), build.traversalNodes);
         EXPECT_EQ(&gpu.nodeBinding() == &gpu.nodes, !byAddress);
         EXPECT_EQ(gpu.addresses().nodes != glm::uvec2(0), byAddress);
     }

@@ -108,7 +108,7 @@ TEST(BvhRobustness, RaysStartingOnASurface) {
     addSquare(s, 0.0f);
     addSquare(s, 0.5f);
     const bvh::BvhBuild build = buildChecked(s);
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     uint32_t lower = VKP_NO_HIT;
     for (uint32_t i = 0; i < build.primitives.size(); ++i)
         if (build.primitives[i].p0.z == 0.0f && lower == VKP_NO_HIT) lower = i;
@@ -284,7 +284,7 @@ SpawnCounts spawnOffHits(GpuTracer& tracer, const bvh::BvhBuild& build, const st
 TEST(BvhRobustness, ScaledAndTranslatedScenesHitTheSamePrimitives) {
     const scene::Scene base = separatedObjects();
     const bvh::BvhBuild baseBuild = buildChecked(base);
-    const shared::BvhView baseView{baseBuild.nodes, baseBuild.primitives};
+    const shared::BvhView baseView{baseBuild.traversalNodes, baseBuild.primitives};
 
     // Rays from a sphere of radius 150 around the scene at random points of
     // random primitives.

@@ -39,7 +39,7 @@ TEST_P(BvhScene, GpuMatchesCpuTraversalAndBruteForce) {
 
     GpuTracer tracer(test::context(), build);
     const std::vector<Hit> gpu = tracer.closest(rays);
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     std::vector<Hit> cpu(rays.size());
     parallelFor(rays.size(), [&](size_t i) { cpu[i] = view.bvhClosestHit(rays[i]); });
     const Comparison withCpu = compareHits(build, rays, gpu, cpu);

@@ -117,7 +117,7 @@ TEST_P(Stage, IntersectGivesTheCpuClosestHitOfEveryQueuedRay) {
                   shared::WavePush{0, 0, SLOTS, /*bounce*/ 1, 0});
     const std::vector<Hit> got = hits.download<Hit>();
 
-    const shared::BvhView view{m_build.nodes, m_build.primitives};
+    const shared::BvhView view{m_build.traversalNodes, m_build.primitives};
     std::vector<Ray> queuedRays;
     std::vector<Hit> queuedHits, expected;
     std::vector<bool> queued(SLOTS, false);
@@ -184,7 +184,7 @@ TEST_P(Stage, ShadowAddsExactlyTheUnoccludedContributions) {
                   shared::WavePush{0, 0, SLOTS, 0, 0});
     const std::vector<glm::vec3> got = radiance.download<glm::vec3>();
 
-    const shared::BvhView view{m_build.nodes, m_build.primitives};
+    const shared::BvhView view{m_build.traversalNodes, m_build.primitives};
     std::vector<glm::vec3> expected = radianceData;
     size_t blocked = 0, open = 0;
     for (uint32_t slot : slots) {

@@ -90,7 +90,7 @@ TEST_P(BvhTrace, CpuTraversalMatchesBruteForceExactly) {
     const bvh::BvhBuild build = buildChecked(s);
     const std::vector<Ray> rays = randomRays(build, RAY_COUNT / 4, 22);
     const std::vector<Hit> expected = bruteForceClosest(build.primitives, rays);
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     size_t mismatches = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
         const Hit h = view.bvhClosestHit(rays[i]);
@@ -136,7 +136,7 @@ TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
     EXPECT_EQ(wrong, 0u);
 
     // The same code on the CPU, exactly.
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     size_t cpuMismatches = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
         const Hit h = view.bvhClosestHit(rays[i]);

@@ -62,7 +62,7 @@ TEST_P(BvhWatertight, RaysAtEdgesAndVerticesNeverEscape) {
     AimedRays subset;
     subset.rays.assign(aimed.rays.begin(), aimed.rays.begin() + RAYS_PER_MESH / 10);
     subset.distance.assign(aimed.distance.begin(), aimed.distance.begin() + RAYS_PER_MESH / 10);
-    const shared::BvhView view{build.nodes, build.primitives};
+    const shared::BvhView view{build.traversalNodes, build.primitives};
     std::vector<Hit> cpuHits(subset.rays.size());
     parallelFor(subset.rays.size(), [&](size_t i) { cpuHits[i] = view.bvhClosestHit(subset.rays[i]); });
     const Escapes cpu = countEscapes(subset, cpuHits);
