@@ -24,7 +24,7 @@ uint32_t magnitudeWith(uint32_t magnitude, uint32_t bits, bool down) {
     if (down && m > magnitude) m -= WORD_MASK + 1u;
     if (!down && m < magnitude) m += WORD_MASK + 1u;
     if (m > LARGEST_FINITE)
-        throw std::length_error(fmt::format("BVH: a bound of magnitude {} is too close to the largest float", 
+        throw std::length_error(fmt::format("BVH: a bound of magnitude {} is too close to the largest float",
                                             std::bit_cast<float>(magnitude)));
     return m;
 }
@@ -53,10 +53,10 @@ uint32_t childWord(std::span<const BvhNode> nodes, uint32_t child, const std::ve
 
 // A child's box with its word in the low bits: six floats, min.xyz max.xyz.
 void putChild(const BvhNode& child, uint32_t word, uint32_t* out) {
-    for (int axis = 0; axis < 3; ++axis) {
-        out[axis] = std::bit_cast<uint32_t>(embedBelow(child.boundsMin[axis], (word >> (6 * axis)) & WORD_MASK));
-        out[3 + axis] =
-            std::bit_cast<uint32_t>(embedAbove(child.boundsMax[axis], (word >> (6 * (3 + axis))) & WORD_MASK));
+    auto bitsOf = [word](uint32_t slot) { return (word >> (VKP_BVH_WORD_BITS * slot)) & WORD_MASK; };
+    for (uint32_t axis = 0; axis < 3; ++axis) {
+        out[axis] = std::bit_cast<uint32_t>(embedBelow(child.boundsMin[axis], bitsOf(axis)));
+        out[3 + axis] = std::bit_cast<uint32_t>(embedAbove(child.boundsMax[axis], bitsOf(3 + axis)));
     }
 }
 

@@ -28,8 +28,7 @@
 // docs/BENCHMARKS.md). It keeps an explicit stack of child words. At an
 // interior node both children's boxes are tested; the nearer is visited next
 // and the other pushed, so the stack holds at most one node per level below
-// the root, and
-// the builder keeps every leaf at depth <= VKP_BVH_MAX_DEPTH: a stack of
+// the root, and the builder keeps every leaf at depth <= VKP_BVH_MAX_DEPTH: a stack of
 // VKP_BVH_MAX_DEPTH entries cannot overflow. The loop is "while-while" (Aila
 // and Laine, "Understanding the Efficiency of Ray Traversal on GPUs", HPG
 // 2009): descend through interior nodes until a leaf, then test the leaf, so
