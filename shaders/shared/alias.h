@@ -13,10 +13,20 @@
 // GLSL cannot pass buffers to functions, so the caller reads entries:
 //   bucket = aliasBucket(bits0, count); element = aliasResolve(table[bucket], bucket, bits1);
 //   p = table[element].probability;
+//
+// Or from one word, keeping what is left of it (aliasSampleReusing): the
+// bucket is the high word of bits * count and the low word, uniform within
+// the bucket, picks the element and is then rescaled to a number in [0, 1)
+// that is uniform and independent of the choice. One number then chooses a
+// light and places the point on it, and a stratified set of numbers stays
+// stratified over each element's share (sample reuse: Mitsuba 3's
+// Scene::sample_emitter returns its sample rescaled so, for the emitter's
+// own sampling).
 #ifndef VKPATH_SHARED_ALIAS_H
 #define VKPATH_SHARED_ALIAS_H
 
 #include "shared/compat.h"
+#include "shared/constants.h"
 
 VKP_NAMESPACE_BEGIN
 
@@ -41,6 +51,29 @@ VKP_FN uint aliasBucket(uint bits, uint count) {
 
 VKP_FN uint aliasResolve(AliasEntry entry, uint bucket, uint bits) {
     return bits < entry.threshold ? bucket : entry.alias;
+}
+
+// bits * count mod 2^32: where `bits` lies within its bucket (aliasBucket),
+// uniform over the 2^32 words when `bits` is uniform.
+VKP_FN uint aliasBucketFraction(uint bits, uint count) { return bits * count; }
+
+struct AliasChoice {
+    uint element;
+    float u;  // in [0, 1): the word's fraction within the element's part of the bucket
+};
+
+// The element of `bucket` (whose entry is `entry`) that the fraction
+// `fraction` (aliasBucketFraction) picks, and that fraction rescaled from the
+// part it fell in, [0, threshold) or [threshold, 2^32), to [0, 1).
+VKP_FN AliasChoice aliasSampleReusing(AliasEntry entry, uint bucket, uint fraction) {
+    AliasChoice choice;
+    bool kept = fraction < entry.threshold;
+    choice.element = kept ? bucket : entry.alias;
+    float offset = float(fraction - (kept ? 0u : entry.threshold));
+    float width = kept ? float(entry.threshold) : 4294967296.0f - float(entry.threshold);
+    // (float rounding may bring an offset just below the width up to it)
+    choice.u = min(offset / width, VKP_ONE_MINUS_EPSILON);
+    return choice;
 }
 
 VKP_NAMESPACE_END

@@ -1,6 +1,7 @@
 // The order in which one path consumes random numbers: each dimension index
 // names one use, so CPU and GPU renderers draw the same number for the same
-// decision. Later bounces add VKP_DIMS_PER_BOUNCE per bounce.
+// decision. The bounces' dimensions follow (shared/path_tracer.h,
+// bounceDimension).
 #ifndef VKPATH_SHARED_DIMENSIONS_H
 #define VKPATH_SHARED_DIMENSIONS_H
 

@@ -48,7 +48,7 @@
 // with a number of their own (sampleBsdf's uc), which no other material
 // draws, so adding it changed no other material's numbers.
 #define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), lobe choice (1)
-#define VKP_DIMS_PER_LIGHT_SAMPLE 6u  // light choice (2 words), environment texel (2 words), position (2)
+#define VKP_DIMS_PER_LIGHT_SAMPLE 4u  // environment texel (2 words), light choice and position (2)
 
 // SceneInfo::lightSamples, a constant when the kernel's features fix it.
 VKP_FN uint lightSampleCount() VKP_SCENE_CONST { return featureLightSamples(sceneInfo().lightSamples); }
@@ -356,32 +356,39 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material)) return request;
 
     uint dim = bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
-    uvec2 lightChoice = rngBits2(key, dim);
-    uint bucket = aliasBucket(lightChoice.x, info.lightCount);
-    uint lightIndex = aliasResolve(sceneLightAlias(bucket), bucket, lightChoice.y);
+    // One pair picks the light and the point on it: its first word chooses
+    // the light and, rescaled, is the point's first coordinate
+    // (aliasSampleReusing), so the pair's stratification carries over to the
+    // points on each light.
+    uvec2 pointBits = rngBits2(key, dim + 2u);
+    uint bucket = aliasBucket(pointBits.x, info.lightCount);
+    AliasChoice lightChoice =
+        aliasSampleReusing(sceneLightAlias(bucket), bucket, aliasBucketFraction(pointBits.x, info.lightCount));
+    uint lightIndex = lightChoice.element;
     float choice = sceneLightAlias(lightIndex).probability;
     Light light = sceneLight(lightIndex);
+    vec2 u = vec2(lightChoice.u, uintToUnitFloat(pointBits.y));
 
     LightSample ls;
     if (lightIs(light, VKP_LIGHT_ENVIRONMENT)) {
         ls = noLightSample();
         EnvironmentInfo env = info.environment;
         if (!environmentIsMap()) {
-            ls.direction = sampleUniformSphere(rngUniform2(key, dim + 4u));
+            ls.direction = sampleUniformSphere(u);
             ls.pdf = uniformSpherePdf();
         } else {
             uint texels = env.width * env.height;
-            uvec2 texelChoice = rngBits2(key, dim + 2u);
+            uvec2 texelChoice = rngBits2(key, dim);
             uint envBucket = aliasBucket(texelChoice.x, texels);
             uint texel = aliasResolve(sceneEnvAlias(envBucket), envBucket, texelChoice.y);
-            EnvSample es = envSampleInTexel(env, texel, rngUniform2(key, dim + 4u));
+            EnvSample es = envSampleInTexel(env, texel, u);
             ls.direction = es.direction;
             ls.pdf = envDirectionPdf(env, sceneEnvAlias(es.pdfTexel).probability, es.direction);
         }
         ls.distance = VKP_FLOAT_MAX;
         ls.radiance = environmentRadiance(ls.direction);
     } else {
-        ls = sampleLight(light, surface.position, rngUniform2(key, dim + 4u));
+        ls = sampleLight(light, surface.position, u);
     }
     if (!(ls.pdf > 0.0f)) {
         request.rejected = true;

@@ -1,7 +1,9 @@
 // The chi-square machinery itself, against values from standard tables.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "support/statistics.h"
 
@@ -96,6 +98,75 @@ TEST(AliasTable, ProbabilitiesMatchWeightsAndSurviveTinyWeights) {
         EXPECT_GT(table[element].probability, 0.0f);
     }
     EXPECT_TRUE(vkpath::scene::buildAliasTable(std::vector<double>{0.0, -1.0}).empty());
+}
+
+}  // namespace
+
+namespace {
+
+// One word chooses the element and, rescaled, gives a number in [0, 1) that is
+// uniform within each element's share (shared/alias.h aliasSampleReusing), so a
+// stratified set of words stays stratified over every element. Words at the
+// centres of N equal cells: each element's part of a bucket is an interval of
+// words, rescaled linearly to [0, 1), so its numbers are evenly spaced over
+// [0, 1) within each part; with P parts an element's empirical CDF is within
+// P / n of the uniform one (n its count), and its count within P of p N.
+TEST(AliasTable, ReusedWordIsUniformWithinEachElementAndKeepsStratification) {
+    using vkpath::shared::aliasBucket;
+    using vkpath::shared::aliasBucketFraction;
+    using vkpath::shared::aliasSampleReusing;
+    const std::vector<double> weights = {1.0, 3.0, 0.5, 2.5, 0.0, 1.0};
+    const auto table = vkpath::scene::buildAliasTable(weights);
+    const auto count = uint32_t(table.size());
+    const uint32_t n = 1u << 16;
+    std::vector<std::vector<float>> numbers(count);
+    for (uint32_t i = 0; i < n; ++i) {
+        const auto word = uint32_t(((uint64_t(i) << 32) + (uint64_t(1) << 31)) / n);
+        const uint32_t bucket = aliasBucket(word, count);
+        const auto choice = aliasSampleReusing(table[bucket], bucket, aliasBucketFraction(word, count));
+        ASSERT_LT(choice.element, count);
+        ASSERT_GE(choice.u, 0.0f);
+        ASSERT_LT(choice.u, 1.0f);
+        numbers[choice.element].push_back(choice.u);
+    }
+    for (uint32_t e = 0; e < count; ++e) {
+        // Its parts: its own bucket's kept part and the rest of every bucket aliasing it.
+        double parts = table[e].threshold > 0 ? 1 : 0;
+        for (uint32_t b = 0; b < count; ++b) parts += table[b].alias == e && table[b].threshold != 0xffffffffu;
+        auto& u = numbers[e];
+        EXPECT_NEAR(double(u.size()), double(table[e].probability) * n, parts + 1) << e;
+        if (u.empty()) continue;
+        std::sort(u.begin(), u.end());
+        double worst = 0;
+        for (size_t k = 0; k < u.size(); ++k)
+            worst = std::max({worst, std::abs(double(u[k]) - double(k) / u.size()),
+                              std::abs(double(u[k]) - double(k + 1) / u.size())});
+        EXPECT_LE(worst, (parts + 1) / double(u.size())) << e;
+    }
+    EXPECT_TRUE(numbers[4].empty());  // weight 0
+
+    // Two equal elements: each gets one number in every cell of width 2 / n.
+    const auto halves = vkpath::scene::buildAliasTable(std::vector<double>{1.0, 1.0});
+    std::vector<std::vector<int>> cells(2, std::vector<int>(n / 2, 0));
+    for (uint32_t i = 0; i < n; ++i) {
+        const auto word = uint32_t(((uint64_t(i) << 32) + (uint64_t(1) << 31)) / n);
+        const uint32_t bucket = aliasBucket(word, 2);
+        const auto choice = aliasSampleReusing(halves[bucket], bucket, aliasBucketFraction(word, 2));
+        ++cells[choice.element][size_t(double(choice.u) * (n / 2))];
+    }
+    for (const auto& element : cells)
+        EXPECT_EQ(std::count(element.begin(), element.end(), 1), std::ptrdiff_t(n / 2));
+
+    // The extreme words stay in [0, 1), also in a bucket kept whole.
+    for (uint32_t word : {0u, 1u, 0x7fffffffu, 0x80000000u, 0xfffffffeu, 0xffffffffu})
+        for (const auto& t : {table, halves}) {
+            const auto c = uint32_t(t.size());
+            const uint32_t bucket = aliasBucket(word, c);
+            const auto choice = aliasSampleReusing(t[bucket], bucket, aliasBucketFraction(word, c));
+            EXPECT_GE(choice.u, 0.0f);
+            EXPECT_LT(choice.u, 1.0f);
+            EXPECT_GT(t[choice.element].probability, 0.0f);
+        }
 }
 
 }  // namespace
