@@ -198,7 +198,11 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             // is found by BSDF samples alone, with weight 1, which is unbiased.
             // So is one with holes (alpha): a light sample could land in one.
             const bool holes = !t.materialAlpha.empty() && t.materialAlpha[mesh.material].mode != VKP_ALPHA_OPAQUE;
-            if (!m.emissive() || m.emissiveTexture.present() || holes) continue;
+            if (!m.emissive()) continue;
+            if (m.emissiveTexture.present() || holes) {
+                t.info.unsampledEmitters = 1;
+                continue;
+            }
             const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y), p2 = mesh.positions.at(tri.z);
             if (bvh::isDegenerateTriangle(p0, p1, p2)) continue;
             surfaceLight[{VKP_PRIMITIVE_TRIANGLE, id}] = uint32_t(t.lights.size());
@@ -212,7 +216,9 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
         surfaceLight[{VKP_PRIMITIVE_SPHERE, i}] = uint32_t(t.lights.size());
         addLight(sphereLight(s, m.emission));
     }
-    if (!surfaceLight.empty()) {
+    // Every emitter's entry, also where none is a light (the kernels read the
+    // entry of each emitter they hit while other lights are sampled).
+    if (!surfaceLight.empty() || t.info.unsampledEmitters != 0) {
         t.primitiveLight.assign(t.bvh.primitives.size(), VKP_NO_LIGHT);
         for (size_t i = 0; i < t.bvh.primitives.size(); ++i) {
             const auto it = surfaceLight.find({t.bvh.primitives[i].kind, t.bvh.primitives[i].id});

@@ -330,6 +330,21 @@ VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) prim
 
 // ---- next-event estimation ---------------------------------------------------------------
 
+// Whether the light that the vertex of bounce `bounce` on `material` receives
+// is estimated by its light samples alone, with weight 1, and its BSDF sample
+// is not traced: at the path's last scattering vertex (the next hit would
+// only add emission: shadeHit), on a Lambertian surface, when every emitter
+// is a light. The two estimators that MIS weighs there are each unbiased,
+// so one alone is too; the ray it saves is one in five of a full path's
+// closest-hit rays, and on a diffuse surface light sampling alone is close
+// to the MIS pair (docs/TRADEOFFS.md measures both). Glossy lobes keep MIS:
+// light sampling alone is noisy on them.
+VKP_FN bool lightSamplingAlone(VKP_IN(Material) material, uint bounce) VKP_SCENE_CONST {
+    SceneInfo info = sceneInfo();
+    return bounce + 1u == info.maxDepth && lightSampleCount() > 0u && info.unsampledEmitters == 0u &&
+           materialIs(material, VKP_MATERIAL_DIFFUSE);
+}
+
 struct ShadowRequest {
     Ray ray;            // toward the light; tMax stops short of it
     vec3 contribution;  // added to the path's radiance if the ray is unoccluded
@@ -400,9 +415,10 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     if (f == vec3(0.0f)) return request;
     float n = float(lightSampleCount());
     float lightPdf = choice * ls.pdf;
-    float weight = ls.delta ? 1.0f
-                            : powerHeuristic(n * lightPdf, bsdfPdf(material, surface.normal, surface.shadingNormal,
-                                                                   wo, ls.direction));
+    float weight = ls.delta || lightSamplingAlone(material, bounce)
+                       ? 1.0f
+                       : powerHeuristic(n * lightPdf,
+                                        bsdfPdf(material, surface.normal, surface.shadingNormal, wo, ls.direction));
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
@@ -449,6 +465,7 @@ VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) sur
     step.ray.tMax = 0.0f;
     step.ray.pixel = key.pixel;
 
+    if (lightSamplingAlone(material, bounce)) return step;
     uint dim = bounceDimension(bounce);
     float lobeChoice = bsdfNeedsLobeChoice(material) ? rngUniform(key, dim + 3u) : 0.0f;
     BsdfSample s =

@@ -32,12 +32,14 @@ struct SceneInfo {
                                   // the MaterialAlpha[] table exists (shared/alpha.h); 0: all is opaque
     float regularizeAlpha;        // > 0: path regularisation, the least GGX alpha of a lobe after the path's first
                                   // non-delta scattering (shared/bsdf.h regularizedMaterial; biased)
+    uint unsampledEmitters;       // 1: some emissive surface is no light (textured or with holes): only BSDF
+                                  // samples find it (shared/path_tracer.h lightSamplingAlone)
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 92);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 96);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -81,7 +81,7 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(SceneInfo, rouletteDepth), VKP_O(SceneInfo, seed), VKP_O(SceneInfo, width),
           VKP_O(SceneInfo, height), VKP_O(SceneInfo, clampRadiance), VKP_O(SceneInfo, fireflyThreshold),
           VKP_O(SceneInfo, samplerKind), VKP_O(SceneInfo, triangleAttributes), VKP_O(SceneInfo, alphaTested),
-          VKP_O(SceneInfo, regularizeAlpha)}},
+          VKP_O(SceneInfo, regularizeAlpha), VKP_O(SceneInfo, unsampledEmitters)}},
         {"MaterialAlpha", sizeof(MaterialAlpha),
          {VKP_O(MaterialAlpha, mode), VKP_O(MaterialAlpha, cutoff), VKP_O(MaterialAlpha, alpha),
           VKP_O(MaterialAlpha, baseColorSlot)}},
