@@ -17,7 +17,8 @@
 // Or from one word, keeping what is left of it (aliasSampleReusing): the
 // bucket is the high word of bits * count and the low word, uniform within
 // the bucket, picks the element and is then rescaled to a number in [0, 1)
-// that is uniform and independent of the choice. One number then chooses a
+// that is uniform and independent of the choice (when the part it fell in
+// holds enough words to give it resolution). One number then chooses a
 // light and places the point on it, and a stratified set of numbers stays
 // stratified over each element's share (sample reuse: Mitsuba 3's
 // Scene::sample_emitter returns its sample rescaled so, for the emitter's
@@ -57,9 +58,15 @@ VKP_FN uint aliasResolve(AliasEntry entry, uint bucket, uint bits) {
 // uniform over the 2^32 words when `bits` is uniform.
 VKP_FN uint aliasBucketFraction(uint bits, uint count) { return bits * count; }
 
+// The fewest words a part of a bucket must hold for the rescaled fraction to
+// serve as a number in [0, 1): below it (an element of tiny probability, or
+// its sliver of a bucket) the caller draws the number afresh.
+#define VKP_ALIAS_REUSE_MIN_WORDS 65536.0f
+
 struct AliasChoice {
     uint element;
-    float u;  // in [0, 1): the word's fraction within the element's part of the bucket
+    float u;       // in [0, 1): the word's fraction within the element's part of the bucket
+    bool reusable;  // the part held at least VKP_ALIAS_REUSE_MIN_WORDS words (else u has fewer values)
 };
 
 // The element of `bucket` (whose entry is `entry`) that the fraction
@@ -73,6 +80,7 @@ VKP_FN AliasChoice aliasSampleReusing(AliasEntry entry, uint bucket, uint fracti
     float width = kept ? float(entry.threshold) : 4294967296.0f - float(entry.threshold);
     // (float rounding may bring an offset just below the width up to it)
     choice.u = min(offset / width, VKP_ONE_MINUS_EPSILON);
+    choice.reusable = width >= VKP_ALIAS_REUSE_MIN_WORDS;
     return choice;
 }
 

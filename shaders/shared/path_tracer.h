@@ -382,7 +382,12 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     uint lightIndex = lightChoice.element;
     float choice = sceneLightAlias(lightIndex).probability;
     Light light = sceneLight(lightIndex);
-    vec2 u = vec2(lightChoice.u, uintToUnitFloat(pointBits.y));
+    // A light of tiny probability gets its first coordinate from the
+    // independent sampler at the same dimension (its stratification is moot:
+    // it is chosen once in 2^16 samples or less often).
+    RngKey independentKey = makeRngKey(key.pixel, key.sampleIndex, key.seed);
+    float u0 = lightChoice.reusable ? lightChoice.u : rngUniform(independentKey, dim + 2u);
+    vec2 u = vec2(u0, uintToUnitFloat(pointBits.y));
 
     LightSample ls;
     if (lightIs(light, VKP_LIGHT_ENVIRONMENT)) {

@@ -157,6 +157,17 @@ TEST(AliasTable, ReusedWordIsUniformWithinEachElementAndKeepsStratification) {
     for (const auto& element : cells)
         EXPECT_EQ(std::count(element.begin(), element.end(), 1), std::ptrdiff_t(n / 2));
 
+    // An element of tiny probability owns a sliver of words: its rescaled
+    // fraction would take few values, so it is marked not reusable, and
+    // elements with room are.
+    const auto tiny = vkpath::scene::buildAliasTable(std::vector<double>{1e-9, 1.0});
+    for (uint32_t word : {0u, 1u, 100u, 0x40000000u, 0x80000000u, 0xc0000000u}) {
+        const uint32_t bucket = aliasBucket(word, 2);
+        const auto choice = aliasSampleReusing(tiny[bucket], bucket, aliasBucketFraction(word, 2));
+        EXPECT_EQ(choice.reusable, choice.element == 1) << word;
+    }
+    EXPECT_EQ(aliasSampleReusing(tiny[0], 0, 0u).element, 0u);
+
     // The extreme words stay in [0, 1), also in a bucket kept whole.
     for (uint32_t word : {0u, 1u, 0x7fffffffu, 0x80000000u, 0xfffffffeu, 0xffffffffu})
         for (const auto& t : {table, halves}) {
