@@ -65,7 +65,7 @@ VKP_FN uint aliasBucketFraction(uint bits, uint count) { return bits * count; }
 
 struct AliasChoice {
     uint element;
-    float u;       // in [0, 1): the word's fraction within the element's part of the bucket
+    float u;        // in [0, 1): the word's fraction within the element's part of the bucket
     bool reusable;  // the part held at least VKP_ALIAS_REUSE_MIN_WORDS words (else u has fewer values)
 };
 

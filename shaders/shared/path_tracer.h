@@ -336,9 +336,9 @@ VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) prim
 // only add emission: shadeHit), on a Lambertian surface, when every emitter
 // is a light. The two estimators that MIS weighs there are each unbiased,
 // so one alone is too; the ray it saves is one in five of a full path's
-// closest-hit rays, and on a diffuse surface light sampling alone is close
-// to the MIS pair (docs/TRADEOFFS.md measures both). Glossy lobes keep MIS:
-// light sampling alone is noisy on them.
+// closest-hit rays, and on a diffuse surface light sampling alone is as good
+// as the MIS pair there (docs/BENCHMARKS.md, "The last vertex"). Glossy
+// lobes keep MIS: light sampling alone is noisy on them.
 VKP_FN bool lightSamplingAlone(VKP_IN(Material) material, uint bounce) VKP_SCENE_CONST {
     SceneInfo info = sceneInfo();
     return bounce + 1u == info.maxDepth && lightSampleCount() > 0u && info.unsampledEmitters == 0u &&
