@@ -196,14 +196,9 @@ void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint&
     if (checkpoint.identity.sceneHash != identity.sceneHash)
         throw InputError(fmt::format("{}: from another scene (scene hash {}, this scene's {})", file,
                                      checkpoint.identity.sceneHash, identity.sceneHash));
-    if (checkpoint.identity.settings != identity.settings) {
-        // Name the first setting that differs ("key=value" words in a fixed order).
-        std::istringstream theirs(checkpoint.identity.settings), ours(identity.settings);
-        std::string a, b;
-        while (theirs >> a && ours >> b)
-            if (a != b) break;
-        throw InputError(fmt::format("{}: other settings: {} in the checkpoint, {} here", file, a, b));
-    }
+    const auto [theirs, ours] = firstSettingDifference(checkpoint.identity.settings, identity.settings);
+    if (!theirs.empty())
+        throw InputError(fmt::format("{}: other settings: {} in the checkpoint, {} here", file, theirs, ours));
     if (checkpoint.samples.first != samples.first)
         throw InputError(fmt::format("{}: samples from {} on; this render starts at sample {}", file,
                                      checkpoint.samples.first, samples.first));

@@ -12,11 +12,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
+#include "app/render_options.h"
 #include "image/image.h"
 #include "image/statistics.h"
 #include "input_error.h"
@@ -48,18 +48,6 @@ uint32_t metadataCount(const std::string& path, const std::map<std::string, std:
     return uint32_t(std::stoull(it->second));
 }
 
-// The first "key=value" of two renderIdentity settings strings that differs,
-// as "seed=5 against seed=0"; empty when they are the same.
-std::string firstDifference(const std::string& x, const std::string& y) {
-    std::istringstream xs(x), ys(y);
-    std::string a, b;
-    while (true) {
-        const bool moreX = bool(xs >> a), moreY = bool(ys >> b);
-        if (!moreX && !moreY) return "";
-        if (!moreX || !moreY || a != b) return fmt::format("{} against {}", moreX ? a : "nothing", moreY ? b : "nothing");
-    }
-}
-
 // The header fields that must agree for parts to be samples of one image.
 constexpr const char* IDENTITY_KEYS[] = {"vkpath:sceneHash", "vkpath:settings"};
 
@@ -86,9 +74,11 @@ int runMerge(const MergeOptions& o) {
                                          "against {})",
                                          p.path, a.path, p.metadata.at("vkpath:sceneHash"),
                                          a.metadata.at("vkpath:sceneHash")));
-        const std::string difference = firstDifference(p.metadata.at("vkpath:settings"), a.metadata.at("vkpath:settings"));
-        if (!difference.empty())
-            throw InputError(fmt::format("{}: rendered with other settings than {}: {}", p.path, a.path, difference));
+        const auto [theirs, ours] =
+            firstSettingDifference(p.metadata.at("vkpath:settings"), a.metadata.at("vkpath:settings"));
+        if (!theirs.empty())
+            throw InputError(
+                fmt::format("{}: rendered with other settings than {}: {} against {}", p.path, a.path, theirs, ours));
         if (p.mean.width != a.mean.width || p.mean.height != a.mean.height ||
             (!o.aovs.empty() && (p.varianceOfMean.width != a.mean.width || p.varianceOfMean.height != a.mean.height)))
             throw InputError(fmt::format("{}: {}x{} pixels where {} has {}x{}", p.path, p.mean.width, p.mean.height,

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "app/fnv1a.h"
 #include "input_error.h"
 #include "scene/environment.h"
 #include "scene/load.h"
+#include "shared/dimensions.h"
 
 namespace vkpath::app {
 
@@ -91,10 +93,21 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
         color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
     return {fmt::format("{:016x}", hash),
             fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} "
-                        "regularize={} env={} env-color={} env-strength={} env-rotate={} camera={}",
+                        "regularize={} env={} env-color={} env-strength={} env-rotate={} camera={} estimator={}",
                         o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp, o.regularize,
                         o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),
-                        optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera)};
+                        optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera,
+                        VKP_ESTIMATOR_VERSION)};
+}
+
+std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y) {
+    std::istringstream xs(x), ys(y);
+    std::string a, b;
+    while (true) {
+        const bool moreX = bool(xs >> a), moreY = bool(ys >> b);
+        if (!moreX && !moreY) return {};
+        if (!moreX || !moreY || a != b) return {moreX ? a : "nothing", moreY ? b : "nothing"};
+    }
 }
 
 scene::Scene loadRenderScene(const RenderOptions& o) {

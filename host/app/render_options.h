@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/film_size.h"
@@ -67,6 +68,11 @@ struct RenderIdentity {
     std::string settings;   // "size=640x480 max-depth=8 ...": each key once, in a fixed order
 };
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene);
+
+// The first "key=value" word in which two RenderIdentity::settings differ:
+// (x's, y's), "nothing" for one that ended first (a key an older build did
+// not write); two empty words when they are the same.
+std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y);
 
 // The settings for `samplesPerPixel` samples of the film `o.size`. Throws
 // InputError on out-of-range flags.

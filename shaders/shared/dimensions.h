@@ -7,4 +7,13 @@
 
 #define VKP_DIM_PIXEL_JITTER 0u  // 2 numbers: sub-pixel position
 
+// The version of what a path does with its numbers: their order (here and
+// in shared/path_tracer.h) and the estimator they feed. A render's settings
+// carry it (host/app/render_options.cpp renderIdentity), so a checkpoint or a
+// part for `vkpath merge` from a build of another version is refused, not
+// mixed with samples of another sequence. Raise it with every change that
+// alters the image of a given seed. 2: the light chosen from the point's
+// pair, and light sampling alone at a Lambertian last vertex (2026-12-04).
+#define VKP_ESTIMATOR_VERSION 2u
+
 #endif  // VKPATH_SHARED_DIMENSIONS_H

@@ -4,6 +4,7 @@
 
 #include "app/render_options.h"
 #include "input_error.h"
+#include "shared/dimensions.h"
 #include "support/test_context.h"
 
 namespace {
@@ -61,6 +62,22 @@ TEST(RenderOptions, RunawayDepthAndLightSamplesAreInputErrors) {
     o.maxDepth = 8;
     o.lightSamples = 100000;
     EXPECT_THROW(app::renderSettings(o, 1), InputError);
+}
+
+// A render's settings end with the estimator's version, so that a checkpoint
+// or a merge part from a build of another version is refused; the first
+// difference names a key one side lacks as "nothing".
+TEST(RenderOptions, SettingsCarryTheEstimatorVersion) {
+    const app::RenderOptions o = skySpheres();
+    const std::string settings = app::renderIdentity(o, app::loadRenderScene(o)).settings;
+    const std::string version = "estimator=" + std::to_string(VKP_ESTIMATOR_VERSION);
+    ASSERT_GE(settings.size(), version.size());
+    EXPECT_EQ(settings.substr(settings.size() - version.size()), version) << settings;
+    const std::string older = settings.substr(0, settings.size() - version.size() - 1);
+    EXPECT_EQ(app::firstSettingDifference(older, settings), std::make_pair(std::string("nothing"), version));
+    EXPECT_EQ(app::firstSettingDifference(settings, settings), std::make_pair(std::string(), std::string()));
+    EXPECT_EQ(app::firstSettingDifference("a=1 b=2 c=3", "a=1 b=5 c=3"),
+              std::make_pair(std::string("b=2"), std::string("b=5")));
 }
 
 }  // namespace

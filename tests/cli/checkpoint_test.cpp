@@ -5,6 +5,7 @@
 // of another scene, other settings or another renderer is refused with one
 // line and exit code 2, writing nothing; a Vulkan error after a checkpoint
 // names it.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -19,6 +20,7 @@
 #include "support/exr_metadata.h"
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
+#include "shared/dimensions.h"
 #include "support/test_context.h"
 #include "vk/check.h"
 
@@ -139,6 +141,14 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
     const std::string damaged = (dir / "damaged.ckpt").string();
     std::filesystem::copy_file(checkpoint, damaged);
     std::filesystem::resize_file(damaged, std::filesystem::file_size(damaged) - 5);
+    // The same checkpoint as a build before the estimator's version wrote it:
+    // its settings end before "estimator=".
+    const std::string older = (dir / "older.ckpt").string();
+    app::Checkpoint withoutVersion = app::readCheckpoint(checkpoint);
+    std::string& settings = withoutVersion.identity.settings;
+    ASSERT_NE(settings.find(" estimator="), std::string::npos) << settings;
+    settings.erase(settings.find(" estimator="));
+    app::writeCheckpoint(older, withoutVersion);
     struct Case {
         std::string args;
         std::string says;
@@ -147,6 +157,8 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
         {diffuseBox() + " -d 24x18 --resume " + checkpoint, "from another scene"},
         {box() + " -d 24x18 -m 4 --resume " + checkpoint, "other settings: max-depth=8 in the checkpoint, max-depth=4 here"},
         {box() + " -d 24x18 --seed 3 --resume " + checkpoint, "seed=0 in the checkpoint, seed=3 here"},
+        {box() + " -d 24x18 --resume " + older,
+         fmt::format("other settings: nothing in the checkpoint, estimator={} here", VKP_ESTIMATOR_VERSION)},
         {box() + " -d 24x18 --device cpu --resume " + checkpoint, "written by the GPU renderer"},
         {box() + " -d 24x18 --samples 5:4 --resume " + checkpoint, "samples from 0 on"},
         {box() + " -d 24x18 -s 1 --resume " + checkpoint, "more than the 1 asked"},
