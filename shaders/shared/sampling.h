@@ -34,22 +34,30 @@ VKP_FN vec3 frameToLocal(Frame f, vec3 world) {
     return vec3(dot(world, f.s), dot(world, f.t), dot(world, f.n));
 }
 
+// cos(a) and sin(a) for |a| <= pi / 4, the range sampleConcentricDisk needs,
+// with no range reduction: the minimax polynomials of Cephes' cosf and sinf
+// for that interval (Moshier, "Methods and Programs for Mathematical
+// Functions", 1989; Cephes Math Library, single precision), within a few ulp
+// of the correctly rounded values. A libm call (sincosf, with its range
+// reduction) cost the CPU reference ~4% of its time on CBspheres.
+VKP_FN vec2 cosSinQuarterPi(float a) {
+    float a2 = a * a;
+    float c = 1.0f - 0.5f * a2 + a2 * a2 * (4.166664568298827e-2f + a2 * (-1.388731625493765e-3f + a2 * 2.443315711809948e-5f));
+    float s = a + a * a2 * (-1.6666654611e-1f + a2 * (8.3321608736e-3f + a2 * -1.9515295891e-4f));
+    return vec2(c, s);
+}
+
 // Shirley and Chiu's concentric map of the square to the unit disk ("A
 // Low Distortion Map Between Disk and Square", JGT 2(3), 1997): keeps
-// stratification and has no singular corner.
+// stratification and has no singular corner. Each half of the square maps
+// to a wedge of angles within pi / 4 of an axis: x (angle a) or y (pi / 2 -
+// a, whose cosine and sine are a's sine and cosine).
 VKP_FN vec2 sampleConcentricDisk(vec2 u) {
     vec2 p = 2.0f * u - vec2(1.0f);
     if (p.x == 0.0f && p.y == 0.0f) return vec2(0.0f);
-    float r;
-    float theta;
-    if (abs(p.x) > abs(p.y)) {
-        r = p.x;
-        theta = (VKP_PI / 4.0f) * (p.y / p.x);
-    } else {
-        r = p.y;
-        theta = (VKP_PI / 2.0f) - (VKP_PI / 4.0f) * (p.x / p.y);
-    }
-    return r * vec2(cos(theta), sin(theta));
+    if (abs(p.x) > abs(p.y)) return p.x * cosSinQuarterPi((VKP_PI / 4.0f) * (p.y / p.x));
+    vec2 cs = cosSinQuarterPi((VKP_PI / 4.0f) * (p.x / p.y));
+    return p.y * vec2(cs.y, cs.x);
 }
 
 // Malley's method: the disk lifted to the hemisphere gives density cos / pi.

@@ -4,7 +4,9 @@
 // the whole file, Sidak-corrected over its chi-square and z tests.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <random>
 
@@ -56,6 +58,26 @@ void expectFits(const test::DirectionGrid& grid, const std::vector<glm::vec3>& d
     const auto result = test::chiSquareDirections(grid, directions, pdf);
     EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom
                                     << ", pooled " << result.pooledCells;
+}
+
+// The concentric map's cosine and sine without libm: within one ulp of the
+// correctly rounded values (double cos and sin rounded) over all of
+// [-pi/4, pi/4], as glibc's cosf and sinf are there; 2^23 angles.
+TEST(Sampling, QuarterPiCosineAndSineWithinOneUlp) {
+    auto ordered = [](float f) {
+        const int32_t bits = std::bit_cast<int32_t>(f);
+        return bits < 0 ? int64_t(INT32_MIN) - bits : int64_t(bits);
+    };
+    int64_t worstCos = 0, worstSin = 0;
+    constexpr int64_t STEPS = int64_t(1) << 22;
+    for (int64_t k = -STEPS; k <= STEPS; ++k) {
+        const float a = float(double(k) / double(STEPS) * (M_PI / 4.0));
+        const glm::vec2 cs = shared::cosSinQuarterPi(a);
+        worstCos = std::max(worstCos, std::abs(ordered(cs.x) - ordered(float(std::cos(double(a))))));
+        worstSin = std::max(worstSin, std::abs(ordered(cs.y) - ordered(float(std::sin(double(a))))));
+    }
+    EXPECT_LE(worstCos, 1);
+    EXPECT_LE(worstSin, 1);
 }
 
 TEST(Sampling, CosineHemisphere) {
