@@ -78,6 +78,9 @@ LightEntry triangleLight(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 emi
     e.record.p1 = p1;
     e.record.p2 = p2;
     e.record.emission = emission;
+    // As the kernels computed them at every sample before (float, shared/sampling.h).
+    e.record.normal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    e.record.area = glm::length(shared::triangleArea3(p0, p1, p2));
     const double area = 0.5 * glm::length(glm::cross(glm::dvec3(p1 - p0), glm::dvec3(p2 - p0)));
     e.power = scene::luminance(emission) * area * PI;
     return e;

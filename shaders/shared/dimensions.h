@@ -14,7 +14,8 @@
 // mixed with samples of another sequence. Raise it with every change that
 // alters the image of a given seed. 2: the light chosen from the point's
 // pair, and light sampling alone at a Lambertian last vertex (2026-12-04).
-// 3: the concentric disk's cosine and sine by polynomial (sampling.h).
-#define VKP_ESTIMATOR_VERSION 3u
+// 3: the concentric disk's cosine and sine by polynomial (sampling.h). 4: a
+// triangle light's normal and area from the host (lights.h).
+#define VKP_ESTIMATOR_VERSION 4u
 
 #endif  // VKPATH_SHARED_DIMENSIONS_H

@@ -90,9 +90,9 @@ MaterialAlpha sceneMaterialAlpha(uint i) {
 }
 Light sceneLight(uint i) {
     if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
-    int t = int(4u * i);
+    int t = int(5u * i);
     uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1), c = texelFetch(lightTexels, t + 2),
-          d = texelFetch(lightTexels, t + 3);
+          d = texelFetch(lightTexels, t + 3), e = texelFetch(lightTexels, t + 4);
     Light light;
     light.p0 = uintBitsToFloat(a.xyz);
     light.type = a.w;
@@ -102,6 +102,8 @@ Light sceneLight(uint i) {
     light.cosInner = uintBitsToFloat(c.w);
     light.emission = uintBitsToFloat(d.xyz);
     light.cosOuter = uintBitsToFloat(d.w);
+    light.normal = uintBitsToFloat(e.xyz);
+    light.area = uintBitsToFloat(e.w);
     return light;
 }
 AliasEntry aliasEntry(uvec4 t) {
