@@ -60,6 +60,9 @@ const std::vector<Knob> KNOBS = {
     {"clamp", "off or numbers > 0", [](wavefront::RenderSettings& s, const std::string& v) {
          s.clampRadiance = offOrNumber("clamp", v, "a number > 0", [](float c) { return c > 0 && std::isfinite(c); });
      }, true},
+    {"guide-spheres", "off or fractions in (0, 1)", [](wavefront::RenderSettings& s, const std::string& v) {
+         s.guideFraction = offOrNumber("guide-spheres", v, "a number in (0, 1)", [](float f) { return f > 0 && f < 1; });
+     }, false},
     {"regularize", "off or GGX alphas in (0, 1]", [](wavefront::RenderSettings& s, const std::string& v) {
          s.regularize = offOrNumber("regularize", v, "a number in (0, 1]", [](float a) { return a > 0 && a <= 1; });
      }, true},

@@ -38,6 +38,10 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "microfacet lobes to at least this GGX alpha, in (0, 1] (biased: blurs caustics, removes their "
                    "fireflies; 0: off)")
         ->capture_default_str();
+    cmd.add_option("--guide-spheres", o.guideSpheres,
+                   "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass spheres it sees, in "
+                   "[0, 1), where an emitter could be seen through them (unbiased: finds caustics sooner; 0: off)")
+        ->capture_default_str();
     cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular");
     cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
     cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier (default: the scene's, or 1)");
@@ -93,8 +97,9 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
         color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
     return {fmt::format("{:016x}", hash),
             fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} "
-                        "regularize={} env={} env-color={} env-strength={} env-rotate={} camera={} estimator={}",
+                        "regularize={} guide-spheres={} env={} env-color={} env-strength={} env-rotate={} camera={} estimator={}",
                         o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp, o.regularize,
+                        o.guideSpheres,
                         o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),
                         optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera,
                         VKP_ESTIMATOR_VERSION)};
@@ -140,6 +145,10 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
     if (!(o.regularize >= 0 && o.regularize <= 1))
         throw InputError("--regularize must be a GGX alpha in (0, 1], or 0 for off");
+    // At 1 no cosine sample is left: directions outside the spheres' cones
+    // would have density 0 and the estimate would lose their light.
+    if (!(o.guideSpheres >= 0 && o.guideSpheres < 1))
+        throw InputError("--guide-spheres must be a fraction in [0, 1)");
     // Beyond these a render runs for hours before its first sample and buys
     // nothing: after 1024 bounces of albedo 0.99 a path keeps 3e-5 of its
     // weight, and 1024 light samples per vertex are 1024 shadow rays each.
@@ -160,6 +169,7 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
     settings.regularize = o.regularize;
+    settings.guideFraction = o.guideSpheres;
     if (!o.kernel.empty() && o.device == "cpu")
         throw InputError("--kernel chooses a GPU kernel form: not with --device cpu");
     if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);

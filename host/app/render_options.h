@@ -34,6 +34,7 @@ struct RenderOptions {
     std::string sampler = "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
     float clamp = 0;
     float regularize = 0;  // path regularisation's least GGX alpha; 0: off
+    float guideSpheres = wavefront::RenderSettings{}.guideFraction;  // --guide-spheres
     std::string environment;
     std::vector<float> environmentColor;
     std::optional<float> environmentStrength;  // unset: the scene's own (1 for -e)

@@ -29,7 +29,7 @@
 // Scotty3D scene and the bundled cornell_box_diffuse (a glTF metal is a
 // conductor, even a smooth one: outside it). Any light, environment, sampler
 // and light-sample count; interpolated normals; a BVH of any depth (the
-// wide tree's traversal does not ask). Leaves out the microfacet
+// wide tree's traversal does not ask); sphere guiding. Leaves out the microfacet
 // materials, textures, vertex colours, normal maps, alpha, path
 // regularisation and absorption.
 #define VKP_CPU_PROFILE_SMOOTH                                                                                    \
@@ -37,6 +37,6 @@
      VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_POINT_LIGHTS | VKP_FEATURE_SPOT_LIGHTS |                        \
      VKP_FEATURE_DIRECTIONAL_LIGHTS | VKP_FEATURES_ENVIRONMENT | VKP_FEATURE_SAMPLER_INDEPENDENT |              \
      VKP_FEATURE_SAMPLER_SOBOL | VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES |               \
-     VKP_FEATURE_ROULETTE | VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_DEEP_BVH)
+     VKP_FEATURE_ROULETTE | VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_DEEP_BVH | VKP_FEATURE_SPHERE_GUIDING)
 
 #endif  // VKPATH_REFERENCE_CPU_PROFILES_H

@@ -24,11 +24,14 @@ SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const Sce
       m_textures(tables.textures.textures),
       m_textureSlots(tables.textures.slots),
       m_texels(tables.textures.texels),
-      m_materialAlpha(tables.materialAlpha) {
+      m_materialAlpha(tables.materialAlpha),
+      m_guideSpheres(tables.guideSpheres) {
     auto require = [](bool ok, const std::string& what) {
         if (!ok) throw std::invalid_argument("scene tables: " + what);
     };
     require(!tables.bvh.nodes.empty(), "no BVH root node");
+    require(info.guideSphereCount <= m_guideSpheres.size() && info.guideSphereCount <= VKP_MAX_GUIDE_SPHERES,
+            fmt::format("{} guide spheres for guideSphereCount {}", m_guideSpheres.size(), info.guideSphereCount));
     for (const BvhPrimitive& p : m_primitives)
         require(p.material < m_materials.size(), fmt::format("material {} of {}", p.material, m_materials.size()));
     require(m_lights.size() == info.lightCount && m_lightAlias.size() == info.lightCount,

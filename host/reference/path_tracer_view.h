@@ -77,6 +77,7 @@ struct SceneTablesView {
         return vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));
     }
     MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
+    vec4 sceneGuideSphere(uint index) const { return m_guideSpheres[index]; }
 
     const bvh::WideBvh& wideBvh() const { return m_wide; }
 
@@ -99,6 +100,7 @@ struct SceneTablesView {
     std::span<const TextureSlot> m_textureSlots;
     std::span<const uvec2> m_texels;
     std::span<const MaterialAlpha> m_materialAlpha;
+    std::span<const vec4> m_guideSpheres;
 };
 
 template <uint Features>

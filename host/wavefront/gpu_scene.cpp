@@ -11,6 +11,7 @@
 #include "input_error.h"
 #include "scene/alias_table.h"
 #include "scene/environment_table.h"
+#include "shared/bsdf.h"
 #include "vk/context.h"
 
 namespace vkpath::wavefront {
@@ -167,6 +168,34 @@ scene::Scene moved(const scene::Scene& world, glm::dvec3 origin) {
     return s;
 }
 
+// Whether a material scatters only into delta lobes: a mirror, a smooth
+// glass that bends light (ior != 1), or a smooth conductor, rough glass or
+// wholly metallic metallic-roughness below the smooth threshold.
+bool smoothSpecular(const shared::Material& m) {
+    const bool smooth = shared::microfacetIsSmooth(shared::materialAlpha(m));
+    switch (m.kind) {
+        case VKP_MATERIAL_MIRROR: return true;
+        case VKP_MATERIAL_DIELECTRIC: return m.ior != 1.0f;
+        case VKP_MATERIAL_CONDUCTOR: return smooth;
+        case VKP_MATERIAL_ROUGH_DIELECTRIC: return smooth && m.ior != 1.0f;
+        case VKP_MATERIAL_METALLIC_ROUGHNESS: return smooth && m.metallic == 1.0f;
+        default: return false;
+    }
+}
+
+// The smooth specular spheres among `primitives`, largest first (ties in
+// leaf order), at most VKP_MAX_GUIDE_SPHERES.
+std::vector<glm::vec4> guideSpheres(const std::vector<shared::BvhPrimitive>& primitives,
+                                    const std::vector<shared::Material>& materials) {
+    std::vector<glm::vec4> spheres;
+    for (const shared::BvhPrimitive& p : primitives)
+        if (p.kind == VKP_PRIMITIVE_SPHERE && smoothSpecular(materials.at(p.material)))
+            spheres.emplace_back(p.p0, p.p1.x);
+    std::stable_sort(spheres.begin(), spheres.end(), [](const glm::vec4& a, const glm::vec4& b) { return a.w > b.w; });
+    if (spheres.size() > VKP_MAX_GUIDE_SPHERES) spheres.resize(VKP_MAX_GUIDE_SPHERES);
+    return spheres;
+}
+
 }  // namespace
 
 SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& bvhOptions) {
@@ -268,6 +297,13 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     }
     t.info.lightCount = uint32_t(t.lights.size());
     if (t.lights.empty()) t.info.environmentLight = VKP_NO_LIGHT;
+    // Guiding finds emitters through specular spheres: only worth it where
+    // BSDF samples can meet emission that varies over directions (a constant
+    // environment looks the same through a sphere as around it, and
+    // punctual lights are never hit).
+    const bool emitterToFind = !surfaceLight.empty() || t.info.unsampledEmitters != 0 ||
+                               (scene.environment && scene.environment->map && scene.environment->strength > 0);
+    if (emitterToFind) t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);
     return t;
 }
 

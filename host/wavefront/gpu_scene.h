@@ -38,6 +38,11 @@ struct SceneTables {
     SurfaceTables surface;     // vertex attributes for shading (empty when the scene is flat)
     TextureTables textures;    // empty when no material has a texture
     std::vector<shared::MaterialAlpha> materialAlpha;  // per material; empty unless info.alphaTested
+    // (centre, radius) of the smooth specular spheres that diffuse samples
+    // may be guided toward (shared/path_tracer.h sampleGuidedDiffuse), the
+    // largest VKP_MAX_GUIDE_SPHERES of them; empty when nothing that BSDF
+    // samples can hit emits (no emissive surface, no environment map).
+    std::vector<glm::vec4> guideSpheres;
     shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
     // Everything above is in render space: world space moved so that the
     // centre of the geometry's bounding box is the origin (computed in

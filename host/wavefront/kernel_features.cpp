@@ -41,6 +41,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_REGULARIZE, "regularize"},
     {VKP_FEATURE_ABSORPTION, "absorption"},
     {VKP_FEATURE_DEEP_BVH, "deep-bvh"},
+    {VKP_FEATURE_SPHERE_GUIDING, "sphere-guiding"},
 }};
 
 }  // namespace
@@ -82,6 +83,8 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     // continuePath runs at bounces < maxDepth and applies roulette from
     // bounce + 1 >= rouletteDepth on.
     if (info.rouletteDepth <= info.maxDepth) f |= VKP_FEATURE_ROULETTE;
+    // Guiding happens at Lambertian vertices that scatter (bounces < maxDepth).
+    if (info.guideSphereCount > 0 && (f & VKP_FEATURE_DIFFUSE) && info.maxDepth > 0) f |= VKP_FEATURE_SPHERE_GUIDING;
     // Path regularisation (shared/bsdf.h regularizedMaterial) roughens the
     // delta and near-delta lobes: the mirror becomes a GGX conductor and the
     // smooth glass a rough one, so their kernels must hold those kinds too.

@@ -33,6 +33,8 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.height = settings.height;
     info.clampRadiance = settings.clampRadiance;
     info.regularizeAlpha = settings.regularize;
+    info.guideSphereCount = settings.guideFraction > 0 ? uint32_t(tables.guideSpheres.size()) : 0u;
+    info.guideFraction = info.guideSphereCount > 0 ? settings.guideFraction : 0.0f;
     // A firefly: one sample that alone adds more than 1 (display white) to its pixel's mean.
     info.fireflyThreshold = float(settings.samplesPerPixel);
     return info;

@@ -54,6 +54,11 @@ struct RenderSettings {
     // path's first non-delta scattering, lobes of GGX alpha below this get it
     // (biased; 0: off)
     float regularize = 0;
+    // The share of a Lambertian vertex's BSDF samples drawn toward the smooth
+    // specular spheres it sees (SceneTables::guideSpheres; shared/path_tracer.h
+    // sampleGuidedDiffuse), in [0, 1); 0: off. Unbiased at any value; the
+    // default was chosen by time to error (docs/TRADEOFFS.md).
+    float guideFraction = 0.25f;
     std::optional<double> timeBudgetSeconds;  // stop after the wave that crosses it
     // GPU: the form of the kernels; unset: the measured default for the
     // device's type (defaultKernelForm).

@@ -158,7 +158,13 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
         pathStateBudget = left;
     }
     uint32_t w = pathsPerWave(settings, m_form, shadowSamples, context.info(), pixels, pathStateBudget);
-    r->sceneInfo = vk::Buffer::fromSpan(context, std::span(&info, 1), "sceneInfo");
+    // The SceneInfo, then the guide spheres it counts (stages/lib/scene_access.glsl).
+    std::vector<std::byte> sceneInfoBytes(sizeof(info) + info.guideSphereCount * sizeof(glm::vec4));
+    std::memcpy(sceneInfoBytes.data(), &info, sizeof(info));
+    if (info.guideSphereCount > 0)
+        std::memcpy(sceneInfoBytes.data() + sizeof(info), m_tables.guideSpheres.data(),
+                    info.guideSphereCount * sizeof(glm::vec4));
+    r->sceneInfo = vk::Buffer::fromSpan(context, std::span(sceneInfoBytes), "sceneInfo");
     r->camera = vk::Buffer::fromSpan(context, std::span(&camera, 1), "camera");
     r->counters = vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
     r->filmWindowPixels = filmWindowPixels(settings, context.info());

@@ -15,7 +15,8 @@
 // alters the image of a given seed. 2: the light chosen from the point's
 // pair, and light sampling alone at a Lambertian last vertex (2026-12-04).
 // 3: the concentric disk's cosine and sine by polynomial (sampling.h). 4: a
-// triangle light's normal and area from the host (lights.h).
-#define VKP_ESTIMATOR_VERSION 4u
+// triangle light's normal and area from the host (lights.h). 5: diffuse
+// samples guided toward smooth specular spheres (path_tracer.h).
+#define VKP_ESTIMATOR_VERSION 5u
 
 #endif  // VKPATH_SHARED_DIMENSIONS_H

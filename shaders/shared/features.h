@@ -51,7 +51,8 @@
 #define VKP_FEATURE_REGULARIZE (1u << 24)             // path regularisation (SceneInfo::regularizeAlpha > 0)
 #define VKP_FEATURE_ABSORPTION (1u << 25)             // a primitive of glass that absorbs inside (attenuation > 0)
 #define VKP_FEATURE_DEEP_BVH (1u << 26)               // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
-#define VKP_FEATURE_COUNT 27u
+#define VKP_FEATURE_SPHERE_GUIDING (1u << 27)         // diffuse samples guided toward smooth specular spheres
+#define VKP_FEATURE_COUNT 28u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 #define VKP_FEATURES_MATERIALS                                                               \

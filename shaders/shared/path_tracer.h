@@ -45,9 +45,10 @@
 // Every 2-D quantity starts at an even dimension, the pairs that the Sobol'
 // sampler stratifies together (shared/rng.h); roulette's single number is
 // paired with the lobe choice of the materials that choose between lobes
-// with a number of their own (sampleBsdf's uc), which no other material
-// draws, so adding it changed no other material's numbers.
-#define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), lobe choice (1)
+// with a number of their own (sampleBsdf's uc) and with the component of a
+// guided Lambertian vertex's mixture (sampleGuidedDiffuse), which no other
+// material draws, so adding them changed no other material's numbers.
+#define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), lobe or component choice (1)
 #define VKP_DIMS_PER_LIGHT_SAMPLE 4u  // environment texel (2 words), light choice and position (2)
 
 // SceneInfo::lightSamples, a constant when the kernel's features fix it.
@@ -292,6 +293,122 @@ VKP_FN vec3 mediumTransmittance(VKP_IN(Material) material, VKP_IN(SurfacePoint) 
     return exp(-material.attenuation * hit.t);  // (ray.direction is unit)
 }
 
+// ---- diffuse samples guided toward smooth specular spheres ------------------------------
+// Light that reaches a diffuse surface from a small emitter through a mirror
+// or glass sphere (a caustic) is found by BSDF samples only: a light sample
+// cannot aim through a delta lobe. Cosine sampling rarely hits the emitter's
+// image in the sphere, and each hit is a firefly: on CBspheres the top 5% of
+// pixels held 84% of the relMSE at 64 spp (docs/BENCHMARKS.md). So a
+// Lambertian vertex that sees guide spheres (SceneInfo::guideSphereCount:
+// the smooth specular spheres, listed when BSDF samples can meet an emitter
+// at all, host/wavefront/gpu_scene.cpp) draws its direction from a
+// one-sample mixture (Veach's thesis, 1997, section 9.2.4; Hesterberg's
+// defensive mixtures, 1995): with probability 1 - guideFraction the cosine
+// lobe, else uniformly in the cone subtended by one of its candidate spheres
+// (chosen uniformly; shared/sampling.h sampleSphereCone). The sample's
+// weight and its MIS with light samples both use the mixture's density, so
+// the estimator stays unbiased for any sphere list and fraction; only its
+// variance depends on them (--guide-spheres, docs/TRADEOFFS.md).
+
+// The guide spheres a vertex may sample toward: bit k of `mask` for sphere k.
+struct GuideSpheres {
+    uint mask;
+    uint count;
+};
+
+// The candidates at `p` with normal `n` (faced toward wo): spheres it is
+// outside of and that reach above its tangent plane (the centre lies less
+// than a radius below it).
+VKP_FN GuideSpheres guideCandidates(vec3 p, vec3 n) VKP_SCENE_CONST {
+    GuideSpheres g;
+    g.mask = 0u;
+    g.count = 0u;
+    uint total = sceneInfo().guideSphereCount;
+    for (uint k = 0u; k < total; ++k) {
+        vec4 sphere = sceneGuideSphere(k);
+        vec3 d = vec3(sphere) - p;
+        if (dot(d, d) > sphere.w * sphere.w && dot(d, n) > -sphere.w) {
+            g.mask |= 1u << k;
+            g.count += 1u;
+        }
+    }
+    return g;
+}
+
+// The candidates of a vertex on `material` (none unless it is Lambertian and
+// the kernel guides).
+VKP_FN GuideSpheres guideSpheresAt(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                   vec3 wo) VKP_SCENE_CONST {
+    GuideSpheres none;
+    none.mask = 0u;
+    none.count = 0u;
+    if (!hasFeature(VKP_FEATURE_SPHERE_GUIDING) || !materialIs(material, VKP_MATERIAL_DIFFUSE)) return none;
+    return guideCandidates(surface.position, faceForward(surface.shadingNormal, wo));
+}
+
+// The mixture's density of the unit direction wi at `p` (normal n faced
+// toward wo) with candidates g (count > 0).
+VKP_FN float guidedDiffusePdf(vec3 p, vec3 n, vec3 wi, GuideSpheres g) VKP_SCENE_CONST {
+    float cones = 0.0f;
+    uint total = sceneInfo().guideSphereCount;
+    for (uint k = 0u; k < total; ++k) {
+        if ((g.mask & (1u << k)) == 0u) continue;
+        vec4 sphere = sceneGuideSphere(k);
+        SphereCone cone = sphereCone(vec3(sphere), sphere.w, p);
+        if (dot(wi, normalize(vec3(sphere) - p)) >= cone.cosThetaMax) cones += sphereConePdf(cone);
+    }
+    float fraction = sceneInfo().guideFraction;
+    return (1.0f - fraction) * cosineHemispherePdf(dot(n, wi)) + fraction * cones / float(g.count);
+}
+
+// Index of the (pick + 1)-th set bit of mask (pick < bitCount(mask)).
+VKP_FN uint nthSetBit(uint mask, uint pick) VKP_SCENE_CONST {
+    uint k = 0u;
+    for (; k < 31u; ++k) {
+        if ((mask & (1u << k)) == 0u) continue;
+        if (pick == 0u) break;
+        pick -= 1u;
+    }
+    return k;
+}
+
+// A direction from the mixture at a Lambertian vertex with candidates g
+// (count > 0): u picks the direction, uc the component (and the sphere).
+VKP_FN BsdfSample sampleGuidedDiffuse(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
+                                      GuideSpheres g, vec2 u, float uc) VKP_SCENE_CONST {
+    vec3 n = faceForward(surface.shadingNormal, wo);
+    float fraction = sceneInfo().guideFraction;
+    vec3 wi;
+    if (uc < fraction) {
+        uint pick = min(uint(uc / fraction * float(g.count)), g.count - 1u);
+        vec4 sphere = sceneGuideSphere(nthSetBit(g.mask, pick));
+        SphereCone cone = sphereCone(vec3(sphere), sphere.w, surface.position);
+        wi = normalize(sampleSphereCone(cone, normalize(vec3(sphere) - surface.position), u));
+    } else {
+        wi = normalize(frameToWorld(makeFrame(n), sampleCosineHemisphere(u)));
+    }
+    BsdfSample s = invalidBsdfSample();
+    // f is zero below the horizon (a cone sample may fall there): the path ends.
+    vec3 f = evalBsdf(material, surface.normal, surface.shadingNormal, wo, wi);
+    float pdf = guidedDiffusePdf(surface.position, n, wi, g);
+    if (f == vec3(0.0f) || !(pdf > 0.0f)) return s;
+    s.direction = wi;
+    s.pdf = pdf;
+    s.weight = f / pdf;
+    s.valid = true;
+    return s;
+}
+
+// The density with which continuePath draws wi at this vertex: the BSDF's,
+// or the guided mixture's. Light samples weigh themselves against it.
+VKP_FN float scatterPdf(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
+                        vec3 wi) VKP_SCENE_CONST {
+    float pdf = bsdfPdf(material, surface.normal, surface.shadingNormal, wo, wi);
+    GuideSpheres g = guideSpheresAt(material, surface, wo);
+    if (g.count == 0u || pdf == 0.0f) return pdf;
+    return guidedDiffusePdf(surface.position, faceForward(surface.shadingNormal, wo), wi, g);
+}
+
 // ---- emission seen by a path ----------------------------------------------------------
 
 // The weight of emission reached by a BSDF sample of density `bsdfPdf` whose
@@ -422,8 +539,7 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     float lightPdf = choice * ls.pdf;
     float weight = ls.delta || lightSamplingAlone(material, bounce)
                        ? 1.0f
-                       : powerHeuristic(n * lightPdf,
-                                        bsdfPdf(material, surface.normal, surface.shadingNormal, wo, ls.direction));
+                       : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, ls.direction));
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
@@ -472,9 +588,14 @@ VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) sur
 
     if (lightSamplingAlone(material, bounce)) return step;
     uint dim = bounceDimension(bounce);
-    float lobeChoice = bsdfNeedsLobeChoice(material) ? rngUniform(key, dim + 3u) : 0.0f;
-    BsdfSample s =
-        sampleBsdf(material, surface.normal, surface.shadingNormal, wo, rngUniform2(key, dim), lobeChoice);
+    // A guided Lambertian vertex draws its mixture's component where a
+    // material with lobes draws its lobe (no Lambertian does).
+    GuideSpheres guide = guideSpheresAt(material, surface, wo);
+    float lobeChoice = bsdfNeedsLobeChoice(material) || guide.count > 0u ? rngUniform(key, dim + 3u) : 0.0f;
+    BsdfSample s = guide.count > 0u
+                       ? sampleGuidedDiffuse(material, surface, wo, guide, rngUniform2(key, dim), lobeChoice)
+                       : sampleBsdf(material, surface.normal, surface.shadingNormal, wo, rngUniform2(key, dim),
+                                    lobeChoice);
     if (!s.valid) return step;
     vec3 beta = throughput * s.weight;
     // Kept within [2^-100, 2^100]: never 0 or infinite, so its sign can be

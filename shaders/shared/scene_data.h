@@ -12,6 +12,9 @@
 
 VKP_NAMESPACE_BEGIN
 
+// The most spheres diffuse samples are guided toward (SceneInfo::guideSphereCount).
+#define VKP_MAX_GUIDE_SPHERES 8u
+
 struct SceneInfo {
     EnvironmentInfo environment;  // width 0: constant `color` (when hasEnvironment)
     uint hasEnvironment;          // 0: rays that escape see black
@@ -34,12 +37,15 @@ struct SceneInfo {
                                   // non-delta scattering (shared/bsdf.h regularizedMaterial; biased)
     uint unsampledEmitters;       // 1: some emissive surface is no light (textured or with holes): only BSDF
                                   // samples find it (shared/path_tracer.h lightSamplingAlone)
+    uint guideSphereCount;        // spheres that diffuse samples are guided toward (shared/path_tracer.h
+                                  // sampleGuidedDiffuse); their (centre, radius) follow the SceneInfo in its buffer
+    float guideFraction;          // the share of a guided vertex's samples drawn toward the spheres
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 96);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 104);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -226,7 +226,8 @@ TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
 // Flags that would write nonsense or run for hours before a sample.
 TEST(RenderCli, RunawayOrNonsenseFlagsAreOneLineAndNothingWritten) {
     const test::TempDir dir;
-    for (const char* flags : {"--exposure nan", "--exposure inf", "-l 100000", "-m 100000"}) {
+    for (const char* flags : {"--exposure nan", "--exposure inf", "-l 100000", "-m 100000", "--guide-spheres 1",
+                              "--guide-spheres -0.1", "--guide-spheres nan"}) {
         SCOPED_TRACE(flags);
         const std::string exr = (dir / "x.exr").string();
         const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) + " -o " + exr);

@@ -91,7 +91,8 @@ TEST(SceneInfo, JsonMatchesTheText) {
     // The kernels a default render builds, and what they take on the device:
     // the same text as `render` prints.
     EXPECT_EQ(json["kernelFeatures"].get<std::string>(),
-              "triangles spheres diffuse mirror glass emissive-surfaces sobol-sampler light-samples roulette");
+              "triangles spheres diffuse mirror glass emissive-surfaces sobol-sampler light-samples roulette "
+              "sphere-guiding");
     EXPECT_EQ(json["deviceBytes"]["perPathMegakernel"].get<uint64_t>(), 12u);
     EXPECT_GT(json["deviceBytes"]["perPathWavefront"].get<uint64_t>(), 100u);
     EXPECT_GT(json["deviceBytes"]["scene"].get<uint64_t>(), 14u * 48u) << "at least the BVH's 14 primitives";

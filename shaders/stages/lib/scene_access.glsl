@@ -13,7 +13,11 @@
 
 #include "stages/lib/scene_bvh.glsl"
 
-layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo sceneInfoData; };
+// The guide spheres (centre, radius) follow the SceneInfo (SceneInfo::guideSphereCount).
+layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer {
+    SceneInfo sceneInfoData;
+    vec4 guideSpheres[];
+};
 // The arrays read at every bounce or texture lookup come as texel buffers of
 // 16-byte texels, as the BVH does (shared/bvh_buffers.h says why): records of
 // 16 bytes or a multiple of it (materials, lights, alias entries, triangle
@@ -50,6 +54,7 @@ layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Tri
 };
 
 SceneInfo sceneInfo() { return sceneInfoData; }
+vec4 sceneGuideSphere(uint i) { return guideSpheres[i]; }
 // A material's texels are read only where a feature of the kernel reads
 // their fields (the others stay zero, which no code of the kernel reads): on
 // lavapipe each texel fetch is a call into a sampling function, and a
