@@ -140,6 +140,7 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
         {"vkpath:rejectedLightSamples", std::to_string(result.rejectedLightSamples)},
         {"vkpath:clamp", o.clamp > 0 ? fmt::format("{}", o.clamp) : std::string("off")},
         {"vkpath:regularize", o.regularize > 0 ? fmt::format("{}", o.regularize) : std::string("off")},
+        {"vkpath:guideSpheres", o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
         {"vkpath:scene", o.scene}};
     image::writeExr(output, result.image, metadata);
     std::printf("%s\n", output.string().c_str());

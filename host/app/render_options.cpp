@@ -97,7 +97,8 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
         color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
     return {fmt::format("{:016x}", hash),
             fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} "
-                        "regularize={} guide-spheres={} env={} env-color={} env-strength={} env-rotate={} camera={} estimator={}",
+                        "regularize={} guide-spheres={} env={} env-color={} env-strength={} env-rotate={} "
+                        "camera={} estimator={}",
                         o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp, o.regularize,
                         o.guideSpheres,
                         o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),

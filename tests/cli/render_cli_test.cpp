@@ -77,6 +77,7 @@ TEST(RenderCli, ScottyOutputFlagMetadataAndSummary) {
     EXPECT_EQ(m["vkpath:version"], VKPATH_VERSION);
     EXPECT_EQ(m["vkpath:nonFiniteSamples"], "0");
     EXPECT_EQ(m["vkpath:clamp"], "off");
+    EXPECT_EQ(m["vkpath:guideSpheres"], "0.25") << "the default";
     EXPECT_FALSE(m["vkpath:device"].empty());
     EXPECT_NE(r.err.find(m["vkpath:device"]), std::string::npos) << "the summary names the device the EXR records";
     EXPECT_GT(std::stod(m["vkpath:renderSeconds"]), 0.0);
