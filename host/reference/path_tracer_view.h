@@ -12,7 +12,7 @@
 //
 //   shared::PathTracerView view(tables, info);
 //   shared::Hit hit = view.bvhClosestHit(ray);
-//   shared::ShadowRequest r = view.sampleDirectLight(material, surface, wo, beta, key, bounce, j);
+//   shared::ShadowRequest r = view.sampleDirectLight(material, surface, wo, guide, beta, key, bounce, j);
 //
 // Features is the translation unit's shared::kernelFeatures (a static_assert
 // says so): the general code everywhere, except in the CPU reference's

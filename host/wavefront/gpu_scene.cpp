@@ -168,19 +168,13 @@ scene::Scene moved(const scene::Scene& world, glm::dvec3 origin) {
     return s;
 }
 
-// Whether a material scatters only into delta lobes: a mirror, a smooth
-// glass that bends light (ior != 1), or a smooth conductor, rough glass or
-// wholly metallic metallic-roughness below the smooth threshold.
+// Whether a material scatters through delta lobes only (no non-delta lobe,
+// shared/bsdf.h hasNonDeltaLobe: a mirror, glass, smooth metal) and bends or
+// reflects light on the way: a glass of index 1 passes it straight through
+// and is left out.
 bool smoothSpecular(const shared::Material& m) {
-    const bool smooth = shared::microfacetIsSmooth(shared::materialAlpha(m));
-    switch (m.kind) {
-        case VKP_MATERIAL_MIRROR: return true;
-        case VKP_MATERIAL_DIELECTRIC: return m.ior != 1.0f;
-        case VKP_MATERIAL_CONDUCTOR: return smooth;
-        case VKP_MATERIAL_ROUGH_DIELECTRIC: return smooth && m.ior != 1.0f;
-        case VKP_MATERIAL_METALLIC_ROUGHNESS: return smooth && m.metallic == 1.0f;
-        default: return false;
-    }
+    const bool glass = m.kind == VKP_MATERIAL_DIELECTRIC || m.kind == VKP_MATERIAL_ROUGH_DIELECTRIC;
+    return !shared::hasNonDeltaLobe(m) && !(glass && m.ior == 1.0f);
 }
 
 // The smooth specular spheres among `primitives`, largest first (ties in

@@ -26,6 +26,7 @@ struct Shading {
     Material material;
     SurfacePoint surface;
     vec3 wo;  // toward the previous vertex
+    GuideSpheres guide;  // the spheres its BSDF samples may be drawn toward (guideSpheresAt), found once
 };
 
 // Stage "shade", first part: adds what the ray of bounce `bounce` sees at
@@ -52,7 +53,9 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
         path.radiance += path.throughput * emittedRadiance(shading.material, primitive, hit.primitive,
                                                            shading.surface, path.ray.direction,
                                                            path.previousPosition, path.specular, path.bsdfPdf);
-    return bounce < sceneInfo().maxDepth;
+    if (bounce >= sceneInfo().maxDepth) return false;
+    shading.guide = guideSpheresAt(shading.material, shading.surface, shading.wo);
+    return true;
 }
 
 // Stage "shade", last part: samples the BSDF (and roulette) for the next
@@ -60,7 +63,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
 VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey key,
                     uint bounce) VKP_SCENE_CONST {
     PathStep step =
-        continuePath(shading.material, shading.surface, shading.wo, path.throughput, path.etaScale, key, bounce);
+        continuePath(shading.material, shading.surface, shading.wo, shading.guide, path.throughput, path.etaScale,
+                     key, bounce);
     if (!step.alive) return false;
     path.ray = step.ray;
     path.throughput = step.throughput;
@@ -90,7 +94,8 @@ VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce, VKP_
     bool queued = false;
     for (uint j = 0u; j < lightSampleCount(); ++j) {
         ShadowRequest request =
-            sampleDirectLight(shading.material, shading.surface, shading.wo, path.throughput, key, bounce, j);
+            sampleDirectLight(shading.material, shading.surface, shading.wo, shading.guide, path.throughput, key,
+                              bounce, j);
         if (request.rejected) tally.rejectedLightSamples += 1u;
         queued = queued || request.valid;
         if (!request.valid || request.contribution == vec3(0.0f)) continue;

@@ -316,17 +316,20 @@ struct GuideSpheres {
     uint count;
 };
 
-// The candidates at `p` with normal `n` (faced toward wo): spheres it is
-// outside of and that reach above its tangent plane (the centre lies less
-// than a radius below it).
-VKP_FN GuideSpheres guideCandidates(vec3 p, vec3 n) VKP_SCENE_CONST {
+// The candidates of a vertex on `material`: none unless it is Lambertian and
+// the kernel guides; else the spheres it is outside of that reach above its
+// tangent plane (their centre lies less than a radius below it).
+VKP_FN GuideSpheres guideSpheresAt(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                   vec3 wo) VKP_SCENE_CONST {
     GuideSpheres g;
     g.mask = 0u;
     g.count = 0u;
+    if (!hasFeature(VKP_FEATURE_SPHERE_GUIDING) || !materialIs(material, VKP_MATERIAL_DIFFUSE)) return g;
+    vec3 n = faceForward(surface.shadingNormal, wo);
     uint total = sceneInfo().guideSphereCount;
     for (uint k = 0u; k < total; ++k) {
         vec4 sphere = sceneGuideSphere(k);
-        vec3 d = vec3(sphere) - p;
+        vec3 d = vec3(sphere) - surface.position;
         if (dot(d, d) > sphere.w * sphere.w && dot(d, n) > -sphere.w) {
             g.mask |= 1u << k;
             g.count += 1u;
@@ -335,27 +338,21 @@ VKP_FN GuideSpheres guideCandidates(vec3 p, vec3 n) VKP_SCENE_CONST {
     return g;
 }
 
-// The candidates of a vertex on `material` (none unless it is Lambertian and
-// the kernel guides).
-VKP_FN GuideSpheres guideSpheresAt(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
-                                   vec3 wo) VKP_SCENE_CONST {
-    GuideSpheres none;
-    none.mask = 0u;
-    none.count = 0u;
-    if (!hasFeature(VKP_FEATURE_SPHERE_GUIDING) || !materialIs(material, VKP_MATERIAL_DIFFUSE)) return none;
-    return guideCandidates(surface.position, faceForward(surface.shadingNormal, wo));
-}
-
 // The mixture's density of the unit direction wi at `p` (normal n faced
-// toward wo) with candidates g (count > 0).
+// toward wo) with candidates g (count > 0). wi lies in the cone of the
+// sphere at distance-vector d exactly when dot(wi, d) >= |d| cos theta_max
+// = sqrt(|d|^2 - r^2): tested squared, so only the cones that hold wi (few,
+// for a light sample's direction) cost a square root.
 VKP_FN float guidedDiffusePdf(vec3 p, vec3 n, vec3 wi, GuideSpheres g) VKP_SCENE_CONST {
     float cones = 0.0f;
     uint total = sceneInfo().guideSphereCount;
     for (uint k = 0u; k < total; ++k) {
         if ((g.mask & (1u << k)) == 0u) continue;
         vec4 sphere = sceneGuideSphere(k);
-        SphereCone cone = sphereCone(vec3(sphere), sphere.w, p);
-        if (dot(wi, normalize(vec3(sphere) - p)) >= cone.cosThetaMax) cones += sphereConePdf(cone);
+        vec3 d = vec3(sphere) - p;
+        float along = dot(wi, d);
+        if (along > 0.0f && along * along >= dot(d, d) - sphere.w * sphere.w)
+            cones += sphereConePdf(sphereCone(vec3(sphere), sphere.w, p));
     }
     float fraction = sceneInfo().guideFraction;
     return (1.0f - fraction) * cosineHemispherePdf(dot(n, wi)) + fraction * cones / float(g.count);
@@ -399,14 +396,14 @@ VKP_FN BsdfSample sampleGuidedDiffuse(VKP_IN(Material) material, VKP_IN(SurfaceP
     return s;
 }
 
-// The density with which continuePath draws wi at this vertex: the BSDF's,
-// or the guided mixture's. Light samples weigh themselves against it.
-VKP_FN float scatterPdf(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
+// The density with which continuePath draws wi at this vertex (guide: its
+// guideSpheresAt): the BSDF's, or the guided mixture's. Light samples weigh
+// themselves against it.
+VKP_FN float scatterPdf(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo, GuideSpheres guide,
                         vec3 wi) VKP_SCENE_CONST {
     float pdf = bsdfPdf(material, surface.normal, surface.shadingNormal, wo, wi);
-    GuideSpheres g = guideSpheresAt(material, surface, wo);
-    if (g.count == 0u || pdf == 0.0f) return pdf;
-    return guidedDiffusePdf(surface.position, faceForward(surface.shadingNormal, wo), wi, g);
+    if (guide.count == 0u || pdf == 0.0f) return pdf;
+    return guidedDiffusePdf(surface.position, faceForward(surface.shadingNormal, wo), wi, guide);
 }
 
 // ---- emission seen by a path ----------------------------------------------------------
@@ -472,9 +469,10 @@ struct ShadowRequest {
     bool rejected;
 };
 
-// Light sample `index` (of lightSamples) at a diffuse vertex.
+// Light sample `index` (of lightSamples) at a diffuse vertex whose guide
+// spheres (guideSpheresAt) are `guide`.
 VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
-                                       vec3 wo, vec3 throughput, RngKey key, uint bounce,
+                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key, uint bounce,
                                        uint index) VKP_SCENE_CONST {
     ShadowRequest request;
     request.valid = false;
@@ -539,7 +537,7 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     float lightPdf = choice * ls.pdf;
     float weight = ls.delta || lightSamplingAlone(material, bounce)
                        ? 1.0f
-                       : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, ls.direction));
+                       : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, guide, ls.direction));
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
@@ -572,8 +570,9 @@ struct PathStep {
     bool alive;        // false: the path ends here
 };
 
+// The next bounce from a vertex whose guide spheres (guideSpheresAt) are `guide`.
 VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
-                             vec3 throughput, float etaScale, RngKey key,
+                             GuideSpheres guide, vec3 throughput, float etaScale, RngKey key,
                              uint bounce) VKP_SCENE_CONST {
     PathStep step;
     step.alive = false;
@@ -590,7 +589,6 @@ VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) sur
     uint dim = bounceDimension(bounce);
     // A guided Lambertian vertex draws its mixture's component where a
     // material with lobes draws its lobe (no Lambertian does).
-    GuideSpheres guide = guideSpheresAt(material, surface, wo);
     float lobeChoice = bsdfNeedsLobeChoice(material) || guide.count > 0u ? rngUniform(key, dim + 3u) : 0.0f;
     BsdfSample s = guide.count > 0u
                        ? sampleGuidedDiffuse(material, surface, wo, guide, rngUniform2(key, dim), lobeChoice)

@@ -36,8 +36,8 @@ void main() {
     uint tracedShadowRays = 0u;  // the shadow stage traces the non-zero contributions
     uint rejectedLightSamples = 0u;
     for (uint j = 0u; j < lightSampleCount(); ++j) {
-        ShadowRequest request =
-            sampleDirectLight(shading.material, shading.surface, shading.wo, state.throughput, key, push.bounce, j);
+        ShadowRequest request = sampleDirectLight(shading.material, shading.surface, shading.wo, shading.guide,
+                                                  state.throughput, key, push.bounce, j);
         uint index = slot * lightSampleCount() + j;
         shadowRays[index] = request.ray;
         shadowRadiance[index] = request.valid ? request.contribution : vec3(0.0);
