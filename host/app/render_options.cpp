@@ -40,7 +40,8 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
         ->capture_default_str();
     cmd.add_option("--guide-spheres", o.guideSpheres,
                    "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass spheres it sees, in "
-                   "[0, 1), where an emitter could be seen through them (unbiased: finds caustics sooner; 0: off)")
+                   "[0, 1), in scenes with emissive surfaces and no environment map (unbiased: finds caustics "
+                   "sooner; 0: off)")
         ->capture_default_str();
     cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular");
     cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');

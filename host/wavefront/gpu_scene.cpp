@@ -291,13 +291,16 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     }
     t.info.lightCount = uint32_t(t.lights.size());
     if (t.lights.empty()) t.info.environmentLight = VKP_NO_LIGHT;
-    // Guiding finds emitters through specular spheres: only worth it where
-    // BSDF samples can meet emission that varies over directions (a constant
-    // environment looks the same through a sphere as around it, and
-    // punctual lights are never hit).
-    const bool emitterToFind = !surfaceLight.empty() || t.info.unsampledEmitters != 0 ||
-                               (scene.environment && scene.environment->map && scene.environment->strength > 0);
-    if (emitterToFind) t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);
+    // Guiding finds emissive surfaces through specular spheres, so it is
+    // listed where there are some (a constant environment looks the same
+    // through a sphere as around it, punctual lights are never hit) and no
+    // environment map: a sun in a map is so small and bright that the cone
+    // samples turn up its caustics through the spheres far more often while
+    // each is still a firefly (material_spheres: 14x the relMSE at 128 spp;
+    // docs/TRADEOFFS.md, "Guiding toward specular spheres").
+    const bool surfaceEmitters = !surfaceLight.empty() || t.info.unsampledEmitters != 0;
+    const bool environmentMap = scene.environment && scene.environment->map && scene.environment->strength > 0;
+    if (surfaceEmitters && !environmentMap) t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);
     return t;
 }
 

@@ -40,8 +40,8 @@ struct SceneTables {
     std::vector<shared::MaterialAlpha> materialAlpha;  // per material; empty unless info.alphaTested
     // (centre, radius) of the smooth specular spheres that diffuse samples
     // may be guided toward (shared/path_tracer.h sampleGuidedDiffuse), the
-    // largest VKP_MAX_GUIDE_SPHERES of them; empty when nothing that BSDF
-    // samples can hit emits (no emissive surface, no environment map).
+    // largest VKP_MAX_GUIDE_SPHERES of them; empty without emissive surfaces
+    // and under an environment map (buildSceneTables says why).
     std::vector<glm::vec4> guideSpheres;
     shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
     // Everything above is in render space: world space moved so that the

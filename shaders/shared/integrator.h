@@ -54,7 +54,12 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
                                                            shading.surface, path.ray.direction,
                                                            path.previousPosition, path.specular, path.bsdfPdf);
     if (bounce >= sceneInfo().maxDepth) return false;
-    shading.guide = guideSpheresAt(shading.material, shading.surface, shading.wo);
+    // A last vertex whose light samples stand alone draws no BSDF sample and
+    // weighs them against none: it needs no guide spheres.
+    shading.guide.mask = 0u;
+    shading.guide.count = 0u;
+    if (!lightSamplingAlone(shading.material, bounce))
+        shading.guide = guideSpheresAt(shading.material, shading.surface, shading.wo);
     return true;
 }
 

@@ -300,8 +300,8 @@ VKP_FN vec3 mediumTransmittance(VKP_IN(Material) material, VKP_IN(SurfacePoint) 
 // image in the sphere, and each hit is a firefly: on CBspheres the top 5% of
 // pixels held 84% of the relMSE at 64 spp (docs/BENCHMARKS.md). So a
 // Lambertian vertex that sees guide spheres (SceneInfo::guideSphereCount:
-// the smooth specular spheres, listed when BSDF samples can meet an emitter
-// at all, host/wavefront/gpu_scene.cpp) draws its direction from a
+// the smooth specular spheres, listed where emissive surfaces can be seen
+// through them, host/wavefront/gpu_scene.cpp) draws its direction from a
 // one-sample mixture (Veach's thesis, 1997, section 9.2.4; Hesterberg's
 // defensive mixtures, 1995): with probability 1 - guideFraction the cosine
 // lobe, else uniformly in the cone subtended by one of its candidate spheres

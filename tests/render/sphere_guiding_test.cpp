@@ -17,7 +17,6 @@
 #include "scene/load.h"
 #include "support/direction_chi2.h"
 #include "support/test_context.h"
-#include "support/test_scenes.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
 #include "wavefront/render_types.h"
@@ -66,9 +65,10 @@ glm::vec3 toRender(const wavefront::SceneTables& t, glm::vec3 world) {
 }
 
 // Mirrors, glass and smooth metals are listed, largest first; rough metal,
-// diffuse spheres and glass of ior 1 are not; nothing is listed where no
-// emitter could be seen through them (a constant sky and a point light only).
-TEST(SphereGuiding, ListsTheSmoothSpecularSpheresWhereAnEmitterCanBeSeen) {
+// diffuse spheres and glass of ior 1 are not; nothing is listed without an
+// emissive surface (a constant sky and a point light only) or under an
+// environment map (a constant sky beside the lamp keeps the list).
+TEST(SphereGuiding, ListsTheSmoothSpecularSpheresWhereAnEmissiveSurfaceCanBeSeen) {
     scene::Scene s = floorWithLamp();
     addSphere(s, {0, 1, 0}, 0.3f, material(scene::MaterialKind::Mirror));
     addSphere(s, {1, 1, 0}, 0.5f, material(scene::MaterialKind::Dielectric));
@@ -97,6 +97,12 @@ TEST(SphereGuiding, ListsTheSmoothSpecularSpheresWhereAnEmitterCanBeSeen) {
     dark.environment->color = glm::vec3(1.0f);
     dark.pointLights.push_back({});
     EXPECT_TRUE(wavefront::buildSceneTables(dark).guideSpheres.empty());
+    scene::Scene sky = s;
+    sky.environment = scene::Environment{};
+    sky.environment->color = glm::vec3(1.0f);
+    EXPECT_EQ(wavefront::buildSceneTables(sky).guideSpheres.size(), 3u);
+    sky.environment->map = image::Image(4, 2);
+    EXPECT_TRUE(wavefront::buildSceneTables(sky).guideSpheres.empty());
 
     scene::Scene many = floorWithLamp();
     for (int i = 0; i < 12; ++i)
@@ -192,24 +198,54 @@ TEST(SphereGuiding, SamplesFollowTheMixtureDensity) {
 }
 
 // A white furnace that guides: a white diffuse sphere between a mirror and a
-// clear glass sphere (nothing absorbs) under a constant environment given as
-// a map (so guiding applies: a constant colour would switch it off). Every
-// pixel's expected value is the environment's 1 exactly (depth 64 leaves
-// less than 1e-6 of paths unfinished here), so a guided render on either
-// device must not differ from an image of ones by more than its noise
+// clear glass sphere (nothing absorbs) inside a black box whose inner faces
+// emit 1. Every pixel's expected value is then 1 exactly (depth 64 leaves
+// less than 1e-6 of paths unfinished here), and light samples of the box's
+// triangles are weighed against the guided mixture; a guided render on
+// either device must not differ from an image of ones by more than its noise
 // (block z-test, 1% family-wise: critical |z| 3.53 over 24 blocks; measured
-// worst |z| 1.71 on both). A mixture density off by a quarter for the cone
-// samples (one sphere too many in its denominator) fails it at |z| 5.6.
+// worst |z| 1.12 on both). A mixture density off by a quarter for the cone
+// samples (one sphere too many in its denominator) fails it at |z| 5.4.
 TEST(SphereGuiding, WhiteFurnaceStaysWhite) {
-    scene::Scene s = test::sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(1.0f));
-    s.camera.position = {0.0f, 0.0f, 8.0f};
+    scene::Scene s;
+    scene::Material wall = material(scene::MaterialKind::Diffuse);
+    wall.reflectance = glm::vec3(0.0f);
+    wall.emission = glm::vec3(1.0f);
+    s.materials = {wall};
+    // The cube [-6, 6]^3, each face two triangles wound so that their normal
+    // (p1 - p0) x (p2 - p0) points inward: triangles emit from that side.
+    scene::Mesh box;
+    box.name = "box";
+    const float h = 6.0f;
+    for (int axis = 0; axis < 3; ++axis)
+        for (const float side : {-1.0f, 1.0f}) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            auto corner = [&](float a, float b) {
+                glm::vec3 p(0.0f);
+                p[axis] = side * h;
+                p[u] = a * h;
+                p[v] = b * h;
+                return p;
+            };
+            const uint32_t first = uint32_t(box.positions.size());
+            box.positions.insert(box.positions.end(), {corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1)});
+            // (u x v) = +axis: counter-clockwise in (u, v) faces +axis, inward on the -axis face.
+            if (side < 0)
+                box.triangles.insert(box.triangles.end(), {{first, first + 1, first + 2}, {first, first + 2, first + 3}});
+            else
+                box.triangles.insert(box.triangles.end(), {{first, first + 2, first + 1}, {first, first + 3, first + 2}});
+        }
+    box.material = 0;
+    s.meshes.push_back(box);
+    addSphere(s, {0.0f, 0.0f, 0.0f}, 1.0f, material(scene::MaterialKind::Diffuse));
+    s.materials.back().reflectance = glm::vec3(1.0f);
     addSphere(s, {2.5f, 0.0f, 0.0f}, 1.0f, material(scene::MaterialKind::Mirror));
     s.materials.back().reflectance = glm::vec3(1.0f);
     addSphere(s, {-2.5f, 0.0f, 0.0f}, 1.0f, material(scene::MaterialKind::Dielectric));
     s.materials.back().reflectance = glm::vec3(1.0f);
-    image::Image sky(4, 2);
-    for (glm::vec3& texel : sky.pixels) texel = glm::vec3(1.0f);
-    s.environment->map = sky;
+    s.camera.position = {0.0f, 0.0f, 5.5f};
+    s.camera.target = {0.0f, 0.0f, 0.0f};
+    s.camera.xfovDegrees = 50.0f;
     wavefront::RenderSettings settings;
     settings.width = 48;
     settings.height = 32;
@@ -220,8 +256,8 @@ TEST(SphereGuiding, WhiteFurnaceStaysWhite) {
     image::Image ones(settings.width, settings.height), exact(settings.width, settings.height);
     for (glm::vec3& p : ones.pixels) p = glm::vec3(1.0f);
     // Lossless bounces still round: each multiplies the throughput by 1 to
-    // within an ulp, and pixels that see only glass and mirror come out at
-    // 1 - 6e-8 with a variance of 1e-17. The exact side's variance of
+    // within an ulp, so pixels that see only glass and mirror come out a few
+    // ulps off 1 with a variance near 1e-17. The exact side's variance of
     // (1e-5)^2 covers 64 bounces of such rounding and no sampling bias.
     for (glm::vec3& p : exact.pixels) p = glm::vec3(1e-10f);
     for (const bool gpu : {false, true}) {
