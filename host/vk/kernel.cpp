@@ -12,6 +12,7 @@
 #include "vk/check.h"
 #include "vk/context.h"
 #include "vk/embedded_shaders.h"
+#include "vk/spirv_no_contraction.h"
 #include "vk/timestamps.h"
 
 namespace vkpath::vk {
@@ -117,7 +118,7 @@ DescriptorSet& DescriptorSet::operator=(DescriptorSet&& other) noexcept {
 
 Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& options)
     : m_context(context), m_name(name), m_workgroupSize(options.workgroupSize) {
-    const std::span<const uint32_t> spirv = shaders::findKernel(name);
+    const std::vector<uint32_t> spirv = decorateNoContraction(shaders::findKernel(name));
     m_reflection = reflectSpirv(spirv);
     const DeviceInfo& info = context.info();
     if (m_workgroupSize == 0 || m_workgroupSize > info.maxWorkgroupSize[0] ||
@@ -131,7 +132,7 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
     VkDevice device = context.device();
     try {
         VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        moduleInfo.codeSize = spirv.size_bytes();
+        moduleInfo.codeSize = spirv.size() * sizeof(uint32_t);
         moduleInfo.pCode = spirv.data();
         VK_CHECK(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module));
 

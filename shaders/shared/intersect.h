@@ -18,13 +18,8 @@
 
 #include "shared/bvh.h"
 #include "shared/compat.h"
+#include "shared/precise_math.h"
 #include "shared/ray.h"
-
-#ifdef __cplusplus
-#define VKP_PRECISE
-#else
-#define VKP_PRECISE precise
-#endif
 
 #define VKP_FLT_MAX 3.402823466e+38f
 
@@ -196,14 +191,14 @@ VKP_FN bool intersectTriangle(VKP_IN(TriangleRay) ray, vec3 p0, vec3 p1, vec3 p2
 VKP_FN bool intersectSphere(vec3 origin, vec3 direction, vec3 center, float radius, float tMax,
                             VKP_OUT(float) tHit) {
     VKP_PRECISE vec3 f = origin - center;
-    VKP_PRECISE float a = dot(direction, direction);
-    VKP_PRECISE float b = -dot(f, direction);  // -b/2 in the textbook's notation
+    VKP_PRECISE float a = exactDot(direction, direction);
+    VKP_PRECISE float b = -exactDot(f, direction);  // -b/2 in the textbook's notation
     VKP_PRECISE vec3 scaledClosest = a * f + b * direction;  // a l: the closest approach times a
     VKP_PRECISE float scaledRadius = a * radius;
-    VKP_PRECISE float discriminant = scaledRadius * scaledRadius - dot(scaledClosest, scaledClosest);
+    VKP_PRECISE float discriminant = scaledRadius * scaledRadius - exactDot(scaledClosest, scaledClosest);
     if (discriminant < 0.0f) return false;  // = a^2 (r^2 - |l|^2)
 
-    float c = dot(f, f) - radius * radius;
+    VKP_PRECISE float c = exactDot(f, f) - radius * radius;
     float q = b + (b >= 0.0f ? sqrt(discriminant / a) : -sqrt(discriminant / a));
     if (q == 0.0f) return false;  // tangent exactly at the origin
     float t0 = c / q;

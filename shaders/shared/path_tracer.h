@@ -119,9 +119,9 @@ VKP_FN vec4 textureLookup(TextureInfo texture, vec2 uv) VKP_SCENE_CONST {
     float fx = x - float(i), fy = y - float(j);
     int i0 = wrapTexelIndex(i, w, wrapU), i1 = wrapTexelIndex(i + 1, w, wrapU);
     int j0 = wrapTexelIndex(j, h, wrapV), j1 = wrapTexelIndex(j + 1, h, wrapV);
-    vec4 top = mix(textureTexel(texture, i0, j0), textureTexel(texture, i1, j0), fx);
-    vec4 bottom = mix(textureTexel(texture, i0, j1), textureTexel(texture, i1, j1), fx);
-    return mix(top, bottom, fy);
+    vec4 top = exactMix(textureTexel(texture, i0, j0), textureTexel(texture, i1, j0), fx);
+    vec4 bottom = exactMix(textureTexel(texture, i0, j1), textureTexel(texture, i1, j1), fx);
+    return exactMix(top, bottom, fy);
 }
 
 // The value of texture slot `slot` at texture coordinates `texcoords`
@@ -198,7 +198,7 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
     float t2 = dot(t, t);
     if (!(t2 > 1e-12f)) return n;
     t /= sqrt(t2);
-    vec3 b = (tangent.w < 0.0f ? -1.0f : 1.0f) * cross(n, t);
+    vec3 b = (tangent.w < 0.0f ? -1.0f : 1.0f) * exactCross(n, t);
     vec3 world = (slot.scale * mapped.x) * t + (slot.scale * mapped.y) * b + mapped.z * n;
     float length2 = dot(world, world);
     if (!(length2 > 1e-12f)) return n;

@@ -92,14 +92,50 @@ bool sameBits(const image::Image& a, const image::Image& b) {
            std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
 }
 
-// The same image and variance bit for bit, and the same counts.
+// Pixels of `a` whose largest relative difference from `b` exceeds `relative`.
+size_t pixelsApart(const image::Image& a, const image::Image& b, double relative) {
+    size_t apart = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double x = a.pixels[i][c], y = b.pixels[i][c];
+            if (std::abs(x - y) > relative * std::max({std::abs(x), std::abs(y), 1e-6})) {
+                ++apart;
+                break;
+            }
+        }
+    return apart;
+}
+
+// The same image and variance bit for bit, and the same counts, on a CPU
+// Vulkan device (lavapipe rounds every operation as the SPIR-V writes it).
+//
+// A GPU's compiler may choose, kernel by kernel, how to evaluate a division
+// or a square root (Vulkan allows them ulps of error) or an extended
+// instruction such as normalize; the host forbids fused multiply-adds
+// (vk/spirv_no_contraction.h), which made 27 of the 28 scenes bit for bit
+// alike on an H200. normal_maps (a tangent frame normalised at every hit)
+// still differs there: at 400x300 and 16 spp, 93.5% of pixels identical, the
+// rest mostly by one ulp, 0.14% by more than 1e-5 relative, 0.017% by more
+// than 1e-3 (a path that took the other branch: 3 of 3.4 million closest-hit
+// rays differed). On such a device: at most 1% of pixels more than 1e-5
+// apart (7 times the measured share), and counts within 1e-4 relative (about
+// 100 times the measured).
 void expectSameRender(const wavefront::RenderResult& r, const wavefront::RenderResult& expected) {
-    EXPECT_TRUE(sameBits(r.image, expected.image));
-    EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
-    EXPECT_EQ(r.rays.closest, expected.rays.closest);
-    EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
-    EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
-    EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
+    if (test::context().info().type == "cpu") {
+        EXPECT_TRUE(sameBits(r.image, expected.image));
+        EXPECT_TRUE(sameBits(r.varianceOfMean, expected.varianceOfMean));
+        EXPECT_EQ(r.rays.closest, expected.rays.closest);
+        EXPECT_EQ(r.rays.shadow, expected.rays.shadow);
+        EXPECT_EQ(r.rejectedLightSamples, expected.rejectedLightSamples);
+        EXPECT_EQ(r.fireflySamples, expected.fireflySamples);
+        return;
+    }
+    EXPECT_LE(pixelsApart(r.image, expected.image, 1e-5), r.image.pixels.size() / 100);
+    auto near = [](uint64_t a, uint64_t b) { return std::abs(double(a) - double(b)) <= 1e-4 * double(b) + 2.0; };
+    EXPECT_PRED2(near, r.rays.closest, expected.rays.closest);
+    EXPECT_PRED2(near, r.rays.shadow, expected.rays.shadow);
+    EXPECT_PRED2(near, r.rejectedLightSamples, expected.rejectedLightSamples);
+    EXPECT_PRED2(near, r.fireflySamples, expected.fireflySamples);
 }
 
 // The two settings the same-image tests render with: the defaults (one light
