@@ -54,7 +54,8 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     cmd.add_option("--megakernel-paths", o.megakernelPaths,
                    "--kernel megakernel: paths each invocation traces one after another (path regeneration; 1: one)")
         ->capture_default_str();
-    cmd.add_option("--paths-in-flight", o.pathsInFlight, "Upper bound on the paths of one wave")->capture_default_str();
+    cmd.add_option("--paths-in-flight", o.pathsInFlight,
+                   "Upper bound on the paths of one wave (default: 16777216 on a discrete GPU, 1048576 on others)");
     cmd.add_option("--max-wave-ms", o.maxWaveMs,
                    "GPU: size the waves to take at most this many milliseconds each, for drivers whose watchdog "
                    "ends long submissions (the image is the same)");

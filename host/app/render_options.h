@@ -42,7 +42,7 @@ struct RenderOptions {
     std::string camera;
     uint32_t workgroupSize = 64;
     uint32_t megakernelPaths = wavefront::RenderSettings{}.megakernelPathsPerInvocation;
-    uint32_t pathsInFlight = 1u << 20;
+    std::optional<uint32_t> pathsInFlight;   // unset: by the device's type
     std::optional<double> maxWaveMs;           // GPU: RenderSettings::maxWaveMilliseconds
     std::optional<double> maxDeviceMemoryMiB;  // GPU: RenderSettings::maxDeviceMemoryBytes, in MiB
     std::string kernel;              // wavefront::parseKernelForm's names; empty: the device's default

@@ -71,7 +71,9 @@ struct RenderSettings {
     // regeneration); 1: one path per invocation, measured the faster on
     // lavapipe (docs/BENCHMARKS.md).
     uint32_t megakernelPathsPerInvocation = 1;
-    uint32_t maxPathsInFlight = 1u << 20;     // GPU: upper bound; also limited by device memory
+    // GPU: upper bound on a wave's paths, also limited by device memory;
+    // unset: by the device's type (defaultPathsInFlight).
+    std::optional<uint32_t> maxPathsInFlight;
     // GPU: the most device memory the render's scene, film and path state may
     // take (bytes); the paths in flight get what the scene and film leave.
     std::optional<uint64_t> maxDeviceMemoryBytes;

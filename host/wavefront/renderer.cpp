@@ -68,11 +68,15 @@ uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowS
     const uint64_t total = pathStateBytes(form, shadowSamples);
     uint64_t largest = 1;
     for (const PathBufferRow& row : PATH_BUFFERS) largest = std::max(largest, bytesPerPath(row, form, shadowSamples));
-    uint64_t limit = s.maxPathsInFlight;
+    uint64_t limit = s.maxPathsInFlight.value_or(defaultPathsInFlight(device));
     limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / total);
     limit = std::min<uint64_t>(limit, pathStateBudget / total);
     // The largest per-path array must fit one storage-buffer binding.
     limit = std::min<uint64_t>(limit, device.maxStorageBufferRange / largest);
+    // One dispatch must reach every path of a wave, and every shadow ray of
+    // the shadow stage (lavapipe allows 65535 workgroups).
+    limit = std::min<uint64_t>(limit, uint64_t(device.maxWorkgroupCount[0]) * s.workgroupSize /
+                                          std::max<uint32_t>(shadowSamples, 1));
     limit = std::max<uint64_t>(limit, 1);
     // The accumulate stage loops over a pixel's samples in the wave, and
     // lavapipe cuts every shader loop at 65535 iterations.
@@ -106,6 +110,16 @@ KernelForm defaultKernelForm(const vk::DeviceInfo& device) {
     // paths per second on the bundled and shared scenes. Other types keep the
     // wavefront until measured on them (no GPU was lent yet).
     return device.type == "cpu" ? KernelForm::Megakernel : KernelForm::Wavefront;
+}
+
+uint32_t defaultPathsInFlight(const vk::DeviceInfo& device) {
+    // An H200 (CBspheres 800x600, -m 4, the wavefront): 1.2 Gpaths/s with
+    // 2^20 paths in flight, 1.6 with 2^21, 1.9 with 2^22, 2.2 with 2^23 and
+    // 2.3 with 2^24 (2.3 GB of path state; pathsPerWave still keeps it to a
+    // quarter of the device's memory). lavapipe: 2^22 ran 0.99x (the
+    // megakernel) and 1.05x (the wavefront) of 2^20. Other types keep 2^20
+    // until measured.
+    return device.type == "discrete" ? 1u << 24 : 1u << 20;
 }
 
 struct GpuRenderer::Resources {

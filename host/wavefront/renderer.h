@@ -35,6 +35,11 @@ namespace vkpath::wavefront {
 // docs/BENCHMARKS.md, "Kernel forms and specialisation").
 KernelForm defaultKernelForm(const vk::DeviceInfo& device);
 
+// The paths one wave may hold unless the settings say: more on a discrete GPU,
+// where a wave of 2^20 paths leaves the GPU idle while the host submits the
+// next (docs/BENCHMARKS.md, "An NVIDIA H200").
+uint32_t defaultPathsInFlight(const vk::DeviceInfo& device);
+
 // Device bytes one path in flight takes in the per-path buffers of a kernel
 // form whose kernels queue `shadowRaysPerVertex` shadow rays per vertex
 // (kernel_features.h).

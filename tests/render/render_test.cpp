@@ -285,6 +285,36 @@ TEST(DeviceMemory, BoundMakesWavesSmallerNotTheImage) {
     EXPECT_THROW(wavefront::GpuRenderer(test::context(), s, settings), InputError);
 }
 
+// A wave never holds more paths (or shadow rays) than one dispatch reaches:
+// lavapipe allows 65535 workgroups, so with one-invocation workgroups a wave
+// of 48 x 32 pixels at 64 spp (98304 paths) must be cut, in both kernel forms
+// and with three shadow rays per vertex, where it used to stop the render
+// with "the device allows 65535" (the megakernel with --paths-in-flight above
+// 4194304). The image stays that of 64-wide workgroups.
+TEST(PathsInFlight, CutToWhatOneDispatchReaches) {
+    const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
+    const uint32_t maxGroups = test::context().info().maxWorkgroupCount[0];
+    for (const auto form : {wavefront::KernelForm::Megakernel, wavefront::KernelForm::Wavefront}) {
+        SCOPED_TRACE(wavefront::kernelFormName(form));
+        wavefront::RenderSettings settings;
+        settings.width = 48;
+        settings.height = 32;
+        settings.samplesPerPixel = 64;
+        settings.maxDepth = 2;
+        settings.lightSamples = 3;
+        settings.kernel = form;
+        const auto wide = wavefront::GpuRenderer(test::context(), s, settings).render();
+        settings.workgroupSize = 1;
+        wavefront::GpuRenderer narrow(test::context(), s, settings);
+        const uint64_t shadowRays = form == wavefront::KernelForm::Wavefront ? 3 : 1;
+        EXPECT_LE(narrow.pathsInFlight() * shadowRays, maxGroups);
+        const auto r = narrow.render();
+        // (A GPU that allows 2^31 - 1 workgroups, as NVIDIA's, needs no cut.)
+        EXPECT_EQ(r.waves > 1, 48u * 32u * 64u * shadowRays > maxGroups);
+        EXPECT_EQ(std::memcmp(r.image.pixels.data(), wide.image.pixels.data(), r.image.pixels.size() * sizeof(glm::vec3)), 0);
+    }
+}
+
 // A film larger than one storage binding or one dispatch is kept in windows
 // (wavefront/renderer.cpp filmWindowPixels): 1200 pixels in windows of 7, the
 // last one short, give the one-window image and variance bit for bit, and a
