@@ -19,7 +19,8 @@ build: configure
 
 # The bundled Cornell box (mirror and glass spheres, ceiling lamp) at 256 spp,
 # enough samples that its caustics no longer speckle every wall: about 20 s on
-# two CPU cores through lavapipe (17 s on 2026-12-04), under a second on a GPU.
+# two CPU cores through lavapipe (17 s on 2026-12-04); its 31 M paths take an
+# H200 tens of milliseconds (1 to 2.3 Gpaths/s: docs/BENCHMARKS.md).
 demo: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target vkpath
 	@$(VKPATH) render assets/cornell_box.gltf -d 400x300 -s 256 -m 8 -o out/cornell_box.exr --png out/cornell_box.png
