@@ -22,8 +22,8 @@ namespace vkpath::app {
 namespace {
 
 struct SceneCounts {
-    size_t diffuse = 0, mirror = 0, glass = 0, emissive = 0;  // materials by kind
-    size_t conductor = 0, roughGlass = 0, metallicRoughness = 0;
+    size_t byKind[VKP_MATERIAL_KIND_COUNT] = {};  // materials by kind (scene::MATERIAL_KINDS order)
+    size_t emissive = 0;
     size_t texels = 0;                                        // of all decoded images
     size_t emissiveMeshes = 0, emissiveSpheres = 0, emissiveTriangles = 0;
     bool hasBounds = false;
@@ -56,12 +56,7 @@ SceneCounts countScene(const scene::Scene& s) {
     SceneCounts c;
     for (const scene::TextureImage& image : s.images) c.texels += image.texels.size();
     for (const scene::Material& m : s.materials) {
-        c.diffuse += m.kind == scene::MaterialKind::Diffuse;
-        c.mirror += m.kind == scene::MaterialKind::Mirror;
-        c.glass += m.kind == scene::MaterialKind::Dielectric;
-        c.conductor += m.kind == scene::MaterialKind::Conductor;
-        c.roughGlass += m.kind == scene::MaterialKind::RoughDielectric;
-        c.metallicRoughness += m.kind == scene::MaterialKind::MetallicRoughness;
+        ++c.byKind[uint32_t(m.kind)];
         c.emissive += m.emissive();
     }
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -95,12 +90,9 @@ SceneCounts countScene(const scene::Scene& s) {
 std::vector<std::pair<const char*, bool>> featureList(const scene::FeatureSummary& f) {
     return {{"triangles", f.triangles},
             {"spheres", f.spheres},
-            {"diffuse", f.diffuse},
-            {"mirror", f.mirror},
-            {"glass", f.glass},
-            {"conductor", f.conductor},
-            {"roughGlass", f.roughGlass},
-            {"metallicRoughness", f.metallicRoughness},
+#define VKP_KIND_FEATURE(id, NAME, Type, key, label, feature, flags, regularized) {#key, f.key},
+            VKP_MATERIAL_KINDS(VKP_KIND_FEATURE)
+#undef VKP_KIND_FEATURE
             {"emissiveSurfaces", f.emissiveSurfaces},
             {"pointLights", f.pointLights},
             {"spotLights", f.spotLights},
@@ -117,20 +109,16 @@ std::string vecText(const glm::vec3& v) {
 nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const SceneCounts& c, const KernelPlan& k) {
     nlohmann::json features = nlohmann::json::object();
     for (const auto& [name, value] : featureList(s.features())) features[name] = value;
+    nlohmann::json materials = {{"total", s.materials.size()}};
+    for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS)
+        materials[kind.key] = c.byKind[uint32_t(kind.kind)];
+    materials["emissive"] = c.emissive;
     return {
         {"file", file},
         {"triangles", s.triangleCount()},
         {"meshes", s.meshes.size()},
         {"spheres", s.spheres.size()},
-        {"materials",
-         {{"total", s.materials.size()},
-          {"diffuse", c.diffuse},
-          {"mirror", c.mirror},
-          {"glass", c.glass},
-          {"conductor", c.conductor},
-          {"roughGlass", c.roughGlass},
-          {"metallicRoughness", c.metallicRoughness},
-          {"emissive", c.emissive}}},
+        {"materials", materials},
         {"emitters",
          {{"meshes", c.emissiveMeshes},
           {"spheres", c.emissiveSpheres},
@@ -166,10 +154,10 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
     std::printf("triangles   %zu\n", s.triangleCount());
     std::printf("meshes      %zu\n", s.meshes.size());
     std::printf("spheres     %zu\n", s.spheres.size());
-    std::printf("materials   %zu (diffuse %zu, mirror %zu, glass %zu, conductor %zu, rough glass %zu, "
-                "metallic-roughness %zu; emissive %zu)\n",
-                s.materials.size(), c.diffuse, c.mirror, c.glass, c.conductor, c.roughGlass, c.metallicRoughness,
-                c.emissive);
+    std::string kinds;
+    for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS)
+        kinds += fmt::format("{}{} {}", kinds.empty() ? "" : ", ", kind.label, c.byKind[uint32_t(kind.kind)]);
+    std::printf("materials   %zu (%s; emissive %zu)\n", s.materials.size(), kinds.c_str(), c.emissive);
     std::printf("emitters    %zu (meshes %zu, spheres %zu; emissive triangles %zu)\n",
                 c.emissiveMeshes + c.emissiveSpheres, c.emissiveMeshes, c.emissiveSpheres,
                 c.emissiveTriangles);

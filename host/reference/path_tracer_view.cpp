@@ -10,21 +10,9 @@ SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const Sce
     : m_primitives(tables.bvh.primitives),
       m_wide(bvh::collapseBvh(tables.bvh.nodes, tables.bvh.primitives)),
       m_info(info),
-      m_materials(tables.materials),
-      m_lights(tables.lights),
-      m_lightAlias(tables.lightAlias),
-      m_primitiveLight(tables.primitiveLight),
-      m_envAlias(tables.envAlias),
-      m_envRadiance(tables.envRadiance),
-      m_triangleVertices(tables.surface.triangleVertices),
-      m_vertexNormals(tables.surface.vertexNormals),
-      m_vertexTexcoords(tables.surface.vertexTexcoords),
-      m_vertexColors(tables.surface.vertexColors),
-      m_vertexTangents(tables.surface.vertexTangents),
-      m_textures(tables.textures.textures),
-      m_textureSlots(tables.textures.slots),
-      m_texels(tables.textures.texels),
-      m_materialAlpha(tables.materialAlpha),
+#define VKP_ARRAY_SPAN_INIT(index, name, Record, access, member) m_##name(tables.member),
+      VKP_SCENE_ARRAYS(VKP_ARRAY_SPAN_INIT)
+#undef VKP_ARRAY_SPAN_INIT
       m_guideSpheres(tables.guideSpheres) {
     auto require = [](bool ok, const std::string& what) {
         if (!ok) throw std::invalid_argument("scene tables: " + what);

@@ -39,6 +39,7 @@
 #include "shared/mesh_attributes.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
+#include "shared/scene_arrays.h"
 #include "shared/scene_data.h"
 #include "shared/texture.h"
 #include "wavefront/gpu_scene.h"
@@ -85,21 +86,10 @@ struct SceneTablesView {
     std::span<const BvhPrimitive> m_primitives;  // leaf order
     bvh::WideBvh m_wide;
     SceneInfo m_info;
-    std::span<const Material> m_materials;
-    std::span<const Light> m_lights;
-    std::span<const AliasEntry> m_lightAlias;
-    std::span<const uint> m_primitiveLight;
-    std::span<const AliasEntry> m_envAlias;
-    std::span<const vec4> m_envRadiance;
-    std::span<const TriangleVertices> m_triangleVertices;
-    std::span<const vec4> m_vertexNormals;
-    std::span<const vec4> m_vertexTexcoords;
-    std::span<const vec4> m_vertexColors;
-    std::span<const vec4> m_vertexTangents;
-    std::span<const TextureInfo> m_textures;
-    std::span<const TextureSlot> m_textureSlots;
-    std::span<const uvec2> m_texels;
-    std::span<const MaterialAlpha> m_materialAlpha;
+    // One per row of shaders/shared/scene_arrays.h: m_materials, m_lights, ...
+#define VKP_ARRAY_SPAN(index, name, Record, access, member) std::span<const Record> m_##name;
+    VKP_SCENE_ARRAYS(VKP_ARRAY_SPAN)
+#undef VKP_ARRAY_SPAN
     std::span<const vec4> m_guideSpheres;
 };
 

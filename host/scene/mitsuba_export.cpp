@@ -110,61 +110,81 @@ bool smoothLobe(float roughness) { return roughness * roughness < VKP_MICROFACET
 // vkpath's diffuse, mirror, conductor and metallic-roughness surfaces reflect
 // on both sides (shared/lobes.h, shared/microfacet.h); Mitsuba's only on the
 // front unless wrapped in `twosided`. The dielectrics are one-sided in both:
-// the normal tells inside from outside.
-void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id, MaterialNotes& notes) {
-    if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::RoughDielectric) {
-        const bool rough = m.kind == MaterialKind::RoughDielectric && !smoothLobe(m.roughness);
-        pugi::xml_node bsdf = scene.append_child("bsdf");
-        bsdf.append_attribute("type") = rough ? "roughdielectric" : "dielectric";
-        bsdf.append_attribute("id") = id.c_str();
-        if (rough) {
-            addGgx(bsdf, m.roughness);
-            ++notes.separableMasking;
-        }
-        if (m.attenuation != glm::vec3(0.0f)) ++notes.absorbingGlass;
-        addValue(bsdf, "float", "int_ior", num(m.ior));
-        addValue(bsdf, "float", "ext_ior", "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
-        addRgb(bsdf, "specular_reflectance", m.reflectance);
-        addRgb(bsdf, "specular_transmittance", m.transmittance);
-        return;
-    }
+// the normal tells inside from outside. This is the inside of Mitsuba's
+// `twosided` wrapper named `id`.
+pugi::xml_node twoSided(pugi::xml_node scene, const std::string& id) {
     pugi::xml_node twosided = scene.append_child("bsdf");
     twosided.append_attribute("type") = "twosided";
     twosided.append_attribute("id") = id.c_str();
-    pugi::xml_node bsdf = twosided.append_child("bsdf");
-    if (m.kind == MaterialKind::Mirror) {
-        // material "none": a perfect conductor (Fresnel reflectance 1), tinted.
-        bsdf.append_attribute("type") = "conductor";
-        addValue(bsdf, "string", "material", "none");
-        addRgb(bsdf, "specular_reflectance", m.reflectance);
-    } else if (m.kind == MaterialKind::Conductor) {
-        const bool rough = !smoothLobe(m.roughness);
-        bsdf.append_attribute("type") = rough ? "roughconductor" : "conductor";
-        if (rough) {
-            addGgx(bsdf, m.roughness);
-            ++notes.separableMasking;
+    return twosided.append_child("bsdf");
+}
+
+// One case per material kind (no default: a new kind fails to compile
+// until it has an export or a note).
+void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id, MaterialNotes& notes) {
+    switch (m.kind) {
+        case MaterialKind::Dielectric:
+        case MaterialKind::RoughDielectric: {
+            const bool rough = m.kind == MaterialKind::RoughDielectric && !smoothLobe(m.roughness);
+            pugi::xml_node bsdf = scene.append_child("bsdf");
+            bsdf.append_attribute("type") = rough ? "roughdielectric" : "dielectric";
+            bsdf.append_attribute("id") = id.c_str();
+            if (rough) {
+                addGgx(bsdf, m.roughness);
+                ++notes.separableMasking;
+            }
+            if (m.attenuation != glm::vec3(0.0f)) ++notes.absorbingGlass;
+            addValue(bsdf, "float", "int_ior", num(m.ior));
+            addValue(bsdf, "float", "ext_ior", "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
+            addRgb(bsdf, "specular_reflectance", m.reflectance);
+            addRgb(bsdf, "specular_transmittance", m.transmittance);
+            return;
         }
-        if (m.conductorEta != glm::vec3(0.0f)) {
-            addRgb(bsdf, "eta", m.conductorEta);
-            addRgb(bsdf, "k", m.conductorK);
-        } else {
-            // Mitsuba's conductors have no Schlick Fresnel: the perfect
-            // conductor tinted by F0 (reported).
+        case MaterialKind::Mirror: {
+            // material "none": a perfect conductor (Fresnel reflectance 1), tinted.
+            pugi::xml_node bsdf = twoSided(scene, id);
+            bsdf.append_attribute("type") = "conductor";
             addValue(bsdf, "string", "material", "none");
             addRgb(bsdf, "specular_reflectance", m.reflectance);
-            ++notes.schlickConductors;
+            return;
         }
-    } else if (m.kind == MaterialKind::MetallicRoughness) {
-        // The nearest Mitsuba has: its Disney-style `principled` (reported).
-        bsdf.append_attribute("type") = "principled";
-        addRgb(bsdf, "base_color", m.reflectance);
-        addValue(bsdf, "float", "roughness", num(m.roughness));
-        addValue(bsdf, "float", "metallic", num(m.metallic));
-        addValue(bsdf, "float", "eta", num(m.ior));
-        ++notes.metallicRoughness;
-    } else {
-        bsdf.append_attribute("type") = "diffuse";
-        addRgb(bsdf, "reflectance", m.reflectance);
+        case MaterialKind::Conductor: {
+            pugi::xml_node bsdf = twoSided(scene, id);
+            const bool rough = !smoothLobe(m.roughness);
+            bsdf.append_attribute("type") = rough ? "roughconductor" : "conductor";
+            if (rough) {
+                addGgx(bsdf, m.roughness);
+                ++notes.separableMasking;
+            }
+            if (m.conductorEta != glm::vec3(0.0f)) {
+                addRgb(bsdf, "eta", m.conductorEta);
+                addRgb(bsdf, "k", m.conductorK);
+            } else {
+                // Mitsuba's conductors have no Schlick Fresnel: the perfect
+                // conductor tinted by F0 (reported).
+                addValue(bsdf, "string", "material", "none");
+                addRgb(bsdf, "specular_reflectance", m.reflectance);
+                ++notes.schlickConductors;
+            }
+            return;
+        }
+        case MaterialKind::MetallicRoughness: {
+            // The nearest Mitsuba has: its Disney-style `principled` (reported).
+            pugi::xml_node bsdf = twoSided(scene, id);
+            bsdf.append_attribute("type") = "principled";
+            addRgb(bsdf, "base_color", m.reflectance);
+            addValue(bsdf, "float", "roughness", num(m.roughness));
+            addValue(bsdf, "float", "metallic", num(m.metallic));
+            addValue(bsdf, "float", "eta", num(m.ior));
+            ++notes.metallicRoughness;
+            return;
+        }
+        case MaterialKind::Diffuse: {
+            pugi::xml_node bsdf = twoSided(scene, id);
+            bsdf.append_attribute("type") = "diffuse";
+            addRgb(bsdf, "reflectance", m.reflectance);
+            return;
+        }
     }
 }
 

@@ -30,12 +30,10 @@ FeatureSummary Scene::features() const {
     FeatureSummary f;
     auto useMaterial = [&](uint32_t index) {
         const Material& m = materials.at(index);
-        f.diffuse |= m.kind == MaterialKind::Diffuse;
-        f.mirror |= m.kind == MaterialKind::Mirror;
-        f.glass |= m.kind == MaterialKind::Dielectric;
-        f.conductor |= m.kind == MaterialKind::Conductor;
-        f.roughGlass |= m.kind == MaterialKind::RoughDielectric;
-        f.metallicRoughness |= m.kind == MaterialKind::MetallicRoughness;
+#define VKP_KIND_USED(id, NAME, Type, key, label, feature, flags, regularized) \
+    f.key |= m.kind == MaterialKind::Type;
+        VKP_MATERIAL_KINDS(VKP_KIND_USED)
+#undef VKP_KIND_USED
         f.emissiveSurfaces |= m.emissive();
     };
     for (const Mesh& m : meshes) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,26 +22,36 @@
 
 namespace vkpath::scene {
 
-// The kernels' numbers (VKP_MATERIAL_*, shaders/shared/material.h), defined there once.
+// The material kinds: one per row of the registry
+// (shaders/shared/material_kinds.h, which says what each is), with the
+// kernels' numbers (VKP_MATERIAL_*).
 enum class MaterialKind : uint32_t {
-    Diffuse = VKP_MATERIAL_DIFFUSE,       // Lambertian with albedo `reflectance`
-    Mirror = VKP_MATERIAL_MIRROR,         // perfect specular reflection scaled by `reflectance`
-    Dielectric = VKP_MATERIAL_DIELECTRIC,  // smooth glass: exact Fresnel between ior 1 and `ior`
-    // GGX reflection of `roughness` (shared/microfacet.h): Schlick's Fresnel
-    // with F0 = `reflectance`, or the exact Fresnel of a complex index
-    // (`conductorEta`, `conductorK`)
-    Conductor = VKP_MATERIAL_CONDUCTOR,
-    // GGX reflection and refraction of `roughness` between ior 1 and `ior`
-    // (Walter et al. 2007), tinted by `reflectance` and `transmittance`
-    RoughDielectric = VKP_MATERIAL_ROUGH_DIELECTRIC,
-    // glTF 2.0's material (Appendix B, shared/metallic_roughness.h): base colour
-    // `reflectance`, `metallic`, `roughness`, the dielectric layer's index `ior`
-    // and KHR_materials_specular's `specular` and `specularColor`
-    MetallicRoughness = VKP_MATERIAL_METALLIC_ROUGHNESS,
+#define VKP_KIND_ENUMERATOR(id, NAME, Type, key, label, feature, flags, regularized) Type = id,
+    VKP_MATERIAL_KINDS(VKP_KIND_ENUMERATOR)
+#undef VKP_KIND_ENUMERATOR
 };
-// Every kernel kind is a scene kind: a kind added to material.h without a
-// name here fails to compile.
-static_assert(uint32_t(MaterialKind::MetallicRoughness) + 1 == VKP_MATERIAL_KIND_COUNT);
+
+// A kind's row of the registry, as the host reads it.
+struct MaterialKindInfo {
+    MaterialKind kind;
+    const char* key;    // scene-info's JSON key and FeatureSummary's field
+    const char* label;  // its name in scene-info's text and the kernels' feature list
+    uint32_t feature;   // VKP_FEATURE_* (shaders/shared/features.h)
+    uint32_t flags;     // VKP_KIND_*
+    MaterialKind regularized;  // the kind path regularisation turns it into
+};
+
+inline constexpr MaterialKindInfo MATERIAL_KINDS[] = {
+#define VKP_KIND_INFO(id, NAME, Type, key, label, feature, flags, regularized) \
+    {MaterialKind::Type, #key, label, feature, flags, MaterialKind(VKP_MATERIAL_##regularized)},
+    VKP_MATERIAL_KINDS(VKP_KIND_INFO)
+#undef VKP_KIND_INFO
+};
+static_assert(std::size(MATERIAL_KINDS) == VKP_MATERIAL_KIND_COUNT);
+
+// The row of `kind` (rows are in the order of their numbers:
+// tests/kernels/material_registry_test.cpp).
+inline const MaterialKindInfo& materialKindInfo(MaterialKind kind) { return MATERIAL_KINDS[uint32_t(kind)]; }
 
 // How a material's alpha covers its surface (glTF 2.0 section 3.9.4 "Alpha
 // Coverage", material.alphaMode); the same numbers as VKP_ALPHA_*
@@ -186,12 +197,10 @@ struct Camera {
 struct FeatureSummary {
     bool triangles = false;
     bool spheres = false;
-    bool diffuse = false;
-    bool mirror = false;
-    bool glass = false;
-    bool conductor = false;
-    bool roughGlass = false;
-    bool metallicRoughness = false;
+    // One per material kind, named by its registry key (diffuse, mirror, glass, ...).
+#define VKP_KIND_FIELD(id, NAME, Type, key, label, feature, flags, regularized) bool key = false;
+    VKP_MATERIAL_KINDS(VKP_KIND_FIELD)
+#undef VKP_KIND_FIELD
     bool emissiveSurfaces = false;
     bool pointLights = false;
     bool spotLights = false;

@@ -180,7 +180,7 @@ BufferLimits bufferLimits(const DeviceInfo& device) {
     // A bound array is read as a storage buffer or as a texel buffer of
     // 16-byte texels (Buffer::texelView), so it must fit both.
     const uint64_t binding = std::min<uint64_t>(device.maxStorageBufferRange, uint64_t(device.maxTexelBufferElements) * 16);
-    BufferLimits limits{binding, std::min(device.maxBufferSize, device.maxMemoryAllocationSize)};
+    BufferLimits limits{binding, std::min(device.maxBufferSize, device.maxMemoryAllocationSize), binding};
     if (const char* text = std::getenv("VKPATH_MAX_BINDING_BYTES"); text && *text) {
         char* end = nullptr;
         const unsigned long long value = std::strtoull(text, &end, 10);

@@ -89,6 +89,8 @@ struct BufferLimits {
     uint64_t binding;  // bound: as a storage buffer and as a texel buffer of 16-byte texels,
                        // min(maxStorageBufferRange, 16 maxTexelBufferElements) (128 MiB on lavapipe)
     uint64_t address;  // through its device address: one buffer, min(maxBufferSize, maxMemoryAllocationSize)
+    uint64_t deviceBinding;  // `binding` as the device has it, whatever VKPATH_MAX_BINDING_BYTES says:
+                             // what an array that is always bound must fit
 };
 // The device's limits. The environment variable VKPATH_MAX_BINDING_BYTES, when
 // set, lowers `binding` (never raises it) so that tests take the address path

@@ -31,7 +31,7 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
     g.metallic = m.metallic;
     g.specular = m.specular;
     g.flags = 0;
-    const bool glass = m.kind == scene::MaterialKind::Dielectric || m.kind == scene::MaterialKind::RoughDielectric;
+    const bool glass = (scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) != 0;
     g.attenuation = glass ? m.attenuation : glm::vec3(0.0f);
     if (m.kind == scene::MaterialKind::Conductor && m.conductorEta != glm::vec3(0.0f)) {
         g.flags = VKP_MATERIAL_COMPLEX_FRESNEL;
@@ -173,7 +173,7 @@ scene::Scene moved(const scene::Scene& world, glm::dvec3 origin) {
 // reflects light on the way: a glass of index 1 passes it straight through
 // and is left out.
 bool smoothSpecular(const shared::Material& m) {
-    const bool glass = m.kind == VKP_MATERIAL_DIELECTRIC || m.kind == VKP_MATERIAL_ROUGH_DIELECTRIC;
+    const bool glass = (shared::materialKindFlags(m.kind) & VKP_KIND_TRANSMITS) != 0;
     return !shared::hasNonDeltaLobe(m) && !(glass && m.ior == 1.0f);
 }
 
@@ -305,72 +305,68 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
 }
 
 uint64_t deviceBytes(const SceneTables& t) {
-    auto bytes = [](const auto& array) { return texelAligned(array.size() * sizeof(array[0])); };
-    return t.bvh.bytes() + bytes(t.materials) + bytes(t.lights) + bytes(t.lightAlias) + bytes(t.primitiveLight) +
-           bytes(t.envAlias) + bytes(t.envRadiance) + bytes(t.surface.triangleVertices) +
-           bytes(t.surface.vertexNormals) + bytes(t.surface.vertexTexcoords) + bytes(t.surface.vertexColors) +
-           bytes(t.surface.vertexTangents) + bytes(t.textures.textures) + bytes(t.textures.slots) +
-           bytes(t.textures.texels) + bytes(t.materialAlpha);
+    uint64_t bytes = t.bvh.bytes();
+#define VKP_ARRAY_BYTES(index, name, Record, access, member) \
+    bytes += texelAligned(t.member.size() * sizeof(t.member[0]));
+    VKP_SCENE_ARRAYS(VKP_ARRAY_BYTES)
+#undef VKP_ARRAY_BYTES
+    return bytes;
 }
 
 uint64_t GpuScene::bytes() const {
-    return bvh.bytes() + materials.size() + lights.size() + lightAlias.size() + primitiveLight.size() +
-           envAlias.size() + envRadiance.size() + triangleVertices.size() + vertexNormals.size() +
-           vertexTexcoords.size() + vertexColors.size() + vertexTangents.size() + textures.size() +
-           textureSlots.size() + texels.size() + materialAlpha.size();
+    uint64_t total = bvh.bytes();
+#define VKP_BUFFER_BYTES(index, name, Record, access, member) total += name.size();
+    VKP_SCENE_ARRAYS(VKP_BUFFER_BYTES)
+#undef VKP_BUFFER_BYTES
+    return total;
+}
+
+std::vector<std::pair<uint32_t, const vk::Buffer*>> GpuScene::bindings() const {
+    std::vector<std::pair<uint32_t, const vk::Buffer*>> b = {{VKP_WF_BVH_NODES, &bvh.nodeBinding()},
+                                                             {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
+                                                             {VKP_WF_SCENE_ADDRESSES, &addresses}};
+#define VKP_BUFFER_BINDING(index, name, Record, access, member) \
+    b.emplace_back(index, VKP_SCENE_ARRAY_SPANS_##access ? &binding(name) : &name);
+    VKP_SCENE_ARRAYS(VKP_BUFFER_BINDING)
+#undef VKP_BUFFER_BINDING
+    return b;
 }
 
 GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
-    auto extent = [](const char* name, const auto& array) {
-        return vk::ArrayExtent{name, array.size() * sizeof(array[0]), array.size()};
-    };
-    const auto bvhExtents = bvh::arrayExtents(t.bvh);
-    const vk::ArrayExtent extents[] = {bvhExtents[0],
-                                       bvhExtents[1],
-                                       extent("light", t.lights),
-                                       extent("light alias", t.lightAlias),
-                                       extent("primitive light", t.primitiveLight),
-                                       extent("environment alias", t.envAlias),
-                                       extent("environment radiance", t.envRadiance),
-                                       extent("triangle vertices", t.surface.triangleVertices),
-                                       extent("vertex normals", t.surface.vertexNormals),
-                                       extent("vertex texture coordinates", t.surface.vertexTexcoords),
-                                       extent("vertex colours", t.surface.vertexColors),
-                                       extent("vertex tangents", t.surface.vertexTangents),
-                                       extent("texels", t.textures.texels)};
+    // The arrays that may be read by address, and their sizes.
+    std::vector<vk::ArrayExtent> extents;
+    for (const vk::ArrayExtent& e : bvh::arrayExtents(t.bvh)) extents.push_back(e);
+#define VKP_ARRAY_EXTENT(index, name, Record, access, member) \
+    VKP_SCENE_ARRAY_IF_SPANS_##access(extents.push_back({#name, t.member.size() * sizeof(t.member[0]), t.member.size()});)
+    VKP_SCENE_ARRAYS(VKP_ARRAY_EXTENT)
+#undef VKP_ARRAY_EXTENT
     const vk::BufferLimits limits = vk::bufferLimits(context.info());
     GpuScene g;
     g.byAddress = vk::chooseAddressAccess(extents, limits);
-    // Materials stay bound: one per scene material, not per primitive.
-    if (t.materials.size() * sizeof(shared::Material) > limits.binding)
-        throw InputError(fmt::format("scene too large for the device: {} materials do not fit one binding",
-                                     t.materials.size()));
+    // The BOUND arrays grow with the materials and textures, not the
+    // geometry: each must fit one of the device's bindings.
+#define VKP_BOUND_FITS(index, name, Record, access, member)                                                  \
+    if (!VKP_SCENE_ARRAY_SPANS_##access && t.member.size() * sizeof(t.member[0]) > limits.deviceBinding)            \
+        throw InputError(fmt::format("scene too large for the device: {} records of " #name                  \
+                                     " do not fit one binding",                                              \
+                                     t.member.size()));
+    VKP_SCENE_ARRAYS(VKP_BOUND_FITS)
+#undef VKP_BOUND_FITS
     g.bvh = bvh::uploadBvh(context, t.bvh, g.byAddress);
-    g.materials = uploadArray(context, t.materials, "materials");
-    g.lights = uploadArray(context, t.lights, "lights");
-    g.lightAlias = uploadArray(context, t.lightAlias, "lightAlias");
-    g.primitiveLight = uploadArray(context, t.primitiveLight, "primitiveLight");
-    g.envAlias = uploadArray(context, t.envAlias, "envAlias");
-    g.envRadiance = uploadArray(context, t.envRadiance, "envRadiance");
-    g.triangleVertices = uploadArray(context, t.surface.triangleVertices, "triangleVertices");
-    g.vertexNormals = uploadArray(context, t.surface.vertexNormals, "vertexNormals");
-    g.vertexTexcoords = uploadArray(context, t.surface.vertexTexcoords, "vertexTexcoords");
-    g.vertexColors = uploadArray(context, t.surface.vertexColors, "vertexColors");
-    g.vertexTangents = uploadArray(context, t.surface.vertexTangents, "vertexTangents");
-    g.textures = uploadArray(context, t.textures.textures, "textures");
-    g.textureSlots = uploadArray(context, t.textures.slots, "textureSlots");
-    g.texels = uploadArray(context, t.textures.texels, "texels");
-    g.materialAlpha = uploadArray(context, t.materialAlpha, "materialAlpha");
+#define VKP_ARRAY_UPLOAD(index, name, Record, access, member) g.name = uploadArray(context, t.member, #name);
+    VKP_SCENE_ARRAYS(VKP_ARRAY_UPLOAD)
+#undef VKP_ARRAY_UPLOAD
     shared::SceneAddresses addresses{};
     if (g.byAddress) {
         auto split = [](const vk::Buffer& b) {
             const VkDeviceAddress a = b.deviceAddress();
             return glm::uvec2(uint32_t(a), uint32_t(a >> 32));
         };
-        addresses = {g.bvh.addresses(),      split(g.lights),           split(g.lightAlias),
-                     split(g.primitiveLight), split(g.envAlias),         split(g.envRadiance),
-                     split(g.triangleVertices), split(g.vertexNormals), split(g.vertexTexcoords),
-                     split(g.vertexColors), split(g.texels), split(g.vertexTangents)};
+        addresses.bvh = g.bvh.addresses();
+#define VKP_ARRAY_ADDRESS(index, name, Record, access, member) \
+    VKP_SCENE_ARRAY_IF_SPANS_##access(addresses.name = split(g.name);)
+        VKP_SCENE_ARRAYS(VKP_ARRAY_ADDRESS)
+#undef VKP_ARRAY_ADDRESS
     }
     g.addresses = vk::Buffer::fromSpan(context, std::span(&addresses, 1), "sceneAddresses");
     return g;

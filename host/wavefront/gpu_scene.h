@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -17,6 +18,7 @@
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/scene_addresses.h"
+#include "shared/scene_arrays.h"
 #include "shared/scene_data.h"
 #include "vk/buffer.h"
 #include "wavefront/alpha_tables.h"
@@ -63,26 +65,14 @@ SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& b
 
 struct GpuScene {
     bvh::GpuBvh bvh;
-    vk::Buffer materials;
-    vk::Buffer lights;
-    vk::Buffer lightAlias;
-    vk::Buffer primitiveLight;
-    vk::Buffer envAlias;
-    vk::Buffer envRadiance;
-    vk::Buffer triangleVertices;
-    vk::Buffer vertexNormals;
-    vk::Buffer vertexTexcoords;
-    vk::Buffer vertexColors;
-    vk::Buffer vertexTangents;
-    vk::Buffer textures;      // TextureInfo[]: bound always (one per texture)
-    vk::Buffer textureSlots;  // TextureSlot[]: bound always (a few per material)
-    vk::Buffer texels;
-    vk::Buffer materialAlpha;  // MaterialAlpha[]: bound always (one per material) when the scene tests alpha
-    // Whether the stage kernels read the BVH and the arrays that grow with the
-    // scene (lights, lightAlias, primitiveLight, envAlias, envRadiance,
-    // triangleVertices and the vertex attributes, texels) by address, through `addresses`
-    // (shared/scene_addresses.h); then each of their bindings gets
-    // bvh.placeholder. Pipelines take it as
+    // One buffer per row of shaders/shared/scene_arrays.h (materials, lights,
+    // lightAlias, ...), named after it.
+#define VKP_SCENE_BUFFER(index, name, Record, access, member) vk::Buffer name;
+    VKP_SCENE_ARRAYS(VKP_SCENE_BUFFER)
+#undef VKP_SCENE_BUFFER
+    // Whether the stage kernels read the BVH and the SPANS arrays by address,
+    // through `addresses` (shared/scene_addresses.h); then each of their
+    // bindings gets bvh.placeholder. Pipelines take it as
     // bvh::sceneAccessConstant(byAddress).
     bool byAddress = false;
     vk::Buffer addresses;  // SceneAddresses, zeros unless byAddress (always bound)
@@ -92,6 +82,9 @@ struct GpuScene {
     const vk::Buffer& binding(const vk::Buffer& array) const { return byAddress ? bvh.placeholder : array; }
     // Device memory of the scene's arrays (not counting placeholders).
     uint64_t bytes() const;
+    // What the stage kernels bind, by binding index: every scene array (a
+    // placeholder for those read by address), the BVH's two and the addresses.
+    std::vector<std::pair<uint32_t, const vk::Buffer*>> bindings() const;
 };
 
 // Device memory the tables take once uploaded (GpuScene::bytes of their upload).

@@ -9,16 +9,19 @@
 #include "shared/mesh_attributes.h"
 #include "shared/rng.h"
 #include "shared/texture.h"
+#include "scene/scene.h"
 
 namespace vkpath::wavefront {
 namespace {
 
+// Each feature's name in the logs; a material kind's is its registry label
+// (shaders/shared/material_kinds.h).
 constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATURE_NAMES = {{
     {VKP_FEATURE_TRIANGLES, "triangles"},
     {VKP_FEATURE_SPHERES, "spheres"},
-    {VKP_FEATURE_DIFFUSE, "diffuse"},
-    {VKP_FEATURE_MIRROR, "mirror"},
-    {VKP_FEATURE_GLASS, "glass"},
+#define VKP_KIND_FEATURE_NAME(id, NAME, Type, key, label, feature, flags, regularized) {feature, label},
+    VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_NAME)
+#undef VKP_KIND_FEATURE_NAME
     {VKP_FEATURE_EMISSIVE_SURFACES, "emissive-surfaces"},
     {VKP_FEATURE_POINT_LIGHTS, "point-lights"},
     {VKP_FEATURE_SPOT_LIGHTS, "spot-lights"},
@@ -34,15 +37,26 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_TEXTURES, "textures"},
     {VKP_FEATURE_VERTEX_COLORS, "vertex-colors"},
     {VKP_FEATURE_NORMAL_MAPS, "normal-maps"},
-    {VKP_FEATURE_CONDUCTOR, "conductor"},
-    {VKP_FEATURE_ROUGH_GLASS, "rough-glass"},
-    {VKP_FEATURE_METALLIC_ROUGHNESS, "metallic-roughness"},
     {VKP_FEATURE_ALPHA, "alpha"},
     {VKP_FEATURE_REGULARIZE, "regularize"},
     {VKP_FEATURE_ABSORPTION, "absorption"},
     {VKP_FEATURE_DEEP_BVH, "deep-bvh"},
     {VKP_FEATURE_SPHERE_GUIDING, "sphere-guiding"},
 }};
+
+// The name of feature bit `bit`; every bit has one (a static_assert below).
+constexpr const char* featureName(uint32_t bit) {
+    for (const auto& [feature, name] : FEATURE_NAMES)
+        if (feature == bit) return name;
+    return nullptr;
+}
+
+constexpr bool namesEveryBit() {
+    for (uint32_t i = 0; i < VKP_FEATURE_COUNT; ++i)
+        if (featureName(1u << i) == nullptr) return false;
+    return true;
+}
+static_assert(namesEveryBit(), "a VKP_FEATURE_* bit without a name");
 
 }  // namespace
 
@@ -59,11 +73,10 @@ uint32_t sceneFeatures(const SceneTables& t) {
             p.kind == VKP_PRIMITIVE_TRIANGLE)
             f |= VKP_FEATURE_ALPHA;
     }
-    for (const shared::Light& light : t.lights) {
-        if (light.type == VKP_LIGHT_POINT) f |= VKP_FEATURE_POINT_LIGHTS;
-        if (light.type == VKP_LIGHT_SPOT) f |= VKP_FEATURE_SPOT_LIGHTS;
-        if (light.type == VKP_LIGHT_DIRECTIONAL) f |= VKP_FEATURE_DIRECTIONAL_LIGHTS;
-    }
+    // Delta lights by their type's bit; area lights come with their
+    // primitives above, the environment below.
+    for (const shared::Light& light : t.lights)
+        if (shared::lightTypeFlags(light.type) & VKP_LIGHT_IS_DELTA) f |= shared::lightTypeFeature(light.type);
     f |= bvh::traversalFeatures(t.bvh);
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
@@ -88,30 +101,35 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     // Path regularisation (shared/bsdf.h regularizedMaterial) roughens the
     // delta and near-delta lobes: the mirror becomes a GGX conductor and the
     // smooth glass a rough one, so their kernels must hold those kinds too.
-    const uint32_t roughenable = VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS | VKP_FEATURES_MICROFACET;
-    if (info.regularizeAlpha > 0.0f && (f & roughenable) != 0) {
-        f |= VKP_FEATURE_REGULARIZE;
-        if (f & VKP_FEATURE_MIRROR) f |= VKP_FEATURE_CONDUCTOR;
-        if (f & VKP_FEATURE_GLASS) f |= VKP_FEATURE_ROUGH_GLASS;
+    // A kind's registry row names the kind it becomes; the kinds it changes
+    // (or roughens: the microfacet kinds) make the feature.
+    if (info.regularizeAlpha > 0.0f) {
+        uint32_t regularized = 0, roughened = 0;
+        for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS) {
+            if (!(f & kind.feature)) continue;
+            regularized |= scene::materialKindInfo(kind.regularized).feature;
+            if (kind.regularized != kind.kind || (kind.flags & VKP_KIND_MICROFACET)) roughened |= kind.feature;
+        }
+        if (roughened != 0) f |= VKP_FEATURE_REGULARIZE | regularized;
     }
     return f;
 }
 
 uint32_t shadowRaysPerVertex(uint32_t features, uint32_t lightSamples) {
-    // shared/bsdf.h hasNonDeltaLobe: Lambertian and the microfacet kinds
-    // (unless smooth: a set bit means "may occur") have one.
-    const bool traces = (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 &&
-                        (features & (VKP_FEATURE_DIFFUSE | VKP_FEATURES_MICROFACET)) != 0;
+    // shared/bsdf.h hasNonDeltaLobe: the kinds flagged VKP_KIND_NON_DELTA
+    // (a microfacet kind only unless smooth: a set bit means "may occur").
+    const bool traces =
+        (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 && (features & VKP_FEATURES_NON_DELTA) != 0;
     return traces ? lightSamples : 0;
 }
 
 std::string describeFeatures(uint32_t features) {
     if (features == VKP_FEATURES_ALL) return "general";
     std::string text;
-    for (const auto& [bit, name] : FEATURE_NAMES) {
-        if (!(features & bit)) continue;
+    for (uint32_t i = 0; i < VKP_FEATURE_COUNT; ++i) {  // in the order of the bits
+        if (!(features & (1u << i))) continue;
         if (!text.empty()) text += ' ';
-        text += name;
+        text += featureName(1u << i);
     }
     return text.empty() ? "(none)" : text;
 }

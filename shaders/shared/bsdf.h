@@ -62,10 +62,92 @@ VKP_FN vec3 adaptShadingNormal(vec3 ng, vec3 ns, vec3 wo) {
     return dot(bent, ng) < 0.0f ? -bent : bent;
 }
 
-// ---- the microfacet kinds' lobes ------------------------------------------------------
-// Their lobes work in the local frame of the shading normal (microfacet.h);
-// alpha = roughness^2 (glTF 2.0 Appendix B, and the Disney convention).
+// A sample drawn in `frame` as a world-space one.
+VKP_FN BsdfSample sampleToWorld(Frame frame, BsdfSample s) {
+    if (s.valid) s.direction = normalize(frameToWorld(frame, s.direction));
+    return s;
+}
 
+// ---- path regularisation ----------------------------------------------------------------
+// Kaplanyan and Dachsbacher 2013, "Path Space Regularization for Holistic and
+// Robust Light Transport": after a path's first non-delta scattering, delta
+// and near-delta lobes are widened, so that light reached only through them
+// (caustics seen via a diffuse surface) is found by light sampling and
+// nearby BSDF samples instead of by rare hits. Biased (the image blurs what
+// those lobes show), consistent as the alpha goes to 0. The rule is pbrt-v4's
+// (BSDF::Regularize with its TrowbridgeReitzDistribution::Regularize) with
+// the floor a knob: every lobe of GGX alpha below `alpha` gets `alpha`; the
+// mirror becomes the conductor of the same constant reflectance, the smooth
+// glass the rough dielectric of the same index and tints (each kind's
+// regularizeTypeMaterial below, into the kind its registry row names).
+
+// A microfacet kind's lobe roughened to at least `roughness`.
+VKP_FN Material regularizeMicrofacetMaterial(Material material, float roughness) {
+    material.roughness = max(material.roughness, roughness);
+    return material;
+}
+
+// ---- the kinds' function sets -------------------------------------------------------------
+// Each row of the registry (shared/material_kinds.h) has five functions here,
+// named after its Type, which the dispatch below calls:
+//
+//   BsdfSample sampleTypeMaterial(material, ns, wo, u, uc)  wi drawn from its lobes
+//   vec3 evalTypeMaterial(material, ns, wo, wi)             f |cos| of its non-delta lobes
+//   float pdfTypeMaterial(material, ns, wo, wi)             sampleTypeMaterial's solid-angle
+//                                                           density of wi (0 for delta lobes)
+//   bool nonDeltaTypeMaterial(material)                     whether it has a non-delta lobe
+//   Material regularizeTypeMaterial(material, roughness)    widened by path regularisation
+//
+// ns is the shading normal (world space, unit, oriented like the geometric
+// normal), wo and wi point away from the surface; u is uniform in [0, 1)^2,
+// uc in [0, 1) (read only by kinds flagged VKP_KIND_LOBE_CHOICE; smooth glass
+// chooses its lobe with u.x). The microfacet kinds work in the local frame of
+// ns (microfacet.h, metallic_roughness.h).
+
+// Diffuse: Lambertian (lobes.h).
+VKP_FN BsdfSample sampleDiffuseMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float /*uc*/) {
+    return sampleLambertian(material.reflectance, ns, wo, u);
+}
+VKP_FN vec3 evalDiffuseMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    return evalLambertian(material.reflectance, ns, wo, wi);
+}
+VKP_FN float pdfDiffuseMaterial(VKP_IN(Material) /*material*/, vec3 ns, vec3 wo, vec3 wi) {
+    return lambertianPdf(ns, wo, wi);
+}
+VKP_FN bool nonDeltaDiffuseMaterial(VKP_IN(Material) /*material*/) { return true; }
+VKP_FN Material regularizeDiffuseMaterial(Material material, float /*roughness*/) { return material; }
+
+// Mirror: one delta lobe (lobes.h).
+VKP_FN BsdfSample sampleMirrorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 /*u*/, float /*uc*/) {
+    return sampleMirror(material.reflectance, ns, wo);
+}
+VKP_FN vec3 evalMirrorMaterial(VKP_IN(Material), vec3, vec3, vec3) { return vec3(0.0f); }
+VKP_FN float pdfMirrorMaterial(VKP_IN(Material), vec3, vec3, vec3) { return 0.0f; }
+VKP_FN bool nonDeltaMirrorMaterial(VKP_IN(Material)) { return false; }
+// The conductor of the same constant reflectance.
+VKP_FN Material regularizeMirrorMaterial(Material material, float roughness) {
+    material.kind = VKP_MATERIAL_CONDUCTOR;
+    material.flags = VKP_MATERIAL_CONSTANT_FRESNEL;
+    material.roughness = roughness;
+    return material;
+}
+
+// Smooth glass: delta reflection and refraction (lobes.h).
+VKP_FN BsdfSample sampleDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float /*uc*/) {
+    return sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo, u.x);
+}
+VKP_FN vec3 evalDielectricMaterial(VKP_IN(Material), vec3, vec3, vec3) { return vec3(0.0f); }
+VKP_FN float pdfDielectricMaterial(VKP_IN(Material), vec3, vec3, vec3) { return 0.0f; }
+VKP_FN bool nonDeltaDielectricMaterial(VKP_IN(Material)) { return false; }
+// The rough dielectric of the same index and tints.
+VKP_FN Material regularizeDielectricMaterial(Material material, float roughness) {
+    material.kind = VKP_MATERIAL_ROUGH_DIELECTRIC;
+    material.roughness = roughness;
+    return material;
+}
+
+// Rough conductor (microfacet.h); alpha = roughness^2 (glTF 2.0 Appendix B,
+// and the Disney convention).
 VKP_FN vec2 materialAlpha(VKP_IN(Material) material) { return vec2(material.roughness * material.roughness); }
 
 VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
@@ -79,7 +161,27 @@ VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
     c.k = material.transmittance;
     return c;
 }
+VKP_FN BsdfSample sampleConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float /*uc*/) {
+    Frame frame = makeFrame(ns);
+    return sampleToWorld(frame, sampleConductor(materialConductor(material), frameToLocal(frame, wo), u));
+}
+VKP_FN vec3 evalConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    Frame frame = makeFrame(ns);
+    return evalConductor(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+}
+VKP_FN float pdfConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    Frame frame = makeFrame(ns);
+    return conductorPdf(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+}
+// A delta below VKP_MICROFACET_SMOOTH_ALPHA.
+VKP_FN bool nonDeltaConductorMaterial(VKP_IN(Material) material) {
+    return !microfacetIsSmooth(materialAlpha(material));
+}
+VKP_FN Material regularizeConductorMaterial(Material material, float roughness) {
+    return regularizeMicrofacetMaterial(material, roughness);
+}
 
+// Rough glass (microfacet.h).
 VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
     RoughDielectric d;
     d.alpha = materialAlpha(material);
@@ -88,7 +190,28 @@ VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
     d.transmittance = material.transmittance;
     return d;
 }
+VKP_FN BsdfSample sampleRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float uc) {
+    Frame frame = makeFrame(ns);
+    return sampleToWorld(frame,
+                         sampleRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo), u, uc));
+}
+VKP_FN vec3 evalRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    Frame frame = makeFrame(ns);
+    return evalRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+}
+VKP_FN float pdfRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    Frame frame = makeFrame(ns);
+    return roughDielectricPdf(materialRoughDielectric(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+}
+// A delta below VKP_MICROFACET_SMOOTH_ALPHA, and no lobe at all at index 1.
+VKP_FN bool nonDeltaRoughDielectricMaterial(VKP_IN(Material) material) {
+    return !microfacetIsSmooth(materialAlpha(material)) && material.ior != 1.0f;
+}
+VKP_FN Material regularizeRoughDielectricMaterial(Material material, float roughness) {
+    return regularizeMicrofacetMaterial(material, roughness);
+}
 
+// glTF's metallic-roughness material (metallic_roughness.h).
 VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     MetallicRoughness p;
     p.baseColor = material.reflectance;
@@ -98,86 +221,49 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.specularF90 = material.specular;
     return p;
 }
-
-// ---- path regularisation ----------------------------------------------------------------
-// Kaplanyan and Dachsbacher 2013, "Path Space Regularization for Holistic and
-// Robust Light Transport": after a path's first non-delta scattering, delta
-// and near-delta lobes are widened, so that light reached only through them
-// (caustics seen via a diffuse surface) is found by light sampling and
-// nearby BSDF samples instead of by rare hits. Biased (the image blurs what
-// those lobes show), consistent as the alpha goes to 0. The rule is pbrt-v4's
-// (BSDF::Regularize with its TrowbridgeReitzDistribution::Regularize) with
-// the floor a knob: every lobe of GGX alpha below `alpha` gets `alpha`; the
-// mirror becomes the conductor of the same constant reflectance, the smooth
-// glass the rough dielectric of the same index and tints.
-VKP_FN Material regularizedMaterial(Material material, float alpha) {
-    if (!(alpha > 0.0f)) return material;
-    float roughness = sqrt(alpha);
-    if (materialIs(material, VKP_MATERIAL_MIRROR)) {
-        material.kind = VKP_MATERIAL_CONDUCTOR;
-        material.flags = VKP_MATERIAL_CONSTANT_FRESNEL;
-        material.roughness = roughness;
-    } else if (materialIs(material, VKP_MATERIAL_DIELECTRIC)) {
-        material.kind = VKP_MATERIAL_ROUGH_DIELECTRIC;
-        material.roughness = roughness;
-    } else if (materialIs(material, VKP_MATERIAL_CONDUCTOR) || materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC) ||
-               materialIs(material, VKP_MATERIAL_METALLIC_ROUGHNESS)) {
-        material.roughness = max(material.roughness, roughness);
-    }
-    return material;
+VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float uc) {
+    Frame frame = makeFrame(ns);
+    return sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material),
+                                                        frameToLocal(frame, wo), u, uc));
 }
-
-// A sample drawn in `frame` as a world-space one.
-VKP_FN BsdfSample sampleToWorld(Frame frame, BsdfSample s) {
-    if (s.valid) s.direction = normalize(frameToWorld(frame, s.direction));
-    return s;
+VKP_FN vec3 evalMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    Frame frame = makeFrame(ns);
+    return evalMetallicRoughness(materialMetallicRoughness(material), frameToLocal(frame, wo),
+                                 frameToLocal(frame, wi));
+}
+VKP_FN float pdfMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
+    Frame frame = makeFrame(ns);
+    return metallicRoughnessPdf(materialMetallicRoughness(material), frameToLocal(frame, wo),
+                                frameToLocal(frame, wi));
+}
+// Its diffuse lobe stays unless it is wholly metal.
+VKP_FN bool nonDeltaMetallicRoughnessMaterial(VKP_IN(Material) material) {
+    return !microfacetIsSmooth(materialAlpha(material)) || material.metallic < 1.0f;
+}
+VKP_FN Material regularizeMetallicRoughnessMaterial(Material material, float roughness) {
+    return regularizeMicrofacetMaterial(material, roughness);
 }
 
 // ---- a material's BSDF: one dispatch over the kinds --------------------------------
-// Each function is one switch over the kind (materialKind folds it to one
-// case where the kernel meets one kind); each case is guarded by its feature
-// bit (materialMayBe), so a kernel compiles only the kinds its scene has
-// (shared/features.h). ng is the geometric normal, ns the shading normal
-// (adaptShadingNormal; ns == ng on flat surfaces), both world space, unit,
-// oriented alike.
+// Each function is one switch over the kind, its cases made from the
+// registry (materialKind folds the switch to one case where the kernel meets
+// one kind); each case is guarded by its feature bit (materialMayBe), so a
+// kernel compiles only the kinds its scene has (shared/features.h). ng is the
+// geometric normal, ns the shading normal (adaptShadingNormal; ns == ng on
+// flat surfaces), both world space, unit, oriented alike.
 
 // Samples wi for `material`; u uniform in [0, 1)^2 picks the direction, uc
 // uniform in [0, 1) the lobe where a kind chooses between lobes with a number
-// of its own (rough glass, metallic-roughness; the smooth glass chooses with
-// u.x).
+// of its own (VKP_KIND_LOBE_CHOICE).
 VKP_FN BsdfSample sampleBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec2 u, float uc) {
     BsdfSample s = invalidBsdfSample();
     switch (materialKind(material)) {
-        case VKP_MATERIAL_DIFFUSE:
-            if (materialMayBe(VKP_MATERIAL_DIFFUSE)) s = sampleLambertian(material.reflectance, ns, wo, u);
-            break;
-        case VKP_MATERIAL_MIRROR:
-            if (materialMayBe(VKP_MATERIAL_MIRROR)) s = sampleMirror(material.reflectance, ns, wo);
-            break;
-        case VKP_MATERIAL_DIELECTRIC:
-            if (materialMayBe(VKP_MATERIAL_DIELECTRIC))
-                s = sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo, u.x);
-            break;
-        case VKP_MATERIAL_CONDUCTOR:
-            if (materialMayBe(VKP_MATERIAL_CONDUCTOR)) {
-                Frame frame = makeFrame(ns);
-                s = sampleToWorld(frame, sampleConductor(materialConductor(material), frameToLocal(frame, wo), u));
-            }
-            break;
-        case VKP_MATERIAL_ROUGH_DIELECTRIC:
-            if (materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC)) {
-                Frame frame = makeFrame(ns);
-                s = sampleToWorld(frame, sampleRoughDielectric(materialRoughDielectric(material),
-                                                               frameToLocal(frame, wo), u, uc));
-            }
-            break;
-        case VKP_MATERIAL_METALLIC_ROUGHNESS:
-            if (materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS)) {
-                Frame frame = makeFrame(ns);
-                s = sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material),
-                                                                 frameToLocal(frame, wo), u, uc));
-            }
-            break;
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)         \
+    case id:                                                                            \
+        if (materialMayBe(id)) s = sample##Type##Material(material, ns, wo, u, uc); \
+        break;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
         default: break;
     }
     if (s.valid && !bsdfSidesAgree(ng, ns, wo, s.direction)) return invalidBsdfSample();
@@ -187,8 +273,10 @@ VKP_FN BsdfSample sampleBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 w
 // Whether sampleBsdf reads uc for `material` (so the caller draws it only then).
 VKP_FN bool bsdfNeedsLobeChoice(VKP_IN(Material) material) {
     switch (materialKind(material)) {
-        case VKP_MATERIAL_ROUGH_DIELECTRIC: return materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC);
-        case VKP_MATERIAL_METALLIC_ROUGHNESS: return materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS);
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id: return ((flags) & VKP_KIND_LOBE_CHOICE) != 0u && materialMayBe(id);
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
         default: return false;
     }
 }
@@ -197,30 +285,13 @@ VKP_FN bool bsdfNeedsLobeChoice(VKP_IN(Material) material) {
 VKP_FN vec3 evalBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     if (!bsdfSidesAgree(ng, ns, wo, wi)) return vec3(0.0f);
     switch (materialKind(material)) {
-        case VKP_MATERIAL_DIFFUSE:
-            if (materialMayBe(VKP_MATERIAL_DIFFUSE)) return evalLambertian(material.reflectance, ns, wo, wi);
-            break;
-        case VKP_MATERIAL_CONDUCTOR:
-            if (materialMayBe(VKP_MATERIAL_CONDUCTOR)) {
-                Frame frame = makeFrame(ns);
-                return evalConductor(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
-            }
-            break;
-        case VKP_MATERIAL_ROUGH_DIELECTRIC:
-            if (materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC)) {
-                Frame frame = makeFrame(ns);
-                return evalRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo),
-                                           frameToLocal(frame, wi));
-            }
-            break;
-        case VKP_MATERIAL_METALLIC_ROUGHNESS:
-            if (materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS)) {
-                Frame frame = makeFrame(ns);
-                return evalMetallicRoughness(materialMetallicRoughness(material), frameToLocal(frame, wo),
-                                             frameToLocal(frame, wi));
-            }
-            break;
-        default: break;  // delta lobes only
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id:                                                                    \
+        if (materialMayBe(id)) return eval##Type##Material(material, ns, wo, wi); \
+        break;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
+        default: break;
     }
     return vec3(0.0f);
 }
@@ -229,51 +300,45 @@ VKP_FN vec3 evalBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 
 VKP_FN float bsdfPdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     if (!bsdfSidesAgree(ng, ns, wo, wi)) return 0.0f;
     switch (materialKind(material)) {
-        case VKP_MATERIAL_DIFFUSE:
-            if (materialMayBe(VKP_MATERIAL_DIFFUSE)) return lambertianPdf(ns, wo, wi);
-            break;
-        case VKP_MATERIAL_CONDUCTOR:
-            if (materialMayBe(VKP_MATERIAL_CONDUCTOR)) {
-                Frame frame = makeFrame(ns);
-                return conductorPdf(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
-            }
-            break;
-        case VKP_MATERIAL_ROUGH_DIELECTRIC:
-            if (materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC)) {
-                Frame frame = makeFrame(ns);
-                return roughDielectricPdf(materialRoughDielectric(material), frameToLocal(frame, wo),
-                                          frameToLocal(frame, wi));
-            }
-            break;
-        case VKP_MATERIAL_METALLIC_ROUGHNESS:
-            if (materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS)) {
-                Frame frame = makeFrame(ns);
-                return metallicRoughnessPdf(materialMetallicRoughness(material), frameToLocal(frame, wo),
-                                            frameToLocal(frame, wi));
-            }
-            break;
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id:                                                                    \
+        if (materialMayBe(id)) return pdf##Type##Material(material, ns, wo, wi); \
+        break;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
         default: break;
     }
     return 0.0f;
 }
 
 // Whether light sampling can reach the material (it has a non-delta lobe);
-// host/wavefront/kernel_features.cpp shadowRaysPerVertex says the same per feature.
-// The microfacet kinds are deltas below VKP_MICROFACET_SMOOTH_ALPHA, but
-// metallic-roughness keeps its diffuse lobe unless it is wholly metal.
+// host/wavefront/kernel_features.cpp shadowRaysPerVertex says the same per
+// feature (VKP_FEATURES_NON_DELTA).
 VKP_FN bool hasNonDeltaLobe(VKP_IN(Material) material) {
     switch (materialKind(material)) {
-        case VKP_MATERIAL_DIFFUSE: return materialMayBe(VKP_MATERIAL_DIFFUSE);
-        case VKP_MATERIAL_CONDUCTOR:
-            return materialMayBe(VKP_MATERIAL_CONDUCTOR) && !microfacetIsSmooth(materialAlpha(material));
-        case VKP_MATERIAL_ROUGH_DIELECTRIC:
-            return materialMayBe(VKP_MATERIAL_ROUGH_DIELECTRIC) && !microfacetIsSmooth(materialAlpha(material)) &&
-                   material.ior != 1.0f;
-        case VKP_MATERIAL_METALLIC_ROUGHNESS:
-            return materialMayBe(VKP_MATERIAL_METALLIC_ROUGHNESS) &&
-                   (!microfacetIsSmooth(materialAlpha(material)) || material.metallic < 1.0f);
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id: return ((flags) & VKP_KIND_NON_DELTA) != 0u && materialMayBe(id) && nonDelta##Type##Material(material);
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
         default: return false;
     }
+}
+
+// `material` widened by path regularisation to GGX alpha `alpha` (see above);
+// alpha 0 leaves it as it is.
+VKP_FN Material regularizedMaterial(Material material, float alpha) {
+    if (!(alpha > 0.0f)) return material;
+    float roughness = sqrt(alpha);
+    switch (materialKind(material)) {
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)          \
+    case id:                                                                             \
+        if (materialMayBe(id)) return regularize##Type##Material(material, roughness); \
+        break;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
+        default: break;
+    }
+    return material;
 }
 
 VKP_NAMESPACE_END

@@ -23,6 +23,7 @@
 
 #include "shared/bindings.h"
 #include "shared/compat.h"
+#include "shared/material_kinds.h"
 
 #define VKP_FEATURE_TRIANGLES (1u << 0)
 #define VKP_FEATURE_SPHERES (1u << 1)
@@ -55,11 +56,14 @@
 #define VKP_FEATURE_COUNT 28u
 
 #define VKP_FEATURES_ALL 0xffffffffu
-#define VKP_FEATURES_MATERIALS                                                               \
-    (VKP_FEATURE_DIFFUSE | VKP_FEATURE_MIRROR | VKP_FEATURE_GLASS | VKP_FEATURE_CONDUCTOR | \
-     VKP_FEATURE_ROUGH_GLASS | VKP_FEATURE_METALLIC_ROUGHNESS)
+// The material kinds' bits, from their registry (shared/material_kinds.h).
+#define VKP_FEATURES_MATERIALS (0u VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_TERM))
 // The materials with a GGX lobe: they read Material::roughness (and the metallic-roughness texture).
-#define VKP_FEATURES_MICROFACET (VKP_FEATURE_CONDUCTOR | VKP_FEATURE_ROUGH_GLASS | VKP_FEATURE_METALLIC_ROUGHNESS)
+#define VKP_FEATURES_MICROFACET (0u VKP_MATERIAL_KINDS(VKP_KIND_MICROFACET_TERM))
+// The materials that may have a non-delta lobe: light samples may be traced from them.
+#define VKP_FEATURES_NON_DELTA (0u VKP_MATERIAL_KINDS(VKP_KIND_NON_DELTA_TERM))
+// The glass kinds: they read Material::ior and transmittance.
+#define VKP_FEATURES_TRANSMITS (0u VKP_MATERIAL_KINDS(VKP_KIND_TRANSMITS_TERM))
 #define VKP_FEATURES_PRIMITIVES (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES)
 #define VKP_FEATURES_ENVIRONMENT (VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_ENVIRONMENT_MAP)
 

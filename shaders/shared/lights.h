@@ -10,14 +10,19 @@
 #include "shared/compat.h"
 #include "shared/constants.h"
 #include "shared/features.h"
+#include "shared/light_types.h"
 #include "shared/sampling.h"
 
-#define VKP_LIGHT_TRIANGLE 0u
-#define VKP_LIGHT_SPHERE 1u
-#define VKP_LIGHT_POINT 2u
-#define VKP_LIGHT_SPOT 3u
-#define VKP_LIGHT_DIRECTIONAL 4u
-#define VKP_LIGHT_ENVIRONMENT 5u
+// Values of Light::type, one per row of the registry (shared/light_types.h):
+// VKP_LIGHT_TRIANGLE, VKP_LIGHT_SPHERE, ...
+#ifdef __cplusplus
+#define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) \
+    inline constexpr unsigned VKP_LIGHT_##NAME = id;
+#else
+#define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) const uint VKP_LIGHT_##NAME = id;
+#endif
+VKP_LIGHT_TYPES(VKP_LIGHT_CONSTANT)
+#undef VKP_LIGHT_CONSTANT
 
 VKP_NAMESPACE_BEGIN
 
@@ -52,15 +57,42 @@ struct LightSample {
 // its features: surfaces light only where they emit.
 VKP_FN uint possibleLightTypes() {
     uint types = 0u;
-    if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) {
-        if (hasFeature(VKP_FEATURE_TRIANGLES)) types |= 1u << VKP_LIGHT_TRIANGLE;
-        if (hasFeature(VKP_FEATURE_SPHERES)) types |= 1u << VKP_LIGHT_SPHERE;
-    }
-    if (hasFeature(VKP_FEATURE_POINT_LIGHTS)) types |= 1u << VKP_LIGHT_POINT;
-    if (hasFeature(VKP_FEATURE_SPOT_LIGHTS)) types |= 1u << VKP_LIGHT_SPOT;
-    if (hasFeature(VKP_FEATURE_DIRECTIONAL_LIGHTS)) types |= 1u << VKP_LIGHT_DIRECTIONAL;
-    if (hasFeature(VKP_FEATURES_ENVIRONMENT)) types |= 1u << VKP_LIGHT_ENVIRONMENT;
+#define VKP_LIGHT_POSSIBLE(id, NAME, Type, label, feature, shape, flags) \
+    if (hasFeature(feature) && ((shape) == 0u || hasFeature(shape))) types |= 1u << (id);
+    VKP_LIGHT_TYPES(VKP_LIGHT_POSSIBLE)
+#undef VKP_LIGHT_POSSIBLE
     return types;
+}
+
+// The feature bits under which a kernel may meet light type `type`.
+VKP_FN uint lightTypeFeature(uint type) {
+    switch (type) {
+#define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
+    case id: return feature;
+        VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
+#undef VKP_LIGHT_CASE
+        default: return 0u;
+    }
+}
+
+// The VKP_LIGHT_IS_* flags of light type `type`.
+VKP_FN uint lightTypeFlags(uint type) {
+    switch (type) {
+#define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
+    case id: return flags;
+        VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
+#undef VKP_LIGHT_CASE
+        default: return 0u;
+    }
+}
+
+// light.type, or the constant type when the kernel meets only one (so a
+// switch over it folds to that case).
+VKP_FN uint lightType(VKP_IN(Light) light) {
+    uint types = possibleLightTypes();
+    for (uint type = 0u; type < VKP_LIGHT_TYPE_COUNT; ++type)
+        if (types == (1u << type)) return type;
+    return light.type;
 }
 
 // Whether `light` is of type `type`; known without reading it when the kernel
@@ -121,65 +153,97 @@ VKP_FN LightSample areaLightSample(vec3 p, vec3 x, vec3 n, float area) {
     return s;
 }
 
-// Samples a direction toward a triangle, sphere, point, spot or directional
-// light (the environment is sampled by the caller, which holds its table).
-// `u` uniform in [0, 1)^2. The sphere from outside is sampled by its cone
-// of directions; the returned distance then comes from intersecting the
-// cone's direction with the sphere.
-VKP_FN LightSample sampleLight(VKP_IN(Light) light, vec3 p, vec2 u) {
-    LightSample s = noLightSample();
-    if (lightIs(light, VKP_LIGHT_TRIANGLE)) {
-        vec2 b = sampleTriangleBarycentrics(u);
-        vec3 x = b.x * light.p0 + b.y * light.p1 + (1.0f - b.x - b.y) * light.p2;
-        vec3 n = light.normal;
-        s = areaLightSample(p, x, n, light.area);
-        // Only the front face emits: the point must see it (n points back at p).
-        s.radiance = s.pdf > 0.0f && dot(n, s.direction) < 0.0f ? light.emission : vec3(0.0f);
-        return s;
-    }
-    if (lightIs(light, VKP_LIGHT_SPHERE)) {
-        SphereCone cone = sphereCone(light.p0, light.radius, p);
-        if (cone.inside) {
-            vec3 n = sampleUniformSphere(u);
-            s = areaLightSample(p, light.p0 + light.radius * n, n, 4.0f * VKP_PI * light.radius * light.radius);
-        } else {
-            vec3 toCenter = light.p0 - p;
-            float centerDistance = length(toCenter);
-            s.direction = sampleSphereCone(cone, toCenter / centerDistance, u);
-            // Distance to the near surface along the direction; tangent
-            // directions (rounding) fall back to the point of closest approach.
-            float along = dot(toCenter, s.direction);
-            float miss2 = max(0.0f, dot(toCenter, toCenter) - along * along);
-            float halfChord = sqrt(max(0.0f, light.radius * light.radius - miss2));
-            s.distance = max(0.0f, along - halfChord);
-            s.pdf = sphereConePdf(cone);
-            s.normal = normalize(p + s.distance * s.direction - light.p0);
-        }
-        s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
-        return s;
-    }
-    if (lightIs(light, VKP_LIGHT_POINT) || lightIs(light, VKP_LIGHT_SPOT)) {
-        vec3 d = light.p0 - p;
-        float dist2 = dot(d, d);
-        if (!(dist2 > 0.0f)) return s;
-        float dist = sqrt(dist2);
-        s.direction = d / dist;
-        s.distance = dist;
-        s.pdf = 1.0f;
-        s.delta = true;
-        s.radiance = light.emission / dist2;
-        if (lightIs(light, VKP_LIGHT_SPOT)) s.radiance *= spotFalloff(light, dot(-s.direction, light.p1));
-        return s;
-    }
-    if (lightIs(light, VKP_LIGHT_DIRECTIONAL)) {
-        s.direction = -light.p1;
-        s.distance = VKP_FLOAT_MAX;
-        s.pdf = 1.0f;
-        s.delta = true;
-        s.radiance = light.emission;
-        return s;
-    }
+// ---- sampling a light: one function per type ---------------------------------------
+// sampleTypeLight(light, p, u) samples a direction from `p` toward `light`;
+// `u` uniform in [0, 1)^2.
+
+// A point on the triangle, uniform by area; only its front face emits.
+VKP_FN LightSample sampleTriangleLight(VKP_IN(Light) light, vec3 p, vec2 u) {
+    vec2 b = sampleTriangleBarycentrics(u);
+    vec3 x = b.x * light.p0 + b.y * light.p1 + (1.0f - b.x - b.y) * light.p2;
+    vec3 n = light.normal;
+    LightSample s = areaLightSample(p, x, n, light.area);
+    // Only the front face emits: the point must see it (n points back at p).
+    s.radiance = s.pdf > 0.0f && dot(n, s.direction) < 0.0f ? light.emission : vec3(0.0f);
     return s;
+}
+
+// From outside, a direction in the sphere's cone, the distance from
+// intersecting it with the sphere; from inside, a point uniform by area.
+VKP_FN LightSample sampleSphereLight(VKP_IN(Light) light, vec3 p, vec2 u) {
+    LightSample s = noLightSample();
+    SphereCone cone = sphereCone(light.p0, light.radius, p);
+    if (cone.inside) {
+        vec3 n = sampleUniformSphere(u);
+        s = areaLightSample(p, light.p0 + light.radius * n, n, 4.0f * VKP_PI * light.radius * light.radius);
+    } else {
+        vec3 toCenter = light.p0 - p;
+        float centerDistance = length(toCenter);
+        s.direction = sampleSphereCone(cone, toCenter / centerDistance, u);
+        // Distance to the near surface along the direction; tangent
+        // directions (rounding) fall back to the point of closest approach.
+        float along = dot(toCenter, s.direction);
+        float miss2 = max(0.0f, dot(toCenter, toCenter) - along * along);
+        float halfChord = sqrt(max(0.0f, light.radius * light.radius - miss2));
+        s.distance = max(0.0f, along - halfChord);
+        s.pdf = sphereConePdf(cone);
+        s.normal = normalize(p + s.distance * s.direction - light.p0);
+    }
+    s.radiance = s.pdf > 0.0f ? light.emission : vec3(0.0f);
+    return s;
+}
+
+VKP_FN LightSample samplePointLight(VKP_IN(Light) light, vec3 p, vec2 /*u*/) {
+    LightSample s = noLightSample();
+    vec3 d = light.p0 - p;
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0.0f)) return s;
+    float dist = sqrt(dist2);
+    s.direction = d / dist;
+    s.distance = dist;
+    s.pdf = 1.0f;
+    s.delta = true;
+    s.radiance = light.emission / dist2;
+    return s;
+}
+
+// A point light within its cone, falling off toward the cone's edge.
+VKP_FN LightSample sampleSpotLight(VKP_IN(Light) light, vec3 p, vec2 u) {
+    LightSample s = samplePointLight(light, p, u);
+    if (s.delta) s.radiance *= spotFalloff(light, dot(-s.direction, light.p1));
+    return s;
+}
+
+VKP_FN LightSample sampleDirectionalLight(VKP_IN(Light) light, vec3 /*p*/, vec2 /*u*/) {
+    LightSample s = noLightSample();
+    s.direction = -light.p1;
+    s.distance = VKP_FLOAT_MAX;
+    s.pdf = 1.0f;
+    s.delta = true;
+    s.radiance = light.emission;
+    return s;
+}
+
+// The environment is sampled by the caller, which holds its table.
+VKP_FN LightSample sampleEnvironmentLight(VKP_IN(Light) /*light*/, vec3 /*p*/, vec2 /*u*/) {
+    return noLightSample();
+}
+
+// Samples a direction toward `light` of any type but the environment (see
+// above), one switch over the types made from the registry, each case
+// guarded by its features.
+VKP_FN LightSample sampleLight(VKP_IN(Light) light, vec3 p, vec2 u) {
+    uint types = possibleLightTypes();
+    switch (lightType(light)) {
+#define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
+    case id:                                                          \
+        if ((types & (1u << (id))) != 0u) return sample##Type##Light(light, p, u); \
+        break;
+        VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
+#undef VKP_LIGHT_CASE
+        default: break;
+    }
+    return noLightSample();
 }
 
 VKP_NAMESPACE_END

@@ -6,17 +6,17 @@
 #include "shared/features.h"
 #include "shared/texture.h"
 
-// Values of Material::kind, defined here only: scene::MaterialKind takes its
-// values from these (host/scene/scene.h). A new kind is a number here, its
-// feature bit in materialFeature, and one case in each of bsdf.h's dispatch
-// functions.
-#define VKP_MATERIAL_DIFFUSE 0u
-#define VKP_MATERIAL_MIRROR 1u
-#define VKP_MATERIAL_DIELECTRIC 2u
-#define VKP_MATERIAL_CONDUCTOR 3u           // rough conductor: GGX (shared/microfacet.h)
-#define VKP_MATERIAL_ROUGH_DIELECTRIC 4u    // rough glass: GGX, Walter et al. 2007 (shared/microfacet.h)
-#define VKP_MATERIAL_METALLIC_ROUGHNESS 5u  // glTF 2.0's material (shared/metallic_roughness.h)
-#define VKP_MATERIAL_KIND_COUNT 6u
+// Values of Material::kind, one per row of the registry
+// (shared/material_kinds.h): VKP_MATERIAL_DIFFUSE, VKP_MATERIAL_MIRROR, ...
+#ifdef __cplusplus
+#define VKP_MATERIAL_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
+    inline constexpr unsigned VKP_MATERIAL_##NAME = id;
+#else
+#define VKP_MATERIAL_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
+    const uint VKP_MATERIAL_##NAME = id;
+#endif
+VKP_MATERIAL_KINDS(VKP_MATERIAL_CONSTANT)
+#undef VKP_MATERIAL_CONSTANT
 
 VKP_NAMESPACE_BEGIN
 
@@ -53,12 +53,21 @@ struct Material {
 // The feature bit of material kind `kind` (shared/features.h).
 VKP_FN uint materialFeature(uint kind) {
     switch (kind) {
-        case VKP_MATERIAL_DIFFUSE: return VKP_FEATURE_DIFFUSE;
-        case VKP_MATERIAL_MIRROR: return VKP_FEATURE_MIRROR;
-        case VKP_MATERIAL_DIELECTRIC: return VKP_FEATURE_GLASS;
-        case VKP_MATERIAL_CONDUCTOR: return VKP_FEATURE_CONDUCTOR;
-        case VKP_MATERIAL_ROUGH_DIELECTRIC: return VKP_FEATURE_ROUGH_GLASS;
-        case VKP_MATERIAL_METALLIC_ROUGHNESS: return VKP_FEATURE_METALLIC_ROUGHNESS;
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id: return feature;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
+        default: return 0u;
+    }
+}
+
+// The VKP_KIND_* flags of material kind `kind`.
+VKP_FN uint materialKindFlags(uint kind) {
+    switch (kind) {
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id: return flags;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
         default: return 0u;
     }
 }
@@ -81,6 +90,14 @@ VKP_FN bool materialIs(VKP_IN(Material) material, uint kind) {
     if (!hasFeature(feature)) return false;
     if (onlyFeature(VKP_FEATURES_MATERIALS, feature)) return true;
     return material.kind == kind;
+}
+
+// Whether `material` is glass (a kind of VKP_KIND_TRANSMITS); known without
+// reading it when the kernel meets no glass, or only glass.
+VKP_FN bool materialTransmits(VKP_IN(Material) material) {
+    if (!hasFeature(VKP_FEATURES_TRANSMITS)) return false;
+    if ((kernelFeatures & VKP_FEATURES_MATERIALS & ~VKP_FEATURES_TRANSMITS) == 0u) return true;
+    return (materialKindFlags(material.kind) & VKP_KIND_TRANSMITS) != 0u;
 }
 
 VKP_NAMESPACE_END

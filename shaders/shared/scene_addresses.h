@@ -8,26 +8,20 @@
 
 #include "shared/bvh.h"
 #include "shared/compat.h"
+#include "shared/scene_arrays.h"
 
 VKP_NAMESPACE_BEGIN
 
-// The arrays whose length grows with the scene: per node, per primitive, per
-// emitter, per environment texel, per triangle and per vertex. (Materials and
-// the SceneInfo stay bound.)
+// The arrays whose length grows with the scene: the BVH's, then the SPANS
+// rows of shared/scene_arrays.h in its order (per primitive, per emitter, per
+// environment texel, per triangle, per vertex, per texture texel). The BOUND
+// ones (materials, textures) and the SceneInfo stay bound.
+#define VKP_ADDRESS_FIELD(index, name, Record, access, member) VKP_SCENE_ARRAY_IF_SPANS_##access(uvec2 name;)
 struct SceneAddresses {
     BvhAddresses bvh;
-    uvec2 lights;          // Light[]
-    uvec2 lightAlias;      // AliasEntry[lightCount]
-    uvec2 primitiveLight;  // uint[primitives]
-    uvec2 envAlias;        // AliasEntry[texels]
-    uvec2 envRadiance;     // vec4[texels], w unused
-    uvec2 triangleVertices;  // TriangleVertices[triangles]
-    uvec2 vertexNormals;     // vec4[vertices], w unused
-    uvec2 vertexTexcoords;   // vec4[vertices]: TEXCOORD_0, TEXCOORD_1
-    uvec2 vertexColors;      // vec4[vertices]
-    uvec2 texels;            // uvec2[texels]: the texture store (shared/texture.h)
-    uvec2 vertexTangents;    // vec4[vertices]
+    VKP_SCENE_ARRAYS(VKP_ADDRESS_FIELD)
 };
+#undef VKP_ADDRESS_FIELD
 
 VKP_NAMESPACE_END
 

@@ -62,11 +62,14 @@ std::vector<Expected> expectedLayouts() {
         {"TracePush", sizeof(TracePush), {VKP_O(TracePush, count), VKP_O(TracePush, bvh)}},
         {"BvhAddresses", sizeof(BvhAddresses), {VKP_O(BvhAddresses, nodes), VKP_O(BvhAddresses, primitives)}},
         {"SceneAddresses", sizeof(SceneAddresses),
-         {VKP_O(SceneAddresses, bvh), VKP_O(SceneAddresses, lights), VKP_O(SceneAddresses, lightAlias),
-          VKP_O(SceneAddresses, primitiveLight), VKP_O(SceneAddresses, envAlias), VKP_O(SceneAddresses, envRadiance),
-          VKP_O(SceneAddresses, triangleVertices), VKP_O(SceneAddresses, vertexNormals),
-          VKP_O(SceneAddresses, vertexTexcoords), VKP_O(SceneAddresses, vertexColors),
-          VKP_O(SceneAddresses, texels), VKP_O(SceneAddresses, vertexTangents)}},
+         {VKP_O(SceneAddresses, bvh)
+#define VKP_ADDRESS_OFFSET(index, name, Record, access, member) \
+    VKP_SCENE_ARRAY_IF_SPANS_##access(VKP_ADDRESS_OFFSET_OF(name))
+#define VKP_ADDRESS_OFFSET_OF(name) , VKP_O(SceneAddresses, name)
+              VKP_SCENE_ARRAYS(VKP_ADDRESS_OFFSET)
+#undef VKP_ADDRESS_OFFSET_OF
+#undef VKP_ADDRESS_OFFSET
+         }},
         {"TriangleVertices", sizeof(TriangleVertices),
          {VKP_O(TriangleVertices, vertex), VKP_O(TriangleVertices, attributes)}},
         {"AliasEntry", sizeof(AliasEntry),

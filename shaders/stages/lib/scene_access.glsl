@@ -8,6 +8,7 @@
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
 #include "shared/rng.h"
+#include "shared/scene_arrays.h"
 #include "shared/scene_data.h"
 #include "shared/texture.h"
 
@@ -19,29 +20,19 @@ layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer {
     vec4 guideSpheres[];
 };
 // The arrays read at every bounce or texture lookup come as texel buffers of
-// 16-byte texels, as the BVH does (shared/bvh_buffers.h says why): records of
-// 16 bytes or a multiple of it (materials, lights, alias entries, triangle
-// vertices, vertex attributes, the environment's radiance, texture records,
-// slots and alpha records; the vec3 arrays are stored as vec4 and the alias
-// entries and texture slots padded for it) a texel or more each, smaller ones
-// (the primitive-to-light map, the half-float texel store) several to a
-// texel. The host rounds every array's buffer up to whole texels. Only the
+// 16-byte texels, as the BVH does (shared/bvh_buffers.h says why), one per
+// row of shared/scene_arrays.h, named after it (materialsTexels, ...):
+// records of 16 bytes or a multiple of it (materials, lights, alias entries,
+// triangle vertices, vertex attributes, the environment's radiance, texture
+// records, slots and alpha records; the vec3 arrays are stored as vec4 and
+// the alias entries and texture slots padded for it) a texel or more each,
+// smaller ones (the primitive-to-light map: four per texel; the half-float
+// texture store: two RGBA texels per texel) several to a texel. Only the
 // SceneInfo is a storage buffer: every invocation reads the same bytes.
-layout(binding = VKP_WF_MATERIALS) uniform utextureBuffer materialTexels;
-layout(binding = VKP_WF_LIGHTS) uniform utextureBuffer lightTexels;
-layout(binding = VKP_WF_LIGHT_ALIAS) uniform utextureBuffer lightAliasTexels;
-layout(binding = VKP_WF_PRIMITIVE_LIGHT) uniform utextureBuffer primitiveLightTexels;  // four per texel
-layout(binding = VKP_WF_ENV_ALIAS) uniform utextureBuffer envAliasTexels;
-layout(binding = VKP_WF_ENV_RADIANCE) uniform utextureBuffer envRadianceTexels;  // vec4, w unused
-layout(binding = VKP_WF_TRIANGLE_VERTICES) uniform utextureBuffer triangleVertexTexels;
-layout(binding = VKP_WF_VERTEX_NORMALS) uniform utextureBuffer vertexNormalTexels;  // vec4, w unused
-layout(binding = VKP_WF_VERTEX_TEXCOORDS) uniform utextureBuffer vertexTexcoordTexels;
-layout(binding = VKP_WF_VERTEX_COLORS) uniform utextureBuffer vertexColorTexels;
-layout(binding = VKP_WF_VERTEX_TANGENTS) uniform utextureBuffer vertexTangentTexels;
-layout(binding = VKP_WF_TEXTURES) uniform utextureBuffer textureInfoTexels;
-layout(binding = VKP_WF_TEXTURE_SLOTS) uniform utextureBuffer textureSlotTexels;
-layout(binding = VKP_WF_TEXELS) uniform utextureBuffer textureStoreTexels;  // two RGBA-half texels per texel
-layout(binding = VKP_WF_MATERIAL_ALPHA) uniform utextureBuffer materialAlphaTexels;
+#define VKP_TEXEL_BUFFER(index, name, Record, access, member) \
+    layout(binding = index) uniform utextureBuffer name##Texels;
+VKP_SCENE_ARRAYS(VKP_TEXEL_BUFFER)
+#undef VKP_TEXEL_BUFFER
 
 // The same arrays by address (sceneByAddress: scenes beyond a binding).
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
@@ -61,14 +52,14 @@ vec4 sceneGuideSphere(uint i) { return guideSpheres[i]; }
 // glass-and-diffuse box reads three of the five.
 Material sceneMaterial(uint i) {
     int t = int(5u * i);
-    uvec4 a = texelFetch(materialTexels, t);
-    uvec4 b = hasFeature(VKP_FEATURE_GLASS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
-                  ? texelFetch(materialTexels, t + 1) : uvec4(0u);  // transmittance (k, F0), ior
+    uvec4 a = texelFetch(materialsTexels, t);
+    uvec4 b = hasFeature(VKP_FEATURES_TRANSMITS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
+                  ? texelFetch(materialsTexels, t + 1) : uvec4(0u);  // transmittance (k, F0), ior
     uvec4 c = hasFeature(VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_TEXTURES | VKP_FEATURE_NORMAL_MAPS)
-                  ? texelFetch(materialTexels, t + 2) : uvec4(0u);  // emission, textures
+                  ? texelFetch(materialsTexels, t + 2) : uvec4(0u);  // emission, textures
     uvec4 d = hasFeature(VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
-                  ? texelFetch(materialTexels, t + 3) : uvec4(0u);  // roughness, metallic, specular, flags
-    uvec4 e = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialTexels, t + 4) : uvec4(0u);  // attenuation
+                  ? texelFetch(materialsTexels, t + 3) : uvec4(0u);  // roughness, metallic, specular, flags
+    uvec4 e = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialsTexels, t + 4) : uvec4(0u);  // attenuation
     Material m;
     m.reflectance = uintBitsToFloat(a.xyz);
     m.kind = a.w;
@@ -96,8 +87,8 @@ MaterialAlpha sceneMaterialAlpha(uint i) {
 Light sceneLight(uint i) {
     if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
     int t = int(5u * i);
-    uvec4 a = texelFetch(lightTexels, t), b = texelFetch(lightTexels, t + 1), c = texelFetch(lightTexels, t + 2),
-          d = texelFetch(lightTexels, t + 3), e = texelFetch(lightTexels, t + 4);
+    uvec4 a = texelFetch(lightsTexels, t), b = texelFetch(lightsTexels, t + 1), c = texelFetch(lightsTexels, t + 2),
+          d = texelFetch(lightsTexels, t + 3), e = texelFetch(lightsTexels, t + 4);
     Light light;
     light.p0 = uintBitsToFloat(a.xyz);
     light.type = a.w;
@@ -139,7 +130,7 @@ vec3 sceneEnvRadiance(uint i) {
 }
 TriangleVertices sceneTriangleVertices(uint i) {
     if (sceneByAddress) return TriangleVerticesArray(sceneAddresses.triangleVertices).v[i];
-    uvec4 t = texelFetch(triangleVertexTexels, int(i));
+    uvec4 t = texelFetch(triangleVerticesTexels, int(i));
     TriangleVertices v;
     v.vertex = t.xyz;
     v.attributes = t.w;
@@ -147,22 +138,22 @@ TriangleVertices sceneTriangleVertices(uint i) {
 }
 vec3 sceneVertexNormal(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexNormals).v[i].xyz;
-    return uintBitsToFloat(texelFetch(vertexNormalTexels, int(i)).xyz);
+    return uintBitsToFloat(texelFetch(vertexNormalsTexels, int(i)).xyz);
 }
 vec4 sceneVertexTexcoords(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTexcoords).v[i];
-    return uintBitsToFloat(texelFetch(vertexTexcoordTexels, int(i)));
+    return uintBitsToFloat(texelFetch(vertexTexcoordsTexels, int(i)));
 }
 vec4 sceneVertexColor(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexColors).v[i];
-    return uintBitsToFloat(texelFetch(vertexColorTexels, int(i)));
+    return uintBitsToFloat(texelFetch(vertexColorsTexels, int(i)));
 }
 vec4 sceneVertexTangent(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexTangents).v[i];
-    return uintBitsToFloat(texelFetch(vertexTangentTexels, int(i)));
+    return uintBitsToFloat(texelFetch(vertexTangentsTexels, int(i)));
 }
 TextureInfo sceneTexture(uint i) {
-    uvec4 t = texelFetch(textureInfoTexels, int(i));
+    uvec4 t = texelFetch(texturesTexels, int(i));
     TextureInfo texture;
     texture.firstTexel = t.x;
     texture.width = t.y;
@@ -172,8 +163,8 @@ TextureInfo sceneTexture(uint i) {
 }
 TextureSlot sceneTextureSlot(uint i) {
     int t = int(3u * i);
-    uvec4 a = texelFetch(textureSlotTexels, t), b = texelFetch(textureSlotTexels, t + 1),
-          c = texelFetch(textureSlotTexels, t + 2);
+    uvec4 a = texelFetch(textureSlotsTexels, t), b = texelFetch(textureSlotsTexels, t + 1),
+          c = texelFetch(textureSlotsTexels, t + 2);
     TextureSlot slot;
     slot.transformU = uintBitsToFloat(a.xyz);
     slot.texture = a.w;
@@ -188,7 +179,7 @@ vec4 sceneTexel(uint i) {
     if (sceneByAddress) {
         packed = Uvec2Array(sceneAddresses.texels).v[i];
     } else {
-        uvec4 t = texelFetch(textureStoreTexels, int(i >> 1u));
+        uvec4 t = texelFetch(texelsTexels, int(i >> 1u));
         packed = (i & 1u) == 0u ? t.xy : t.zw;
     }
     return vec4(unpackHalf2x16(packed.x), unpackHalf2x16(packed.y));

@@ -1,0 +1,38 @@
+// Emission seen by a path, with its MIS weight: part of shared/path_tracer.h, which
+// includes it (no include guard: once per scope, as path_tracer.h).
+
+// ---- emission seen by a path ----------------------------------------------------------
+
+// The weight of emission reached by a BSDF sample of density `bsdfPdf` whose
+// light-sampling density (choice x direction) would have been `lightPdf`.
+VKP_FN float bsdfMisWeight(float bsdfPdf, float lightPdf) VKP_SCENE_CONST {
+    return powerHeuristic(bsdfPdf, float(lightSampleCount()) * lightPdf);
+}
+
+// What a path sees when its ray escapes. `specular`: the ray came from the
+// camera or a delta BSDF (no light sample could have found this direction).
+VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SCENE_CONST {
+    SceneInfo info = sceneInfo();
+    vec3 le = environmentRadiance(direction);
+    if (specular || lightSampleCount() == 0u || info.environmentLight == VKP_NO_LIGHT) return le;
+    float lightPdf = sceneLightAlias(info.environmentLight).probability * environmentPdf(direction);
+    return le * bsdfMisWeight(bsdfPdf, lightPdf);
+}
+
+// Emission at a hit: `surface` on `primitive`, leaf primitive `index`,
+// reached along `direction` from `previous` (the last vertex) by a ray of
+// BSDF density `bsdfPdf`. Triangles emit from their front face only.
+VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, uint index,
+                            VKP_IN(SurfacePoint) surface, vec3 direction, vec3 previous, bool specular,
+                            float bsdfPdf) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) return vec3(0.0f);
+    vec3 le = material.emission;
+    if (!isSphere(primitive) && dot(direction, surface.normal) >= 0.0f) return vec3(0.0f);
+    SceneInfo info = sceneInfo();
+    if (le == vec3(0.0f) || specular || lightSampleCount() == 0u || info.lightCount == 0u) return le;
+    uint lightIndex = scenePrimitiveLight(index);
+    if (lightIndex == VKP_NO_LIGHT) return le;
+    Light light = sceneLight(lightIndex);
+    float lightPdf = sceneLightAlias(lightIndex).probability * areaLightPdf(light, previous, surface.position, surface.normal);
+    return le * bsdfMisWeight(bsdfPdf, lightPdf);
+}

@@ -1,0 +1,119 @@
+// Next-event estimation: light samples and their shadow rays: part of shared/path_tracer.h, which
+// includes it (no include guard: once per scope, as path_tracer.h).
+
+// ---- next-event estimation ---------------------------------------------------------------
+
+// Whether the light that the vertex of bounce `bounce` on `material` receives
+// is estimated by its light samples alone, with weight 1, and its BSDF sample
+// is not traced: at the path's last scattering vertex (the next hit would
+// only add emission: shadeHit), on a Lambertian surface, when every emitter
+// is a light. The two estimators that MIS weighs there are each unbiased,
+// so one alone is too; the ray it saves is one in five of a full path's
+// closest-hit rays, and on a diffuse surface light sampling alone is as good
+// as the MIS pair there (docs/BENCHMARKS.md, "The last vertex"). Glossy
+// lobes keep MIS: light sampling alone is noisy on them.
+VKP_FN bool lightSamplingAlone(VKP_IN(Material) material, uint bounce) VKP_SCENE_CONST {
+    SceneInfo info = sceneInfo();
+    return bounce + 1u == info.maxDepth && lightSampleCount() > 0u && info.unsampledEmitters == 0u &&
+           materialIs(material, VKP_MATERIAL_DIFFUSE);
+}
+
+struct ShadowRequest {
+    Ray ray;            // toward the light; tMax stops short of it
+    vec3 contribution;  // added to the path's radiance if the ray is unoccluded
+    bool valid;
+    // The chosen light gave a direction of density 0 (or NaN) from here, e.g.
+    // an area light seen exactly edge-on: the sample is skipped instead of
+    // divided by its pdf, and counted (RenderResult::rejectedLightSamples).
+    bool rejected;
+};
+
+// Light sample `index` (of lightSamples) at a diffuse vertex whose guide
+// spheres (guideSpheresAt) are `guide`.
+VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key, uint bounce,
+                                       uint index) VKP_SCENE_CONST {
+    ShadowRequest request;
+    request.valid = false;
+    request.rejected = false;
+    request.contribution = vec3(0.0f);
+    request.ray.origin = surface.position;
+    request.ray.direction = vec3(0.0f, 0.0f, 1.0f);
+    request.ray.tMax = 0.0f;
+    request.ray.pixel = key.pixel;
+    SceneInfo info = sceneInfo();
+    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material)) return request;
+
+    uint dim = bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
+    // One pair picks the light and the point on it: its first word chooses
+    // the light and, rescaled, is the point's first coordinate
+    // (aliasSampleReusing), so the pair's stratification carries over to the
+    // points on each light.
+    uvec2 pointBits = rngBits2(key, dim + 2u);
+    uint bucket = aliasBucket(pointBits.x, info.lightCount);
+    AliasChoice lightChoice =
+        aliasSampleReusing(sceneLightAlias(bucket), bucket, aliasBucketFraction(pointBits.x, info.lightCount));
+    uint lightIndex = lightChoice.element;
+    float choice = sceneLightAlias(lightIndex).probability;
+    Light light = sceneLight(lightIndex);
+    // A light of tiny probability gets its first coordinate from the
+    // independent sampler at the same dimension (its stratification is moot:
+    // it is chosen once in 2^16 samples or less often).
+    RngKey independentKey = makeRngKey(key.pixel, key.sampleIndex, key.seed);
+    float u0 = lightChoice.reusable ? lightChoice.u : rngUniform(independentKey, dim + 2u);
+    vec2 u = vec2(u0, uintToUnitFloat(pointBits.y));
+
+    LightSample ls;
+    if (lightIs(light, VKP_LIGHT_ENVIRONMENT)) {
+        ls = noLightSample();
+        EnvironmentInfo env = info.environment;
+        if (!environmentIsMap()) {
+            ls.direction = sampleUniformSphere(u);
+            ls.pdf = uniformSpherePdf();
+        } else {
+            uint texels = env.width * env.height;
+            uvec2 texelChoice = rngBits2(key, dim);
+            uint envBucket = aliasBucket(texelChoice.x, texels);
+            uint texel = aliasResolve(sceneEnvAlias(envBucket), envBucket, texelChoice.y);
+            EnvSample es = envSampleInTexel(env, texel, u);
+            ls.direction = es.direction;
+            ls.pdf = envDirectionPdf(env, sceneEnvAlias(es.pdfTexel).probability, es.direction);
+        }
+        ls.distance = VKP_FLOAT_MAX;
+        ls.radiance = environmentRadiance(ls.direction);
+    } else {
+        ls = sampleLight(light, surface.position, u);
+    }
+    if (!(ls.pdf > 0.0f)) {
+        request.rejected = true;
+        return request;
+    }
+    if (ls.radiance == vec3(0.0f)) return request;
+
+    vec3 f = evalBsdf(material, surface.normal, surface.shadingNormal, wo, ls.direction);
+    if (f == vec3(0.0f)) return request;
+    float n = float(lightSampleCount());
+    float lightPdf = choice * ls.pdf;
+    float weight = ls.delta || lightSamplingAlone(material, bounce)
+                       ? 1.0f
+                       : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, guide, ls.direction));
+    request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
+
+    request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
+    if (ls.distance < VKP_FLOAT_MAX) {
+        // The shadow ray asks whether anything lies strictly between the two
+        // surfaces. Its far end is pulled off the light's surface twice over:
+        // by the ulp-scaled offset that lifts origins off surfaces
+        // (shared/intersect.h), which covers coordinate rounding far from the
+        // origin, and by 2^-12 of the distance, which covers the larger error
+        // of intersecting the light itself at a grazing angle.
+        vec3 target = surface.position + ls.distance * ls.direction;
+        if (ls.normal != vec3(0.0f)) {
+            vec3 toward = dot(ls.normal, ls.direction) < 0.0f ? ls.normal : -ls.normal;
+            target = offsetRayOrigin(target, toward, maxComponent(abs(target)));
+        }
+        request.ray.tMax = dot(target - request.ray.origin, ls.direction) * (1.0f - 2.44140625e-4f);
+    }
+    request.valid = true;
+    return request;
+}
