@@ -23,6 +23,7 @@
 #include "scene/scene.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/render_types.h"
+#include "wavefront/wave_sizing.h"
 
 namespace vkpath::vk {
 class Context;
@@ -30,20 +31,6 @@ struct DeviceInfo;
 }
 
 namespace vkpath::wavefront {
-
-// The kernel form a device gets without --kernel (measured:
-// docs/BENCHMARKS.md, "Kernel forms and specialisation").
-KernelForm defaultKernelForm(const vk::DeviceInfo& device);
-
-// The paths one wave may hold unless the settings say: more on a discrete GPU,
-// where a wave of 2^20 paths leaves the GPU idle while the host submits the
-// next (docs/BENCHMARKS.md, "An NVIDIA H200").
-uint32_t defaultPathsInFlight(const vk::DeviceInfo& device);
-
-// Device bytes one path in flight takes in the per-path buffers of a kernel
-// form whose kernels queue `shadowRaysPerVertex` shadow rays per vertex
-// (kernel_features.h).
-uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex);
 
 // Device memory a render allocated, by group.
 struct MemoryGroup {

@@ -1,0 +1,109 @@
+#include "wavefront/pipeline_set.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <span>
+
+#include "shared/bindings.h"
+#include "vk/context.h"
+
+namespace vkpath::wavefront {
+namespace {
+
+std::span<const std::byte> bytes(const shared::WavePush& p) { return std::as_bytes(std::span(&p, 1)); }
+
+}  // namespace
+
+PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
+                         std::map<uint32_t, const vk::Buffer*> bindings, const std::vector<vk::Buffer>& film,
+                         vk::Buffer& counters)
+    : m_setup(setup) {
+    const vk::KernelOptions options{.workgroupSize = setup.workgroupSize};
+    vk::KernelOptions sceneOptions = options;
+    sceneOptions.specialization = setup.sceneSpecialization;
+    auto build = [&](const char* name, const vk::KernelOptions& o, vk::DescriptorSet& set) {
+        auto kernel = std::make_unique<vk::Kernel>(context, name, o);
+        set = kernel->bindDeclared(bindings);
+        m_built.emplace_back(kernel.get(), &set);
+        return kernel;
+    };
+    const vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, setup.workgroupSize}}};
+    m_queueDispatch = build("queue_dispatch", dispatchOptions, m_queueDispatchSet);
+    m_accumulate = std::make_unique<vk::Kernel>(context, "accumulate", options);
+    for (const vk::Buffer& window : film) {
+        bindings[VKP_WF_FILM] = &window;
+        m_accumulateSets.push_back(m_accumulate->bindDeclared(bindings));
+    }
+    bindings[VKP_WF_FILM] = &film.front();
+    m_built.emplace_back(m_accumulate.get(), &m_accumulateSets.front());
+    if (setup.form == KernelForm::Megakernel) {
+        m_megakernel = build("megakernel", sceneOptions, m_megakernelSet);
+    } else {
+        m_generate = build("generate", sceneOptions, m_generateSet);
+        m_intersect = build("intersect", sceneOptions, m_intersectSet);
+        m_shade = build("shade", sceneOptions, m_shadeSet);
+        if (setup.shadowStage) m_shadow = build("shadow", sceneOptions, m_shadowSet);
+    }
+    // One empty dispatch of each; with no paths the queues are empty (the
+    // renderer clears the counters again before its first wave).
+    counters.clear();
+    context.submit([&](VkCommandBuffer cmd) {
+        const shared::WavePush empty{0, 0, 0, 0, VKP_TALLY_RAYS};
+        for (const auto& [kernel, set] : m_built) {
+            kernel->record(cmd, *set, 1, bytes(empty));
+            vk::computeBarrier(cmd);
+        }
+    });
+}
+
+PipelineSet::~PipelineSet() = default;
+
+void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps, const shared::WavePush& wave,
+                             uint32_t bounces, const vk::Buffer& counters, const std::vector<vk::Buffer>& film,
+                             uint32_t filmWindowPixels) const {
+    timestamps.reset(cmd);
+    vk::computeBarrier(cmd);
+    auto timed = [&](const char* name, auto&& work) {
+        const uint32_t interval = timestamps.begin(cmd, name);
+        work();
+        timestamps.end(cmd, interval);
+        vk::computeBarrier(cmd);
+    };
+    auto pushFor = [&](uint32_t bounce, uint32_t mode) {
+        return shared::WavePush{wave.firstSample, wave.firstPixel, wave.pathCount, bounce, mode};
+    };
+    const shared::WavePush p0 = pushFor(0, 0);
+    if (m_setup.form == KernelForm::Megakernel) {
+        const shared::WavePush tally = pushFor(0, VKP_TALLY_RAYS);
+        // Each invocation traces ceil(count / invocations) paths in turn;
+        // lavapipe ends a shader loop after 65535 iterations, one bounce each.
+        const uint32_t perInvocation = std::clamp<uint32_t>(m_setup.megakernelPathsPerInvocation, 1, 65535 / bounces);
+        const uint32_t invocations = (wave.pathCount + perInvocation - 1) / perInvocation;
+        timed("megakernel", [&] { m_megakernel->record(cmd, m_megakernelSet, invocations, bytes(p0)); });
+        timed("queue_dispatch", [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(tally)); });
+    } else {
+        timed("generate", [&] { m_generate->record(cmd, m_generateSet, wave.pathCount, bytes(p0)); });
+        const VkDeviceSize rayArgs = offsetof(shared::QueueCounters, rayDispatch);
+        const VkDeviceSize shadowArgs = offsetof(shared::QueueCounters, shadowDispatch);
+        for (uint32_t bounce = 0; bounce < bounces; ++bounce) {
+            const shared::WavePush rays = pushFor(bounce, VKP_PREPARE_RAYS);
+            const shared::WavePush shadows = pushFor(bounce, VKP_PREPARE_SHADOWS);
+            timed("queue_dispatch", [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(rays)); });
+            timed("intersect", [&] { m_intersect->recordIndirect(cmd, m_intersectSet, counters, rayArgs, bytes(rays)); });
+            timed("shade", [&] { m_shade->recordIndirect(cmd, m_shadeSet, counters, rayArgs, bytes(rays)); });
+            if (!m_setup.shadowStage) continue;
+            timed("queue_dispatch", [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(shadows)); });
+            timed("shadow", [&] { m_shadow->recordIndirect(cmd, m_shadowSet, counters, shadowArgs, bytes(shadows)); });
+        }
+    }
+    timed("accumulate", [&] {
+        for (size_t i = 0; i < film.size(); ++i) {
+            shared::WavePush window = p0;
+            window.filmFirstPixel = uint32_t(i * filmWindowPixels);
+            const uint32_t windowPixels = uint32_t(film[i].size() / sizeof(shared::FilmPixel));
+            m_accumulate->record(cmd, m_accumulateSets[i], windowPixels, bytes(window));
+        }
+    });
+}
+
+}  // namespace vkpath::wavefront

@@ -1,0 +1,65 @@
+// The GPU renderer's kernels for one render: the pipelines of its kernel
+// form, specialised to the render's features (the on-disk pipeline cache
+// keeps each feature set's), each with its descriptor set, and the recording
+// of one wave into a command buffer:
+//
+//   wavefront:  generate -> for bounce 0..maxDepth:
+//                 queue_dispatch(rays) -> intersect -> shade [-> queue_dispatch(shadows) -> shadow]
+//               -> accumulate (once per film window)
+//   megakernel: megakernel -> queue_dispatch(tally) -> accumulate
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "shared/wavefront.h"
+#include "vk/kernel.h"
+#include "vk/timestamps.h"
+#include "wavefront/render_types.h"
+
+namespace vkpath::wavefront {
+
+struct PipelineSetup {
+    KernelForm form = KernelForm::Wavefront;
+    bool shadowStage = false;  // the wavefront's shadow stage (a shadow ray can be queued)
+    uint32_t workgroupSize = 64;
+    // The scene kernels' specialisation: scene access and feature bits.
+    std::vector<vk::SpecializationConstant> sceneSpecialization;
+    uint32_t megakernelPathsPerInvocation = 1;  // RenderSettings'
+};
+
+class PipelineSet {
+  public:
+    // Builds the form's pipelines and binds each its buffers from `bindings`
+    // (binding -> buffer; the film's binding is set per window from `film`),
+    // then runs one empty dispatch of each: drivers may compile a pipeline at
+    // its first dispatch (lavapipe from Mesa 25 does, for seconds), and that
+    // time belongs here, not to the first wave. `counters` is cleared
+    // before (with no paths every kernel returns at once).
+    PipelineSet(vk::Context& context, const PipelineSetup& setup, std::map<uint32_t, const vk::Buffer*> bindings,
+                const std::vector<vk::Buffer>& film, vk::Buffer& counters);
+    ~PipelineSet();
+
+    uint32_t count() const { return uint32_t(m_built.size()); }
+
+    // Records one wave: the paths of `wave` (its bounce and mode unused) for
+    // `bounces` shading passes, then their accumulation into every window of
+    // `film` (windows of `filmWindowPixels`). Each kernel's dispatch is timed
+    // by its name in `timestamps`.
+    void recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps, const shared::WavePush& wave,
+                    uint32_t bounces, const vk::Buffer& counters, const std::vector<vk::Buffer>& film,
+                    uint32_t filmWindowPixels) const;
+
+  private:
+    PipelineSetup m_setup;
+    std::unique_ptr<vk::Kernel> m_generate, m_queueDispatch, m_intersect, m_shade, m_shadow, m_megakernel,
+        m_accumulate;
+    vk::DescriptorSet m_generateSet, m_queueDispatchSet, m_intersectSet, m_shadeSet, m_shadowSet, m_megakernelSet;
+    std::vector<vk::DescriptorSet> m_accumulateSets;  // one per film window
+    std::vector<std::pair<const vk::Kernel*, const vk::DescriptorSet*>> m_built;
+};
+
+}  // namespace vkpath::wavefront
