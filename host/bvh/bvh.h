@@ -21,16 +21,16 @@ namespace vkpath::bvh {
 
 struct BvhOptions {
     // Leaves hold at most this many primitives; below it the SAH decides
-    // between a leaf and a split. Measured on lavapipe (docs/BENCHMARKS.md):
-    // 1 is ~5% slower, 2 to 8 are within noise of each other; 4 leaves the
-    // SAH room without long leaves on meshes whose SAH would pack them.
+    // between a leaf and a split. Measured on lavapipe (docs/BENCHMARKS.md,
+    // "BVH build"): 1 is slower, 2 to 8 about alike; 4 leaves the SAH room
+    // without long leaves on meshes whose SAH would pack them.
     // 1 to VKP_BVH_MAX_LEAF_COUNT (15, what a traversal node word holds).
     uint32_t maxLeafSize = 4;
     // Bins per axis for the SAH sweep, 2 to 256.
     uint32_t binCount = 16;
     // SAH cost of visiting an interior node (two box tests), in units of one
-    // primitive test. 0.5 to 4 measured within ~5% of each other; 1 is as
-    // fast as any.
+    // primitive test. 0.5 to 4 measure about alike, 1 as fast as any
+    // (docs/BENCHMARKS.md, "BVH build").
     float traversalCost = 1.0f;
     // Leaves lie at depth <= maxDepth (root 0). At most VKP_BVH_MAX_DEPTH, the
     // traversal stack's size; tests lower it to exercise the guard.

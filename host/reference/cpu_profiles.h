@@ -15,10 +15,9 @@
 // shared::kernelFeatures is the profile's bits, so the compiler removes the
 // code of every feature outside it, as the pipeline compiler does with the
 // specialisation constant. A profile gains what the code it leaves out cost
-// (docs/BENCHMARKS.md, "The CPU reference specialised": 1.10 to 1.15x for
-// this one). Profiles that kept the microfacet materials (every kind without
-// textures; every kind with textures) measured 0.95 to 1.03x there and are not
-// built: the gain is in leaving the microfacet code out.
+// (docs/BENCHMARKS.md, "The CPU reference specialised (feature profiles)",
+// which also has the profiles that kept the microfacet materials: they
+// gained nothing and are not built, the gain is in leaving that code out).
 //
 // Only macros here, no includes: a profile's translation unit reads this
 // header before shared/features.h defines the bits the masks name.

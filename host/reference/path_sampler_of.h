@@ -21,8 +21,8 @@ class PathSamplerOf final : public PathSampler {
 
     // The whole path in one function: `flatten` inlines every call in it
     // (the bounce, the traversals, the light and BSDF samples), which GCC
-    // left as calls passing structs through memory. 1.07-1.08x on CBspheres,
-    // CBbunny and material_spheres (docs/BENCHMARKS.md).
+    // left as calls passing structs through memory (docs/BENCHMARKS.md,
+    // "What each part of its design buys").
     __attribute__((flatten)) glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel,
                                                  uint32_t sampleIndex, shared::PathTally& tally) const override {
         const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);

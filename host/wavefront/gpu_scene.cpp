@@ -296,8 +296,8 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     // through a sphere as around it, punctual lights are never hit) and no
     // environment map: a sun in a map is so small and bright that the cone
     // samples turn up its caustics through the spheres far more often while
-    // each is still a firefly (material_spheres: 14x the relMSE at 128 spp;
-    // docs/TRADEOFFS.md, "Guiding toward specular spheres").
+    // each is still a firefly (docs/TRADEOFFS.md, "Guiding toward specular
+    // spheres", measured on material_spheres).
     const bool surfaceEmitters = !surfaceLight.empty() || t.info.unsampledEmitters != 0;
     const bool environmentMap = scene.environment && scene.environment->map && scene.environment->strength > 0;
     if (surfaceEmitters && !environmentMap) t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);

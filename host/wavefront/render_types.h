@@ -69,7 +69,7 @@ struct RenderSettings {
     uint32_t workgroupSize = 64;              // GPU: threads per workgroup of the stage kernels
     // GPU megakernel: paths each invocation traces one after another (path
     // regeneration); 1: one path per invocation, measured the faster on
-    // lavapipe (docs/BENCHMARKS.md).
+    // lavapipe (docs/BENCHMARKS.md, "Kernel forms and specialisation").
     uint32_t megakernelPathsPerInvocation = 1;
     // GPU: upper bound on a wave's paths, also limited by device memory;
     // unset: by the device's type (defaultPathsInFlight).

@@ -9,9 +9,10 @@
 //     maxTexelBufferElements bytes; 128 MiB on lavapipe, about 2.8 million
 //     primitives), the limit every other scene array is bound under;
 //   by address (true): buffer references (GL_EXT_buffer_reference) to the
-//     same arrays, limited only by the size of one buffer. Measured 12 to 41%
-//     slower than storage-buffer bindings on lavapipe (docs/BENCHMARKS.md),
-//     which are slower again than the texel buffers, so only scenes too large
+//     same arrays, limited only by the size of one buffer. Slower than
+//     storage-buffer bindings on lavapipe, which are slower again than the
+//     texel buffers (docs/BENCHMARKS.md, "Scene data on lavapipe: texel
+//     buffers, storage buffers, device addresses"), so only scenes too large
 //     for a binding use it (host/bvh/gpu_bvh.h decides).
 //
 // The pipeline compiler folds the constant, so each pipeline keeps only one
@@ -46,9 +47,9 @@ layout(constant_id = VKP_SPEC_SCENE_BY_ADDRESS) const bool sceneByAddress = fals
 // lane and one 4-byte component at a time, each behind its own bounds test
 // and branch (12 of them per lane for a primitive); a texel fetch is one
 // call per texel for the whole SIMD group, into a sampling function lavapipe
-// compiles for the binding (GALLIVM_DEBUG=asm shows both). The traversal ran
-// 1.5x faster so (docs/BENCHMARKS.md), and GPUs fetch texels as fast as they
-// load. Each fetch still costs a call and the spilling of live registers
+// compiles for the binding (GALLIVM_DEBUG=asm shows both). The traversal runs
+// faster so (docs/BENCHMARKS.md, "Scene data on lavapipe"), and GPUs fetch
+// texels as fast as they load. Each fetch still costs a call and the spilling of live registers
 // around it, so the traversal reads each node once (shared/bvh_traverse.h).
 layout(binding = VKP_BVH_NODES_BINDING) uniform utextureBuffer bvhNodeTexels;
 layout(binding = VKP_BVH_PRIMITIVES_BINDING) uniform utextureBuffer bvhPrimitiveTexels;

@@ -24,16 +24,15 @@
 // The traversal reads the node records of shared/bvh.h: a record holds both
 // children's boxes and words, so a step reads three texels and a pop or a
 // leaf none (the two-texel nodes it replaced cost four texels a step and two
-// more a pop: CBspheres renders 1.08x and CBbunny 1.15x faster on lavapipe,
-// docs/BENCHMARKS.md). It keeps an explicit stack of child words. At an
+// more a pop: docs/BENCHMARKS.md, "On lavapipe: what a ray reads, and the
+// node records"). It keeps an explicit stack of child words. At an
 // interior node both children's boxes are tested; the nearer is visited next
 // and the other pushed, so the stack holds at most one node per level below
 // the root, and the builder keeps every leaf at depth <= VKP_BVH_MAX_DEPTH: a stack of
 // VKP_BVH_MAX_DEPTH entries cannot overflow. The loop is "while-while" (Aila
 // and Laine, "Understanding the Efficiency of Ray Traversal on GPUs", HPG
 // 2009): descend through interior nodes until a leaf, then test the leaf, so
-// the rays of a SIMD group run the same phase together (measured ~10% faster
-// for incoherent rays on lavapipe than one if/else per step).
+// the rays of a SIMD group run the same phase together.
 
 // The stack's top eight entries live in two vectors, the top in near.x, every
 // entry shifted by one on a push and a pop. lavapipe keeps a lane's stack
@@ -41,9 +40,9 @@
 // variables stay in vector registers. A tree deeper than
 // VKP_BVH_SHALLOW_DEPTH (VKP_FEATURE_DEEP_BVH) keeps the entries below those
 // eight in an array, written and read only while the stack holds more than
-// eight: on lavapipe CBspheres (shallow) renders 1.07 to 1.10x faster than
-// with the whole stack in an array, CBbunny (deep) 1.02 to 1.08x; four or
-// 32 entries in variables measured slower (docs/BENCHMARKS.md).
+// eight: faster on lavapipe than the whole stack in an array, for shallow
+// and deep trees alike (docs/BENCHMARKS.md, "The traversal stack in
+// variables", which also has the four and 32 entries measured).
 VKP_FN void bvhStackPush(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far, uint index) VKP_BVH_CONST {
     far = uvec4(near.w, far.x, far.y, far.z);
     near = uvec4(index, near.x, near.y, near.z);

@@ -31,8 +31,8 @@
 #define VKP_INOUT(T) T&
 #define VKP_OUT(T) T&
 // Parameters only read: const references in C++, so that a call does not copy
-// the struct to the stack (Material is 80 bytes; the copies cost the CPU
-// reference about 8% on CBspheres); plain values in GLSL, where a kernel
+// the struct to the stack (Material is 80 bytes; docs/BENCHMARKS.md, "What
+// each part of its design buys"); plain values in GLSL, where a kernel
 // compiler sees through `in` copies.
 #define VKP_IN(T) const T&
 
@@ -46,10 +46,9 @@ using glm::uintBitsToFloat;
 // and masks take 18 instructions. With GFNI (Intel since Ice Lake, AMD since
 // Zen 4) one affine transform over GF(2) reverses the bits of each byte (the
 // matrix 0x8040201008040201 maps bit i to bit 7 - i; Intel's intrinsics
-// guide, _mm_gf2p8affine_epi64_epi8) and a byte swap finishes: a pair of
-// Sobol' numbers costs 0.7x the time and the CPU reference renders
-// CBspheres 1.04x faster (docs/BENCHMARKS.md). A function in this
-// namespace hides GLM's template for the shared code.
+// guide, _mm_gf2p8affine_epi64_epi8) and a byte swap finishes
+// (docs/BENCHMARKS.md, "Samplers" and "What each part of its design buys").
+// A function in this namespace hides GLM's template for the shared code.
 inline uint bitfieldReverse(uint x) {
 #ifdef __GFNI__
     const __m128i perByte = _mm_gf2p8affine_epi64_epi8(_mm_cvtsi32_si128(int(x)),

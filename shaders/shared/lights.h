@@ -39,7 +39,7 @@ struct Light {
     float cosOuter;   // spot: cosine of the outer cone angle (dark outside)
     vec3 normal;      // triangle: unit normal of the front face, normalize((p1 - p0) x (p2 - p0))
     float area;       // triangle: length(triangleArea3(p0, p1, p2)); both computed once by the host
-                      // (wavefront/gpu_scene.cpp), not at every light sample (1.017x on the CPU reference)
+                      // (wavefront/gpu_scene.cpp), not at every light sample
 };
 
 // What a light sample brings to a point.

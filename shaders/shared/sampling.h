@@ -38,8 +38,9 @@ VKP_FN vec3 frameToLocal(Frame f, vec3 world) {
 // with no range reduction: the minimax polynomials of Cephes' cosf and sinf
 // for that interval (Moshier, "Methods and Programs for Mathematical
 // Functions", 1989; Cephes Math Library, single precision), within one ulp
-// of the correctly rounded values (Sampling.QuarterPiCosineAndSineWithinOneUlp). A libm call (sincosf, with its range
-// reduction) cost the CPU reference ~4% of its time on CBspheres.
+// of the correctly rounded values (Sampling.QuarterPiCosineAndSineWithinOneUlp),
+// cheaper than a libm call with its range reduction (docs/BENCHMARKS.md,
+// "What each part of its design buys").
 VKP_FN vec2 cosSinQuarterPi(float a) {
     float a2 = a * a;
     float c = 1.0f - 0.5f * a2 +

@@ -5,8 +5,8 @@
 // Light that reaches a diffuse surface from a small emitter through a mirror
 // or glass sphere (a caustic) is found by BSDF samples only: a light sample
 // cannot aim through a delta lobe. Cosine sampling rarely hits the emitter's
-// image in the sphere, and each hit is a firefly: on CBspheres the top 5% of
-// pixels held 84% of the relMSE at 64 spp (docs/BENCHMARKS.md). So a
+// image in the sphere, and each hit is a firefly: on CBspheres a few pixels
+// hold most of the error (docs/TRADEOFFS.md, "Light samples"). So a
 // Lambertian vertex that sees guide spheres (SceneInfo::guideSphereCount:
 // the smooth specular spheres, listed where emissive surfaces can be seen
 // through them, host/wavefront/gpu_scene.cpp) draws its direction from a
