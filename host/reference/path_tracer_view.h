@@ -118,9 +118,12 @@ struct PathTracerViewOf : SceneTablesView {
 #pragma push_macro("VKP_FN")
 #undef VKP_FN
 #define VKP_FN inline
+// In the order each needs the ones before it:
+// clang-format off
 #include "shared/bvh_leaf.h"
 #include "shared/path_tracer.h"
 #include "shared/integrator.h"
+// clang-format on
 #pragma pop_macro("VKP_FN")
 };
 

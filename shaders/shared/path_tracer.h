@@ -59,7 +59,8 @@ VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
 }
 
 // The per-vertex math, one file per concern, in the order each needs the
-// ones before it.
+// ones before it (so clang-format leaves the order alone).
+// clang-format off
 #include "shared/path/environment.h"
 #include "shared/path/textures.h"
 #include "shared/path/shading_normals.h"
@@ -69,3 +70,4 @@ VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
 #include "shared/path/emission.h"
 #include "shared/path/next_event.h"
 #include "shared/path/continuation.h"
+// clang-format on
