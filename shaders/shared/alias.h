@@ -27,15 +27,24 @@
 #define VKPATH_SHARED_ALIAS_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 #include "shared/constants.h"
 
 VKP_NAMESPACE_BEGIN
 
+// AliasEntry's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_ALIAS_ENTRY_FIELDS(F)                                                    \
+    /* the bucket keeps its own element when bits < threshold, else takes `alias` */ \
+    F(uint, threshold, 0)                                                            \
+    /* element index */                                                              \
+    F(uint, alias, 1)                                                                \
+    /* this element's exact probability under the quantised table */                 \
+    F(float, probability, 2)                                                         \
+    /* 0: an entry is one 16-byte texel (stages/lib/scene_access.glsl) */            \
+    F(uint, padding, 3)                                                             
 struct AliasEntry {
-    uint threshold;     // the bucket keeps its own element when bits < threshold, else takes `alias`
-    uint alias;         // element index
-    float probability;  // this element's exact probability under the quantised table
-    uint padding;       // 0: an entry is one 16-byte texel (stages/lib/scene_access.glsl)
+    VKP_ALIAS_ENTRY_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // floor(bits * count / 2^32): uniform over [0, count) for count <= 2^32.
@@ -87,7 +96,9 @@ VKP_FN AliasChoice aliasSampleReusing(AliasEntry entry, uint bucket, uint fracti
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::AliasEntry) == 16);
+#define VKP_RECORD AliasEntry
+VKP_RECORD_CHECK(VKP_ALIAS_ENTRY_FIELDS, 1)
+#undef VKP_RECORD
 #endif
 
 #endif  // VKPATH_SHARED_ALIAS_H

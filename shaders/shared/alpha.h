@@ -44,6 +44,7 @@
 #define VKPATH_SHARED_ALPHA_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 #include "shared/rng.h"
 
 // MaterialAlpha::mode; the same numbers as scene::AlphaMode.
@@ -60,12 +61,20 @@ VKP_NAMESPACE_BEGIN
 // What the traversal reads of a material to test a candidate hit: one record
 // per scene material, uploaded only for scenes with a MASK or BLEND triangle
 // (SceneInfo::alphaTested).
+// MaterialAlpha's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_MATERIAL_ALPHA_FIELDS(F)                                                         \
+    /* VKP_ALPHA_* */                                                                        \
+    F(uint, mode, 0)                                                                         \
+    /* MASK: alpha below this is a hole (glTF alphaCutoff) */                                \
+    F(float, cutoff, 1)                                                                      \
+    /* baseColorFactor's alpha */                                                            \
+    F(float, alpha, 2)                                                                       \
+    /* the material's VKP_SLOT_BASE_COLOR TextureSlot (shared/texture.h), whose texture's */ \
+    /* alpha multiplies; VKP_NO_TEXTURE when it has none */                                  \
+    F(uint, baseColorSlot, 3)                                                               
 struct MaterialAlpha {
-    uint mode;           // VKP_ALPHA_*
-    float cutoff;        // MASK: alpha below this is a hole (glTF alphaCutoff)
-    float alpha;         // baseColorFactor's alpha
-    uint baseColorSlot;  // the material's VKP_SLOT_BASE_COLOR TextureSlot (shared/texture.h), whose
-                         // texture's alpha multiplies; VKP_NO_TEXTURE when it has none
+    VKP_MATERIAL_ALPHA_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // The number of the closest-hit ray of bounce `bounce`, and of the shadow ray
@@ -99,7 +108,9 @@ VKP_FN bool alphaCovers(MaterialAlpha material, float alpha, uint rayKey, uint t
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::MaterialAlpha) == 16);
+#define VKP_RECORD MaterialAlpha
+VKP_RECORD_CHECK(VKP_MATERIAL_ALPHA_FIELDS, 1)
+#undef VKP_RECORD
 #endif
 
 #endif  // VKPATH_SHARED_ALPHA_H

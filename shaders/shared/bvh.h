@@ -15,6 +15,7 @@
 #define VKPATH_SHARED_BVH_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 #include "shared/features.h"
 
 // The deepest a leaf may be (root at depth 0). Traversal pushes at most one
@@ -73,14 +74,24 @@ struct BvhNode {
 // One triangle or sphere in leaf order. Triangles keep their three world-space
 // vertices here so a leaf is one contiguous read; the original ids tell
 // shading where the rest of the data lives.
+// BvhPrimitive's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_BVH_PRIMITIVE_FIELDS(F)                                                            \
+    /* world space. triangle: vertex 0; sphere: centre */                                      \
+    F(vec3, p0, 0)                                                                             \
+    /* VKP_PRIMITIVE_TRIANGLE or VKP_PRIMITIVE_SPHERE */                                       \
+    F(uint, kind, 3)                                                                           \
+    /* world space. triangle: vertex 1; sphere: (radius, 0, 0) */                              \
+    F(vec3, p1, 4)                                                                             \
+    /* triangle: index over all scene triangles, mesh by mesh in scene order; sphere: index */ \
+    /* into Scene::spheres */                                                                  \
+    F(uint, id, 7)                                                                             \
+    /* world space. triangle: vertex 2; sphere: unused (0) */                                  \
+    F(vec3, p2, 8)                                                                             \
+    /* index into Scene::materials */                                                          \
+    F(uint, material, 11)                                                                     
 struct BvhPrimitive {
-    vec3 p0;        // world space. triangle: vertex 0; sphere: centre
-    uint kind;      // VKP_PRIMITIVE_TRIANGLE or VKP_PRIMITIVE_SPHERE
-    vec3 p1;        // world space. triangle: vertex 1; sphere: (radius, 0, 0)
-    uint id;        // triangle: index over all scene triangles, mesh by mesh in scene order;
-                    // sphere: index into Scene::spheres
-    vec3 p2;        // world space. triangle: vertex 2; sphere: unused (0)
-    uint material;  // index into Scene::materials
+    VKP_BVH_PRIMITIVE_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // The result of closest-hit traversal.
@@ -132,7 +143,9 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 static_assert(sizeof(vkpath::shared::BvhNode) == 32);
-static_assert(sizeof(vkpath::shared::BvhPrimitive) == 48);
+#define VKP_RECORD BvhPrimitive
+VKP_RECORD_CHECK(VKP_BVH_PRIMITIVE_FIELDS, 3)
+#undef VKP_RECORD
 static_assert(sizeof(vkpath::shared::Hit) == 16);
 static_assert(sizeof(vkpath::shared::BvhAddresses) == 16);
 static_assert(sizeof(vkpath::shared::TracePush) == 20);

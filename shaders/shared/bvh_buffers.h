@@ -69,17 +69,12 @@ uvec4 bvhNodeTexel(uint texel) {
 }
 BvhPrimitive bvhPrimitive(uint index) {
     if (sceneByAddress) return BvhPrimitiveArray(VKP_BVH_ADDRESSES.primitives).v[index];
-    uvec4 a = texelFetch(bvhPrimitiveTexels, int(3u * index));
-    uvec4 b = texelFetch(bvhPrimitiveTexels, int(3u * index + 1u));
-    uvec4 c = texelFetch(bvhPrimitiveTexels, int(3u * index + 2u));
-    BvhPrimitive primitive;
-    primitive.p0 = uintBitsToFloat(a.xyz);
-    primitive.kind = a.w;
-    primitive.p1 = uintBitsToFloat(b.xyz);
-    primitive.id = b.w;
-    primitive.p2 = uintBitsToFloat(c.xyz);
-    primitive.material = c.w;
-    return primitive;
+    uvec4 t[3] = uvec4[3](texelFetch(bvhPrimitiveTexels, int(3u * index)),
+                          texelFetch(bvhPrimitiveTexels, int(3u * index + 1u)),
+                          texelFetch(bvhPrimitiveTexels, int(3u * index + 2u)));
+    BvhPrimitive r;
+    VKP_RECORD_DECODE(VKP_BVH_PRIMITIVE_FIELDS)
+    return r;
 }
 
 #include "shared/bvh_leaf.h"

@@ -8,6 +8,7 @@
 #define VKPATH_SHARED_LIGHTS_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 #include "shared/constants.h"
 #include "shared/features.h"
 #include "shared/light_types.h"
@@ -26,20 +27,34 @@ VKP_LIGHT_TYPES(VKP_LIGHT_CONSTANT)
 
 VKP_NAMESPACE_BEGIN
 
+// Light's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_LIGHT_FIELDS(F)                                                                   \
+    /* triangle: vertex 0; sphere: centre; point, spot: position (world space) */             \
+    F(vec3, p0, 0)                                                                            \
+    /* VKP_LIGHT_* */                                                                         \
+    F(uint, type, 3)                                                                          \
+    /* triangle: vertex 1; spot: unit axis; directional: unit direction of travel */          \
+    F(vec3, p1, 4)                                                                            \
+    /* sphere: radius */                                                                      \
+    F(float, radius, 7)                                                                       \
+    /* triangle: vertex 2 */                                                                  \
+    F(vec3, p2, 8)                                                                            \
+    /* spot: cosine of the inner cone angle (full intensity inside) */                        \
+    F(float, cosInner, 11)                                                                    \
+    /* triangle, sphere: radiance W/(m^2 sr), from a triangle's front face only (counter- */  \
+    /* clockwise seen from the front), from both sides of a sphere; point, spot: intensity */ \
+    /* W/sr; directional: irradiance W/m^2 */                                                 \
+    F(vec3, emission, 12)                                                                     \
+    /* spot: cosine of the outer cone angle (dark outside) */                                 \
+    F(float, cosOuter, 15)                                                                    \
+    /* triangle: unit normal of the front face, normalize((p1 - p0) x (p2 - p0)) */           \
+    F(vec3, normal, 16)                                                                       \
+    /* triangle: length(triangleArea3(p0, p1, p2)); both computed once by the host */         \
+    /* (wavefront/gpu_scene.cpp), not at every light sample */                                \
+    F(float, area, 19)                                                                       
 struct Light {
-    vec3 p0;          // triangle: vertex 0; sphere: centre; point, spot: position (world space)
-    uint type;        // VKP_LIGHT_*
-    vec3 p1;          // triangle: vertex 1; spot: unit axis; directional: unit direction of travel
-    float radius;     // sphere: radius
-    vec3 p2;          // triangle: vertex 2
-    float cosInner;   // spot: cosine of the inner cone angle (full intensity inside)
-    vec3 emission;    // triangle, sphere: radiance W/(m^2 sr), from a triangle's front face only
-                      // (counter-clockwise seen from the front), from both sides of a sphere;
-                      // point, spot: intensity W/sr; directional: irradiance W/m^2
-    float cosOuter;   // spot: cosine of the outer cone angle (dark outside)
-    vec3 normal;      // triangle: unit normal of the front face, normalize((p1 - p0) x (p2 - p0))
-    float area;       // triangle: length(triangleArea3(p0, p1, p2)); both computed once by the host
-                      // (wavefront/gpu_scene.cpp), not at every light sample
+    VKP_LIGHT_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // What a light sample brings to a point.
@@ -249,7 +264,9 @@ VKP_FN LightSample sampleLight(VKP_IN(Light) light, vec3 p, vec2 u) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::Light) == 80);
+#define VKP_RECORD Light
+VKP_RECORD_CHECK(VKP_LIGHT_FIELDS, 5)
+#undef VKP_RECORD
 #endif
 
 #endif  // VKPATH_SHARED_LIGHTS_H

@@ -3,6 +3,7 @@
 #define VKPATH_SHARED_MATERIAL_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 #include "shared/features.h"
 #include "shared/texture.h"
 
@@ -31,23 +32,40 @@ VKP_NAMESPACE_BEGIN
 // (80 bytes for every kind, five 16-byte texels: kernels read the array as a
 // texel buffer, stages/lib/scene_access.glsl; scene::Material has a field per
 // meaning).
+// Material's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_MATERIAL_FIELDS(F)                                                                   \
+    /* diffuse: albedo; mirror, glass, rough glass: reflection tint; conductor: Schlick's F0, */ \
+    /* or the complex index's real part eta; metallic-roughness: base colour */                  \
+    F(vec3, reflectance, 0)                                                                      \
+    /* VKP_MATERIAL_* */                                                                         \
+    F(uint, kind, 3)                                                                             \
+    /* glass, rough glass: tint of refracted light; conductor: the complex index's imaginary */  \
+    /* part k; metallic-roughness: the dielectric layer's Fresnel at normal incidence (weight */ \
+    /* included) */                                                                              \
+    F(vec3, transmittance, 4)                                                                    \
+    /* glass, rough glass: index of refraction of the inside relative to the outside */          \
+    F(float, ior, 7)                                                                             \
+    /* emitted radiance, W/(m^2 sr), from the front face */                                      \
+    F(vec3, emission, 8)                                                                         \
+    /* index of the first of its VKP_SLOTS_PER_MATERIAL TextureSlots (shared/texture.h), or */   \
+    /* VKP_NO_TEXTURE */                                                                         \
+    F(uint, textures, 11)                                                                        \
+    /* conductor, rough glass, metallic-roughness: GGX alpha = roughness^2 */                    \
+    F(float, roughness, 12)                                                                      \
+    /* metallic-roughness: 0 dielectric, 1 metal */                                              \
+    F(float, metallic, 13)                                                                       \
+    /* metallic-roughness: the dielectric layer's weight, its Fresnel at grazing incidence */    \
+    F(float, specular, 14)                                                                       \
+    /* VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL */                            \
+    F(uint, flags, 15)                                                                           \
+    /* glass, rough glass: absorption coefficient of the inside, per metre (Beer-Lambert; */     \
+    /* KHR_materials_volume); 0: clear */                                                        \
+    F(vec3, attenuation, 16)                                                                     \
+    /* 0: fills the fifth texel */                                                               \
+    F(uint, padding, 19)                                                                        
 struct Material {
-    vec3 reflectance;    // diffuse: albedo; mirror, glass, rough glass: reflection tint; conductor: Schlick's F0, or
-                         // the complex index's real part eta; metallic-roughness: base colour
-    uint kind;           // VKP_MATERIAL_*
-    vec3 transmittance;  // glass, rough glass: tint of refracted light; conductor: the complex index's imaginary part
-                         // k; metallic-roughness: the dielectric layer's Fresnel at normal incidence (weight included)
-    float ior;           // glass, rough glass: index of refraction of the inside relative to the outside
-    vec3 emission;       // emitted radiance, W/(m^2 sr), from the front face
-    uint textures;       // index of the first of its VKP_SLOTS_PER_MATERIAL TextureSlots (shared/texture.h), or
-                         // VKP_NO_TEXTURE
-    float roughness;     // conductor, rough glass, metallic-roughness: GGX alpha = roughness^2
-    float metallic;      // metallic-roughness: 0 dielectric, 1 metal
-    float specular;      // metallic-roughness: the dielectric layer's weight, its Fresnel at grazing incidence
-    uint flags;          // VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL
-    vec3 attenuation;    // glass, rough glass: absorption coefficient of the inside, per metre (Beer-Lambert;
-                         // KHR_materials_volume); 0: clear
-    uint padding;        // 0: fills the fifth texel
+    VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // The feature bit of material kind `kind` (shared/features.h).
@@ -103,7 +121,9 @@ VKP_FN bool materialTransmits(VKP_IN(Material) material) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::Material) == 80);
+#define VKP_RECORD Material
+VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 5)
+#undef VKP_RECORD
 #endif
 
 #endif  // VKPATH_SHARED_MATERIAL_H

@@ -13,6 +13,7 @@
 #define VKPATH_SHARED_MESH_ATTRIBUTES_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 
 // TriangleVertices::attributes
 // Interpolate the vertex normals for shading. Set only where they differ from
@@ -28,15 +29,23 @@
 
 VKP_NAMESPACE_BEGIN
 
+// TriangleVertices's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_TRIANGLE_VERTICES_FIELDS(F)                                                      \
+    /* indices into the vertex attribute arrays, in the triangle's own order (p0, p1, p2) */ \
+    F(uvec3, vertex, 0)                                                                      \
+    /* VKP_TRIANGLE_* bits */                                                                \
+    F(uint, attributes, 3)                                                                  
 struct TriangleVertices {
-    uvec3 vertex;     // indices into the vertex attribute arrays, in the triangle's own order (p0, p1, p2)
-    uint attributes;  // VKP_TRIANGLE_* bits
+    VKP_TRIANGLE_VERTICES_FIELDS(VKP_FIELD_DECLARE)
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::TriangleVertices) == 16);
+#define VKP_RECORD TriangleVertices
+VKP_RECORD_CHECK(VKP_TRIANGLE_VERTICES_FIELDS, 1)
+#undef VKP_RECORD
 #endif
 
 #endif  // VKPATH_SHARED_MESH_ATTRIBUTES_H

@@ -19,6 +19,7 @@
 #define VKPATH_SHARED_TEXTURE_H
 
 #include "shared/compat.h"
+#include "shared/records.h"
 
 // TextureInfo::sampling: wrap mode of u in bits 0-1, of v in bits 2-3 (the
 // numbers of scene::TextureWrap), nearest filtering in bit 4.
@@ -39,22 +40,36 @@
 
 VKP_NAMESPACE_BEGIN
 
+// TextureInfo's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_TEXTURE_INFO_FIELDS(F)                                    \
+    /* index of texel (0, 0) in the store; rows follow one another */ \
+    F(uint, firstTexel, 0)                                            \
+    F(uint, width, 1)                                                 \
+    F(uint, height, 2)                                                \
+    /* wrap modes and filter, see above */                            \
+    F(uint, sampling, 3)                                             
 struct TextureInfo {
-    uint firstTexel;  // index of texel (0, 0) in the store; rows follow one another
-    uint width;
-    uint height;
-    uint sampling;    // wrap modes and filter, see above
+    VKP_TEXTURE_INFO_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // One use of a texture by a material: uv' = (dot(transformU, (u, v, 1)),
 // dot(transformV, (u, v, 1))), the KHR_texture_transform matrix T R S.
+// TextureSlot's fields (type, name, first 32-bit word; shared/records.h): the
+// struct, its layout check and its texel decoding come from this list.
+#define VKP_TEXTURE_SLOT_FIELDS(F)                                              \
+    F(vec3, transformU, 0)                                                      \
+    /* index into TextureInfo[], VKP_NO_TEXTURE: the slot is empty (value 1) */ \
+    F(uint, texture, 3)                                                         \
+    F(vec3, transformV, 4)                                                      \
+    /* 0 or 1: TEXCOORD_0 or TEXCOORD_1 */                                      \
+    F(uint, texCoord, 7)                                                        \
+    /* VKP_SLOT_NORMAL: glTF's normalTexture.scale; 1 in the other slots */     \
+    F(float, scale, 8)                                                          \
+    /* 0: a slot is three 16-byte texels (stages/lib/scene_access.glsl) */      \
+    F(uvec3, padding, 9)                                                       
 struct TextureSlot {
-    vec3 transformU;
-    uint texture;   // index into TextureInfo[], VKP_NO_TEXTURE: the slot is empty (value 1)
-    vec3 transformV;
-    uint texCoord;  // 0 or 1: TEXCOORD_0 or TEXCOORD_1
-    float scale;    // VKP_SLOT_NORMAL: glTF's normalTexture.scale; 1 in the other slots
-    uvec3 padding;  // 0: a slot is three 16-byte texels (stages/lib/scene_access.glsl)
+    VKP_TEXTURE_SLOT_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // Texel index `i` (any integer) wrapped into [0, n).
@@ -76,5 +91,14 @@ VKP_FN int wrapTexelIndex(int i, int n, uint mode) {
 VKP_FN int floorToInt(float x) { return int(floor(clamp(x, -1073741824.0f, 1073741824.0f))); }
 
 VKP_NAMESPACE_END
+
+#ifdef __cplusplus
+#define VKP_RECORD TextureInfo
+VKP_RECORD_CHECK(VKP_TEXTURE_INFO_FIELDS, 1)
+#undef VKP_RECORD
+#define VKP_RECORD TextureSlot
+VKP_RECORD_CHECK(VKP_TEXTURE_SLOT_FIELDS, 3)
+#undef VKP_RECORD
+#endif
 
 #endif  // VKPATH_SHARED_TEXTURE_H

@@ -49,66 +49,44 @@ vec4 sceneGuideSphere(uint i) { return guideSpheres[i]; }
 // A material's texels are read only where a feature of the kernel reads
 // their fields (the others stay zero, which no code of the kernel reads): on
 // lavapipe each texel fetch is a call into a sampling function, and a
-// glass-and-diffuse box reads three of the five.
+// glass-and-diffuse box reads three of the five. Every record's fields are
+// decoded from its texels by its field list (shared/records.h).
 Material sceneMaterial(uint i) {
-    int t = int(5u * i);
-    uvec4 a = texelFetch(materialsTexels, t);
-    uvec4 b = hasFeature(VKP_FEATURES_TRANSMITS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
-                  ? texelFetch(materialsTexels, t + 1) : uvec4(0u);  // transmittance (k, F0), ior
-    uvec4 c = hasFeature(VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_TEXTURES | VKP_FEATURE_NORMAL_MAPS)
-                  ? texelFetch(materialsTexels, t + 2) : uvec4(0u);  // emission, textures
-    uvec4 d = hasFeature(VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
-                  ? texelFetch(materialsTexels, t + 3) : uvec4(0u);  // roughness, metallic, specular, flags
-    uvec4 e = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialsTexels, t + 4) : uvec4(0u);  // attenuation
-    Material m;
-    m.reflectance = uintBitsToFloat(a.xyz);
-    m.kind = a.w;
-    m.transmittance = uintBitsToFloat(b.xyz);
-    m.ior = uintBitsToFloat(b.w);
-    m.emission = uintBitsToFloat(c.xyz);
-    m.textures = c.w;
-    m.roughness = uintBitsToFloat(d.x);
-    m.metallic = uintBitsToFloat(d.y);
-    m.specular = uintBitsToFloat(d.z);
-    m.flags = d.w;
-    m.attenuation = uintBitsToFloat(e.xyz);
-    m.padding = e.w;
-    return m;
+    int first = int(5u * i);
+    uvec4 t[5];
+    t[0] = texelFetch(materialsTexels, first);  // reflectance, kind
+    t[1] = hasFeature(VKP_FEATURES_TRANSMITS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
+               ? texelFetch(materialsTexels, first + 1) : uvec4(0u);  // transmittance (k, F0), ior
+    t[2] = hasFeature(VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_TEXTURES | VKP_FEATURE_NORMAL_MAPS)
+               ? texelFetch(materialsTexels, first + 2) : uvec4(0u);  // emission, textures
+    t[3] = hasFeature(VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
+               ? texelFetch(materialsTexels, first + 3) : uvec4(0u);  // roughness, metallic, specular, flags
+    t[4] = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialsTexels, first + 4) : uvec4(0u);  // attenuation
+    Material r;
+    VKP_RECORD_DECODE(VKP_MATERIAL_FIELDS)
+    return r;
 }
 MaterialAlpha sceneMaterialAlpha(uint i) {
-    uvec4 t = texelFetch(materialAlphaTexels, int(i));
-    MaterialAlpha m;
-    m.mode = t.x;
-    m.cutoff = uintBitsToFloat(t.y);
-    m.alpha = uintBitsToFloat(t.z);
-    m.baseColorSlot = t.w;
-    return m;
+    uvec4 t[1] = uvec4[1](texelFetch(materialAlphaTexels, int(i)));
+    MaterialAlpha r;
+    VKP_RECORD_DECODE(VKP_MATERIAL_ALPHA_FIELDS)
+    return r;
 }
 Light sceneLight(uint i) {
     if (sceneByAddress) return LightArray(sceneAddresses.lights).v[i];
-    int t = int(5u * i);
-    uvec4 a = texelFetch(lightsTexels, t), b = texelFetch(lightsTexels, t + 1), c = texelFetch(lightsTexels, t + 2),
-          d = texelFetch(lightsTexels, t + 3), e = texelFetch(lightsTexels, t + 4);
-    Light light;
-    light.p0 = uintBitsToFloat(a.xyz);
-    light.type = a.w;
-    light.p1 = uintBitsToFloat(b.xyz);
-    light.radius = uintBitsToFloat(b.w);
-    light.p2 = uintBitsToFloat(c.xyz);
-    light.cosInner = uintBitsToFloat(c.w);
-    light.emission = uintBitsToFloat(d.xyz);
-    light.cosOuter = uintBitsToFloat(d.w);
-    light.normal = uintBitsToFloat(e.xyz);
-    light.area = uintBitsToFloat(e.w);
-    return light;
+    int first = int(5u * i);
+    uvec4 t[5] = uvec4[5](texelFetch(lightsTexels, first), texelFetch(lightsTexels, first + 1),
+                          texelFetch(lightsTexels, first + 2), texelFetch(lightsTexels, first + 3),
+                          texelFetch(lightsTexels, first + 4));
+    Light r;
+    VKP_RECORD_DECODE(VKP_LIGHT_FIELDS)
+    return r;
 }
-AliasEntry aliasEntry(uvec4 t) {
-    AliasEntry entry;
-    entry.threshold = t.x;
-    entry.alias = t.y;
-    entry.probability = uintBitsToFloat(t.z);
-    entry.padding = t.w;
-    return entry;
+AliasEntry aliasEntry(uvec4 texel) {
+    uvec4 t[1] = uvec4[1](texel);
+    AliasEntry r;
+    VKP_RECORD_DECODE(VKP_ALIAS_ENTRY_FIELDS)
+    return r;
 }
 AliasEntry sceneLightAlias(uint i) {
     if (sceneByAddress) return AliasArray(sceneAddresses.lightAlias).v[i];
@@ -130,11 +108,10 @@ vec3 sceneEnvRadiance(uint i) {
 }
 TriangleVertices sceneTriangleVertices(uint i) {
     if (sceneByAddress) return TriangleVerticesArray(sceneAddresses.triangleVertices).v[i];
-    uvec4 t = texelFetch(triangleVerticesTexels, int(i));
-    TriangleVertices v;
-    v.vertex = t.xyz;
-    v.attributes = t.w;
-    return v;
+    uvec4 t[1] = uvec4[1](texelFetch(triangleVerticesTexels, int(i)));
+    TriangleVertices r;
+    VKP_RECORD_DECODE(VKP_TRIANGLE_VERTICES_FIELDS)
+    return r;
 }
 vec3 sceneVertexNormal(uint i) {
     if (sceneByAddress) return Vec4Array(sceneAddresses.vertexNormals).v[i].xyz;
@@ -153,26 +130,18 @@ vec4 sceneVertexTangent(uint i) {
     return uintBitsToFloat(texelFetch(vertexTangentsTexels, int(i)));
 }
 TextureInfo sceneTexture(uint i) {
-    uvec4 t = texelFetch(texturesTexels, int(i));
-    TextureInfo texture;
-    texture.firstTexel = t.x;
-    texture.width = t.y;
-    texture.height = t.z;
-    texture.sampling = t.w;
-    return texture;
+    uvec4 t[1] = uvec4[1](texelFetch(texturesTexels, int(i)));
+    TextureInfo r;
+    VKP_RECORD_DECODE(VKP_TEXTURE_INFO_FIELDS)
+    return r;
 }
 TextureSlot sceneTextureSlot(uint i) {
-    int t = int(3u * i);
-    uvec4 a = texelFetch(textureSlotsTexels, t), b = texelFetch(textureSlotsTexels, t + 1),
-          c = texelFetch(textureSlotsTexels, t + 2);
-    TextureSlot slot;
-    slot.transformU = uintBitsToFloat(a.xyz);
-    slot.texture = a.w;
-    slot.transformV = uintBitsToFloat(b.xyz);
-    slot.texCoord = b.w;
-    slot.scale = uintBitsToFloat(c.x);
-    slot.padding = c.yzw;
-    return slot;
+    int first = int(3u * i);
+    uvec4 t[3] = uvec4[3](texelFetch(textureSlotsTexels, first), texelFetch(textureSlotsTexels, first + 1),
+                          texelFetch(textureSlotsTexels, first + 2));
+    TextureSlot r;
+    VKP_RECORD_DECODE(VKP_TEXTURE_SLOT_FIELDS)
+    return r;
 }
 vec4 sceneTexel(uint i) {
     uvec2 packed;
