@@ -63,6 +63,10 @@ int runMerge(const MergeOptions& o) {
         for (const char* key : IDENTITY_KEYS)
             if (!p.metadata.count(key))
                 throw InputError(fmt::format("{}: no {} in its header: not a part written by vkpath render", path, key));
+        if (!isSettingsRecord(p.metadata.at("vkpath:settings")))
+            throw InputError(fmt::format("{}: written by an older vkpath build (its vkpath:settings are not JSON): "
+                                         "render the part again",
+                                         path));
         p.mean = image::readImage(path);
         if (!o.aovs.empty()) p.varianceOfMean = image::readImage(image::aovPath(path, "variance"));
         parts.push_back(std::move(p));

@@ -2,11 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 
 #include "app/fnv1a.h"
 #include "input_error.h"
@@ -89,33 +89,68 @@ uint64_t hashFile(const std::string& path, uint64_t hash) {
 
 }  // namespace
 
+namespace {
+
+// A float as the double of its shortest decimal form (0.1f as 0.1), so the
+// JSON reads as the flag was written and still gives the float back exactly.
+double shortest(float v) { return std::stod(fmt::format("{}", v)); }
+
+// The settings record, or null for text that is not a JSON object (an older
+// build's "key=value" words).
+nlohmann::ordered_json parseSettings(const std::string& text) {
+    nlohmann::ordered_json record = nlohmann::ordered_json::parse(text, nullptr, false);
+    return record.is_object() ? record : nlohmann::ordered_json();
+}
+
+// "key=value", a string value without its quotes.
+std::string keyValue(const std::string& key, const nlohmann::ordered_json& value) {
+    return key + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+}
+
+}  // namespace
+
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
     uint64_t hash = hashFile(o.scene, FNV1A_OFFSET);
     for (const std::filesystem::path& file : scene.referencedFiles) hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
-    auto optional = [](const std::optional<float>& v) { return v ? fmt::format("{}", *v) : std::string("scene"); };
-    std::string color = "none";
+    auto optional = [](const std::optional<float>& v) {
+        return v ? nlohmann::ordered_json(shortest(*v)) : nlohmann::ordered_json("scene");
+    };
+    nlohmann::ordered_json color = "none";
     if (!o.environmentColor.empty())
-        color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
-    return {fmt::format("{:016x}", hash),
-            fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} "
-                        "regularize={} guide-spheres={} env={} env-color={} env-strength={} env-rotate={} "
-                        "camera={} estimator={}",
-                        o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp, o.regularize,
-                        o.guideSpheres,
-                        o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),
-                        optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera,
-                        VKP_ESTIMATOR_VERSION)};
+        color = {shortest(o.environmentColor[0]), shortest(o.environmentColor[1]), shortest(o.environmentColor[2])};
+    nlohmann::ordered_json settings;
+    settings["size"] = o.size;
+    settings["max-depth"] = o.maxDepth;
+    settings["light-samples"] = o.lightSamples;
+    settings["rr-depth"] = o.rouletteDepth;
+    settings["seed"] = o.seed;
+    settings["sampler"] = o.sampler;
+    settings["clamp"] = shortest(o.clamp);
+    settings["regularize"] = shortest(o.regularize);
+    settings["guide-spheres"] = shortest(o.guideSpheres);
+    settings["env"] = o.environment.empty() ? "none" : "file";
+    settings["env-color"] = color;
+    settings["env-strength"] = optional(o.environmentStrength);
+    settings["env-rotate"] = optional(o.environmentRotation);
+    settings["camera"] = o.camera.empty() ? "default" : o.camera;
+    settings["estimator"] = VKP_ESTIMATOR_VERSION;
+    return {fmt::format("{:016x}", hash), settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
 }
 
+bool isSettingsRecord(const std::string& settings) { return !parseSettings(settings).is_null(); }
+
 std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y) {
-    std::istringstream xs(x), ys(y);
-    std::string a, b;
-    while (true) {
-        const bool moreX = bool(xs >> a), moreY = bool(ys >> b);
-        if (!moreX && !moreY) return {};
-        if (!moreX || !moreY || a != b) return {moreX ? a : "nothing", moreY ? b : "nothing"};
+    const nlohmann::ordered_json a = parseSettings(x), b = parseSettings(y);
+    if (a.is_null() || b.is_null()) return x == y ? std::pair<std::string, std::string>() : std::pair(x, y);
+    // In y's order, then the keys only x has.
+    for (const auto& [key, value] : b.items()) {
+        if (!a.contains(key)) return {"nothing", keyValue(key, value)};
+        if (a[key] != value) return {keyValue(key, a[key]), keyValue(key, value)};
     }
+    for (const auto& [key, value] : a.items())
+        if (!b.contains(key)) return {keyValue(key, value), "nothing"};
+    return {};
 }
 
 scene::Scene loadRenderScene(const RenderOptions& o) {

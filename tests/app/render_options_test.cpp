@@ -1,6 +1,9 @@
 // The render flags' effect on the loaded scene: the command line replaces
 // what the scene file says only where a flag is given.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <iterator>
 
 #include "app/render_options.h"
 #include "input_error.h"
@@ -64,20 +67,43 @@ TEST(RenderOptions, RunawayDepthAndLightSamplesAreInputErrors) {
     EXPECT_THROW(app::renderSettings(o, 1), InputError);
 }
 
-// A render's settings end with the estimator's version, so that a checkpoint
-// or a merge part from a build of another version is refused; the first
-// difference names a key one side lacks as "nothing".
+// A render's settings are a JSON object that ends with the estimator's
+// version, so that a checkpoint or a merge part from a build of another
+// version is refused; the first difference names a key one side lacks as
+// "nothing". Settings as builds before JSON wrote them are no record.
 TEST(RenderOptions, SettingsCarryTheEstimatorVersion) {
     const app::RenderOptions o = skySpheres();
     const std::string settings = app::renderIdentity(o, app::loadRenderScene(o)).settings;
+    EXPECT_TRUE(app::isSettingsRecord(settings)) << settings;
+    auto record = nlohmann::ordered_json::parse(settings);
+    ASSERT_TRUE(record.is_object());
+    EXPECT_EQ(record.items().begin().key(), "size") << settings;
+    EXPECT_EQ(std::prev(record.end()).key(), "estimator") << settings;
+    EXPECT_EQ(record["estimator"], VKP_ESTIMATOR_VERSION) << settings;
     const std::string version = "estimator=" + std::to_string(VKP_ESTIMATOR_VERSION);
-    ASSERT_GE(settings.size(), version.size());
-    EXPECT_EQ(settings.substr(settings.size() - version.size()), version) << settings;
-    const std::string older = settings.substr(0, settings.size() - version.size() - 1);
+    record.erase("estimator");
+    const std::string older = record.dump();
     EXPECT_EQ(app::firstSettingDifference(older, settings), std::make_pair(std::string("nothing"), version));
+    EXPECT_EQ(app::firstSettingDifference(settings, older), std::make_pair(version, std::string("nothing")));
     EXPECT_EQ(app::firstSettingDifference(settings, settings), std::make_pair(std::string(), std::string()));
-    EXPECT_EQ(app::firstSettingDifference("a=1 b=2 c=3", "a=1 b=5 c=3"),
-              std::make_pair(std::string("b=2"), std::string("b=5")));
+    EXPECT_EQ(app::firstSettingDifference(R"({"a":1,"b":"x","c":3})", R"({"a":1,"b":"y","c":3})"),
+              std::make_pair(std::string("b=x"), std::string("b=y")));
+    EXPECT_EQ(app::firstSettingDifference(R"({"a":1,"b":2.5})", R"({"a":1,"b":0.1})"),
+              std::make_pair(std::string("b=2.5"), std::string("b=0.1")));
+    EXPECT_FALSE(app::isSettingsRecord("size=640x480 max-depth=8 estimator=1"));
+    EXPECT_FALSE(app::isSettingsRecord("[1, 2]"));
+}
+
+// Flags that are floats are written as typed: 0.1 as 0.1, not as the
+// float's 0.10000000149011612.
+TEST(RenderOptions, SettingsKeepFloatsAsWritten) {
+    app::RenderOptions o = skySpheres();
+    o.clamp = 0.1f;
+    o.environmentColor = {0.5f, 1.0f, 2.0f};
+    const auto record = nlohmann::ordered_json::parse(app::renderIdentity(o, app::loadRenderScene(o)).settings);
+    EXPECT_EQ(record.at("clamp").dump(), "0.1");
+    EXPECT_EQ(record.at("env-color").dump(), "[0.5,1.0,2.0]");
+    EXPECT_EQ(record.at("env-strength"), "scene");
 }
 
 }  // namespace
