@@ -153,7 +153,7 @@ void addMergeCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
     auto o = std::make_shared<MergeOptions>();
     auto* cmd = app.add_subcommand(
         "merge", "Merge the parts of one render (vkpath render --samples FIRST:COUNT), weighted by their sample counts");
-    cmd->add_option("parts", o->parts, "The parts' EXRs")->required();
+    cmd->add_option("parts", o->parts, "The parts' EXRs")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", o->output, "The merged EXR")->required();
     cmd->add_option("--aov", o->aovs, "Also merge the parts' AOVs beside them: variance")
         ->check(CLI::IsMember({"variance"}));

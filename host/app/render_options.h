@@ -51,7 +51,8 @@ struct RenderOptions {
     std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
 };
 
-// Registers the shared flags on `cmd`, the scene as its first positional argument.
+// Registers the shared flags on `cmd`, the scene as its first positional
+// argument, each with the validator of its values (app/validators.h).
 void addRenderOptions(CLI::App& cmd, RenderOptions& o);
 
 // The scene file with the flags' environment and camera applied. Throws
@@ -82,8 +83,11 @@ bool isSettingsRecord(const std::string& settings);
 // the same. Where either is not a settings record, the two whole strings.
 std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y);
 
-// The settings for `samplesPerPixel` samples of the film `o.size`. Throws
-// InputError on out-of-range flags.
+// The settings for `samplesPerPixel` samples of the film `o.size`. Each
+// flag's value is checked where it is parsed (addRenderOptions' validators:
+// a value out of range never gets here); throws InputError for flags that do
+// not go together (-t without --device cpu, --kernel with it) and a film size
+// that is not WxH.
 wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t samplesPerPixel);
 
 }  // namespace vkpath::app

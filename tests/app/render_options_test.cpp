@@ -1,6 +1,8 @@
 // The render flags' effect on the loaded scene: the command line replaces
 // what the scene file says only where a flag is given.
 #include <gtest/gtest.h>
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <iterator>
@@ -44,27 +46,47 @@ TEST(RenderOptions, FlagsReplaceTheSceneEnvironment) {
     EXPECT_FLOAT_EQ(s.environment->strength, 0.25f);
 }
 
-TEST(RenderOptions, BadEnvironmentFlagsAreInputErrors) {
-    app::RenderOptions o = skySpheres();
-    o.environmentStrength = -1.0f;
-    EXPECT_THROW(app::loadRenderScene(o), InputError);
-    o.environmentStrength.reset();
-    o.environmentRotation = std::numeric_limits<float>::infinity();
-    EXPECT_THROW(app::loadRenderScene(o), InputError);
+// The message CLI11 ends the parse of `flags` (after a scene) with, as
+// `vkpath render` would print it; empty when they parse.
+std::string parseError(const std::string& flags) {
+    CLI::App app;
+    app::RenderOptions o;
+    app::addRenderOptions(app, o);
+    try {
+        app.parse(test::sourcePath("assets/sky_spheres.gltf").string() + " " + flags, false);
+    } catch (const CLI::ParseError& e) {
+        return e.what();
+    }
+    return {};
 }
 
-// Flags that would run for hours before a sample, or write nonsense, are
-// one-line input errors (exit code 2 on the command line).
-TEST(RenderOptions, RunawayDepthAndLightSamplesAreInputErrors) {
-    app::RenderOptions o = skySpheres();
-    o.maxDepth = app::MAX_DEPTH;
-    o.lightSamples = app::MAX_LIGHT_SAMPLES;
-    EXPECT_NO_THROW(app::renderSettings(o, 1));
-    o.maxDepth = app::MAX_DEPTH + 1;
-    EXPECT_THROW(app::renderSettings(o, 1), InputError);
-    o.maxDepth = 8;
-    o.lightSamples = 100000;
-    EXPECT_THROW(app::renderSettings(o, 1), InputError);
+// Each flag's values are checked by its validator as the command line is
+// parsed: flags that would run for hours before a sample (-m, -l beyond
+// 1024), or write nonsense, end the parse with one line naming the flag
+// (exit code 2 on the command line), before any scene is read.
+TEST(RenderOptions, FlagsOutOfRangeEndTheParseNamingTheFlag) {
+    EXPECT_EQ(parseError(fmt::format("-m {} -l {} --clamp 0 --regularize 1 --guide-spheres 0.5 -d 16384x1",
+                                     app::MAX_DEPTH, app::MAX_LIGHT_SAMPLES)),
+              "");
+    const std::pair<const char*, const char*> cases[] = {
+        {"-m 1025", "--max-depth: Value 1025 not in range 0 to 1024"},
+        {"-l 100000", "--light-samples: Value 100000 not in range 0 to 1024"},
+        {"--clamp nan", "--clamp: 'nan' is not a finite number >= 0"},
+        {"--clamp -1", "--clamp: '-1' is not a finite number >= 0"},
+        {"--clamp 1e39", "--clamp: '1e39' is not a finite number >= 0"},  // beyond a float
+        {"--regularize 1.5", "--regularize: '1.5' is not a number in [0, 1]"},
+        {"--guide-spheres 1", "--guide-spheres: '1' is not a number in [0, 1)"},
+        {"--guide-spheres nan", "--guide-spheres: 'nan' is not a number in [0, 1)"},
+        {"--env-strength -1", "--env-strength: '-1' is not a finite number >= 0"},
+        {"--env-rotate inf", "--env-rotate: 'inf' is not a finite number"},
+        {"--megakernel-paths 0", "--megakernel-paths: Value 0 not in range 1 to 4294967295"},
+        {"--max-wave-ms 0", "--max-wave-ms: '0' is not a finite number > 0"},
+        {"--max-device-memory inf", "--max-device-memory: 'inf' is not a finite number > 0"},
+        {"-d 0x10", "--size: film size '0x10' is not WxH with sides from 1 to 16384"},
+        {"-d 640", "--size: film size '640' is not WxH with sides from 1 to 16384"},
+        {"-e no_such.exr", "--env: File does not exist: no_such.exr"},
+    };
+    for (const auto& [flags, says] : cases) EXPECT_EQ(parseError(flags), says) << flags;
 }
 
 // A render's settings are a JSON object that ends with the estimator's

@@ -180,7 +180,7 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
         {box() + " -d 24x18 -s 1 --resume " + checkpoint, "more than the 1 asked"},
         {box() + " -d 24x18 --resume " + damaged, "damaged checkpoint"},
         {box() + " -d 24x18 --resume " + (dir / "a.exr").string(), "not a vkpath checkpoint"},
-        {box() + " -d 24x18 --resume " + (dir / "none.ckpt").string(), "no such file"},
+        {box() + " -d 24x18 --resume " + (dir / "none.ckpt").string(), "--resume: File does not exist"},
     };
     for (const Case& c : cases) {
         const std::string output = (dir / "out.exr").string();
