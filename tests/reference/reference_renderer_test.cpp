@@ -21,6 +21,7 @@
 #include "reference/reference_renderer.h"
 #include "scene/load.h"
 #include "support/pixel_match.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
 
@@ -39,10 +40,7 @@ wavefront::RenderSettings smallSettings(uint32_t spp, uint32_t seed) {
     return s;
 }
 
-wavefront::RenderResult renderGpu(const scene::Scene& scene, const wavefront::RenderSettings& settings) {
-    wavefront::GpuRenderer renderer(test::context(), scene, settings);
-    return renderer.render();
-}
+using test::renderGpu;
 
 wavefront::RenderResult renderCpu(const scene::Scene& scene, const wavefront::RenderSettings& settings) {
     return reference::ReferenceRenderer(scene, settings).render();
