@@ -7,8 +7,9 @@
 //
 // Generated scenes (icospheres of 20k to 1.3M triangles) always run; scenes
 // loaded through scene::loadScene are added with --scene (repeatable). With no
-// --scene, the Scotty3D bunny, CBbunny, plane16384 and CBspheres are used when ../shared/scenes is
-// there. Figures and the commands that produced them: docs/BENCHMARKS.md.
+// --scene, the Scotty3D bunny, CBbunny, plane16384 and CBspheres are used when the assignment's
+// scene folder (the CMake variable VKPATH_SCENES_DIR) is there. Figures and the commands that
+// produced them: docs/BENCHMARKS.md.
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -347,7 +348,7 @@ int main(int argc, char** argv) {
     }
     if (!scenesGiven) {
         for (const char* name : {"bunny.dae", "CBbunny.dae", "plane16384.dae", "CBspheres.dae"}) {
-            const std::filesystem::path p = std::filesystem::path(VKPATH_SHARED_SCENES) / "scotty3d" / name;
+            const std::filesystem::path p = std::filesystem::path(VKPATH_SCENES_DIR) / "scotty3d" / name;
             if (std::filesystem::exists(p)) scenePaths.push_back(p);
         }
     }

@@ -2,12 +2,13 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <map>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -18,61 +19,39 @@
 namespace vkpath::app {
 namespace {
 
-constexpr const char* MAGIC = "vkpath checkpoint 1\n";
+// The first line; the number is the format's version, raised whenever the
+// header's meaning changes (1: "key value" lines; 2: JSON).
+constexpr const char* MAGIC_PREFIX = "vkpath checkpoint ";
+constexpr int FORMAT = 2;
 
 uint64_t hashText(const std::string& text, uint64_t hash = FNV1A_OFFSET) {
     return fnv1a(std::as_bytes(std::span(text.data(), text.size())), hash);
 }
 
-// Values are one line each: newlines and backslashes escaped.
-std::string escape(const std::string& value) {
-    std::string out;
-    for (char c : value) {
-        if (c == '\n' || c == '\\') out.push_back('\\');
-        out.push_back(c == '\n' ? 'n' : c);
-    }
-    return out;
-}
-
-std::string unescape(const std::string& value) {
-    std::string out;
-    for (size_t i = 0; i < value.size(); ++i) {
-        if (value[i] == '\\' && i + 1 < value.size()) {
-            ++i;
-            out.push_back(value[i] == 'n' ? '\n' : value[i]);
-        } else {
-            out.push_back(value[i]);
-        }
-    }
-    return out;
-}
-
-// The file's text before the film: every field but the film's bytes.
+// The file's text before the film: the first line and every field but the
+// film's bytes as one line of JSON.
 std::string header(const Checkpoint& c) {
     const wavefront::RenderState& s = c.state;
-    const std::pair<const char*, std::string> fields[] = {
-        {"scene-hash", c.identity.sceneHash},
-        {"settings", c.identity.settings},
-        {"first-sample", std::to_string(c.samples.first)},
-        {"sample-count", std::to_string(c.samples.count)},
-        {"samples-done", std::to_string(s.samplesDone)},
-        {"film-format", s.filmFormat},
-        {"width", std::to_string(s.width)},
-        {"height", std::to_string(s.height)},
-        {"film-bytes", std::to_string(s.film.size())},
-        {"non-finite-samples", std::to_string(s.nonFiniteSamples)},
-        {"firefly-samples", std::to_string(s.fireflySamples)},
-        {"rejected-light-samples", std::to_string(s.rejectedLightSamples)},
-        {"closest-rays", std::to_string(s.rays.closest)},
-        {"shadow-rays", std::to_string(s.rays.shadow)},
-        {"waves", std::to_string(s.waves)},
-        // Exact: hexadecimal floating point.
-        {"seconds", fmt::format("{:a}", s.seconds)},
-    };
-    std::string text = MAGIC;
-    for (const auto& [key, value] : fields) text.append(fmt::format("{} {}\n", key, escape(value)));
-    text.push_back('\n');
-    return text;
+    nlohmann::ordered_json fields;
+    fields["scene-hash"] = c.identity.sceneHash;
+    fields["settings"] = nlohmann::ordered_json::parse(c.identity.settings, nullptr, false);
+    if (fields["settings"].is_discarded()) fields["settings"] = c.identity.settings;
+    fields["first-sample"] = c.samples.first;
+    fields["sample-count"] = c.samples.count;
+    fields["samples-done"] = s.samplesDone;
+    fields["film-format"] = s.filmFormat;
+    fields["width"] = s.width;
+    fields["height"] = s.height;
+    fields["film-bytes"] = uint64_t(s.film.size());
+    fields["non-finite-samples"] = s.nonFiniteSamples;
+    fields["firefly-samples"] = s.fireflySamples;
+    fields["rejected-light-samples"] = s.rejectedLightSamples;
+    fields["closest-rays"] = s.rays.closest;
+    fields["shadow-rays"] = s.rays.shadow;
+    fields["waves"] = s.waves;
+    fields["seconds"] = s.seconds;  // JSON numbers keep a double exactly
+    return fmt::format("{}{}\n{}\n", MAGIC_PREFIX, FORMAT,
+                       fields.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
 void writeAll(int fd, const char* data, size_t size, const std::filesystem::path& path) {
@@ -85,23 +64,24 @@ void writeAll(int fd, const char* data, size_t size, const std::filesystem::path
     }
 }
 
-// The number at `key` of the header's fields; InputError if absent or not a number.
+// The whole number at `key` of the header; InputError if absent, not a whole
+// number or beyond T.
 template <typename T>
-T number(const std::map<std::string, std::string>& fields, const char* key, const std::string& file) {
+T number(const nlohmann::ordered_json& fields, const char* key, const std::string& file) {
     const auto it = fields.find(key);
-    if (it == fields.end()) throw InputError(fmt::format("{}: not a vkpath checkpoint: no {}", file, key));
-    try {
-        size_t used = 0;
-        if constexpr (std::is_same_v<T, double>) {
-            const double value = std::stod(it->second, &used);
-            if (used == it->second.size()) return value;
-        } else {
-            const unsigned long long value = std::stoull(it->second, &used);
-            if (used == it->second.size() && value <= std::numeric_limits<T>::max()) return T(value);
-        }
-    } catch (const std::exception&) {
-    }
-    throw InputError(fmt::format("{}: damaged checkpoint: {} \"{}\"", file, key, it->second));
+    if (it == fields.end()) throw InputError(fmt::format("{}: damaged checkpoint: no {}", file, key));
+    if (!it->is_number_unsigned() || it->get<uint64_t>() > std::numeric_limits<T>::max())
+        throw InputError(fmt::format("{}: damaged checkpoint: {} {}", file, key, it->dump()));
+    return T(it->get<uint64_t>());
+}
+
+// The string, or for "settings" the JSON text, at `key`; InputError if absent.
+std::string text(const nlohmann::ordered_json& fields, const char* key, const std::string& file) {
+    const auto it = fields.find(key);
+    if (it == fields.end()) throw InputError(fmt::format("{}: damaged checkpoint: no {}", file, key));
+    if (it->is_string()) return it->get<std::string>();
+    if (it->is_object()) return it->dump();
+    throw InputError(fmt::format("{}: damaged checkpoint: {} {}", file, key, it->dump()));
 }
 
 }  // namespace
@@ -152,21 +132,26 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
     buffer << in.rdbuf();
     const std::string bytes = buffer.str();
     if (!in && !in.eof()) throw InputError(fmt::format("{}: cannot read", file));
-    if (bytes.compare(0, std::strlen(MAGIC), MAGIC) != 0)
+    const size_t magicEnd = bytes.find('\n');
+    if (bytes.compare(0, std::strlen(MAGIC_PREFIX), MAGIC_PREFIX) != 0 || magicEnd == std::string::npos)
         throw InputError(fmt::format("{}: not a vkpath checkpoint", file));
-    const size_t headerEnd = bytes.find("\n\n");
-    if (headerEnd == std::string::npos) throw InputError(fmt::format("{}: damaged checkpoint: no end of header", file));
-    std::map<std::string, std::string> fields;
-    std::istringstream lines(bytes.substr(std::strlen(MAGIC), headerEnd + 1 - std::strlen(MAGIC)));
-    for (std::string line; std::getline(lines, line);) {
-        const size_t space = line.find(' ');
-        fields[line.substr(0, space)] = space == std::string::npos ? "" : unescape(line.substr(space + 1));
+    const std::string format = bytes.substr(std::strlen(MAGIC_PREFIX), magicEnd - std::strlen(MAGIC_PREFIX));
+    if (format != std::to_string(FORMAT)) {
+        const bool older = format.size() == 1 && format[0] >= '1' && format[0] < '0' + FORMAT;
+        throw InputError(fmt::format("{}: a checkpoint of format {}, written by {} vkpath build; this build reads "
+                                     "format {} only: render again without --resume",
+                                     file, format.substr(0, 20), older ? "an older" : "another", FORMAT));
     }
+    const size_t headerEnd = bytes.find('\n', magicEnd + 1);
+    if (headerEnd == std::string::npos) throw InputError(fmt::format("{}: damaged checkpoint: no end of header", file));
+    const auto fields =
+        nlohmann::ordered_json::parse(bytes.begin() + magicEnd + 1, bytes.begin() + headerEnd, nullptr, false);
+    if (!fields.is_object()) throw InputError(fmt::format("{}: damaged checkpoint: its header is not a JSON object", file));
     Checkpoint c;
-    c.identity = {fields["scene-hash"], fields["settings"]};
+    c.identity = {text(fields, "scene-hash", file), text(fields, "settings", file)};
     c.samples = {number<uint32_t>(fields, "first-sample", file), number<uint32_t>(fields, "sample-count", file)};
     wavefront::RenderState& s = c.state;
-    s.filmFormat = fields["film-format"];
+    s.filmFormat = text(fields, "film-format", file);
     s.width = number<uint32_t>(fields, "width", file);
     s.height = number<uint32_t>(fields, "height", file);
     s.samplesDone = number<uint32_t>(fields, "samples-done", file);
@@ -175,9 +160,12 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
     s.rejectedLightSamples = number<uint64_t>(fields, "rejected-light-samples", file);
     s.rays = {number<uint64_t>(fields, "closest-rays", file), number<uint64_t>(fields, "shadow-rays", file)};
     s.waves = number<uint32_t>(fields, "waves", file);
-    s.seconds = number<double>(fields, "seconds", file);
+    const auto seconds = fields.find("seconds");
+    if (seconds == fields.end() || !seconds->is_number())
+        throw InputError(fmt::format("{}: damaged checkpoint: no seconds", file));
+    s.seconds = seconds->get<double>();
     const uint64_t filmBytes = number<uint64_t>(fields, "film-bytes", file);
-    const size_t filmStart = headerEnd + 2;
+    const size_t filmStart = headerEnd + 1;
     if (bytes.size() < filmStart || bytes.size() - filmStart != filmBytes + 8)
         throw InputError(fmt::format("{}: damaged checkpoint: {} bytes, expected {}", file, bytes.size(),
                                      filmStart + filmBytes + 8));
@@ -196,6 +184,10 @@ void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint&
     if (checkpoint.identity.sceneHash != identity.sceneHash)
         throw InputError(fmt::format("{}: from another scene (scene hash {}, this scene's {})", file,
                                      checkpoint.identity.sceneHash, identity.sceneHash));
+    if (!isSettingsRecord(checkpoint.identity.settings))
+        throw InputError(fmt::format("{}: written by an older vkpath build (its settings are not JSON): render again "
+                                     "without --resume",
+                                     file));
     const auto [theirs, ours] = firstSettingDifference(checkpoint.identity.settings, identity.settings);
     if (!theirs.empty())
         throw InputError(fmt::format("{}: other settings: {} in the checkpoint, {} here", file, theirs, ours));

@@ -4,9 +4,12 @@
 // range it was asked for, so that resuming can refuse a state from another
 // scene or other settings and say what differs.
 //
-// The file: the line "vkpath checkpoint 1", then "key value" lines, an empty
-// line, the film's bytes, and an FNV-1a 64 hash of everything before it
-// (8 bytes, little-endian) that catches a truncated or damaged file. It is
+// The file: the line "vkpath checkpoint 2" (the format), then one line of
+// JSON (the identity, with the settings as an object, the sample range, the
+// film's size and format and the counters), the film's bytes, and an FNV-1a
+// 64 hash of everything before it (8 bytes, little-endian) that catches a
+// truncated or damaged file; a file of another format (builds before JSON
+// wrote "key value" lines) is refused with one line. It is
 // written beside its final path, flushed to the disk (fsync) and renamed over
 // it, so a crash or a full disk leaves the previous checkpoint whole.
 #pragma once
@@ -30,7 +33,7 @@ struct Checkpoint {
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
 
 // Throws InputError (one line, naming the file) for a file that is missing,
-// not a checkpoint, or damaged.
+// not a checkpoint, of another format, or damaged.
 Checkpoint readCheckpoint(const std::filesystem::path& path);
 
 // Throws InputError unless `checkpoint` (read from `path`) continues a render

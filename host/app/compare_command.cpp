@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/validators.h"
 #include "image/image.h"
 #include "image/metrics.h"
 #include "image/statistics.h"
@@ -85,13 +86,16 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
     };
     auto o = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("compare", "Measure how far image A is from reference image B");
-    cmd->add_option("A", o->a, "Image to judge (EXR, HDR, ...)")->required();
-    cmd->add_option("B", o->b, "Reference image")->required();
+    cmd->add_option("A", o->a, "Image to judge (EXR, HDR, ...)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("B", o->b, "Reference image")->required()->check(CLI::ExistingFile);
     cmd->add_option("--heatmap", o->heatmap, "Write a false-colour PNG of the per-pixel relative error");
     cmd->add_flag("--json", o->json, "Print JSON");
-    cmd->add_option("--max-relmse", o->maxRelMse, "Exit code 1 if the overall relative MSE exceeds this");
-    cmd->add_option("--max-rmse", o->maxRmse, "Exit code 1 if the overall RMSE exceeds this");
-    cmd->add_option("--max-mae", o->maxMae, "Exit code 1 if the overall mean absolute error exceeds this");
+    cmd->add_option("--max-relmse", o->maxRelMse, "Exit code 1 if the overall relative MSE exceeds this")
+        ->check(realAtLeast<double>(0));
+    cmd->add_option("--max-rmse", o->maxRmse, "Exit code 1 if the overall RMSE exceeds this")
+        ->check(realAtLeast<double>(0));
+    cmd->add_option("--max-mae", o->maxMae, "Exit code 1 if the overall mean absolute error exceeds this")
+        ->check(realAtLeast<double>(0));
     auto* ztest = cmd->add_flag("--ztest", o->ztest,
                                 "A and B are renders with different seeds: test per block whether they estimate the "
                                 "same image (z-tests from the variance AOVs, Sidak-corrected); exit code 1 if not");
@@ -100,7 +104,7 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
     cmd->add_option("--variance-b", o->varianceB, "Variance AOV of B (default: B.variance.exr beside B)")
         ->needs(ztest);
     cmd->add_option("--alpha", o->alpha, "--ztest: false-alarm rate over all blocks")
-        ->check(CLI::Range(1e-12, 0.5))
+        ->check(realIn<double>(1e-12, 0.5))
         ->capture_default_str()
         ->needs(ztest);
     cmd->add_option("--block", o->blockSize, "--ztest: block size in pixels")

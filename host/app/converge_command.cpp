@@ -18,6 +18,7 @@
 #include "app/commands.h"
 #include "app/convergence.h"
 #include "app/render_options.h"
+#include "app/validators.h"
 #include "image/image.h"
 #include "image/metrics.h"
 #include "input_error.h"
@@ -272,12 +273,16 @@ void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& co
     auto o = std::make_shared<ConvergeOptions>();
     auto* cmd = app.add_subcommand("converge", "Error against time: a progressive render measured at each sample count");
     addRenderOptions(*cmd, *o);
-    cmd->add_option("--spp", o->spp, "Sample counts to measure at, increasing: 1,2,4,...")->capture_default_str();
+    cmd->add_option("--spp", o->spp, "Sample counts to measure at, increasing: 1,2,4,...")
+        ->check(parsedBy("N1,N2,...", [](const std::string& text) { parseSppList(text); }))
+        ->capture_default_str();
     cmd->add_option("--reference", o->reference,
-                    "Reference image (EXR) of the same size; without one the error is estimated from a second seed");
+                    "Reference image (EXR) of the same size; without one the error is estimated from a second seed")
+        ->check(CLI::ExistingFile);
     std::string knobNames;
     for (const Knob& k : knobs()) knobNames += (knobNames.empty() ? "" : ", ") + std::string(k.name);
-    cmd->add_option("--sweep", o->sweep, "KNOB=v1,v2,...: one curve per value; knobs: " + knobNames);
+    cmd->add_option("--sweep", o->sweep, "KNOB=v1,v2,...: one curve per value; knobs: " + knobNames)
+        ->check(parsedBy("KNOB=v1,v2,...", [](const std::string& text) { parseSweep(text); }));
     cmd->add_option("--csv", o->csv, "Measurements, one row per configuration and sample count")->capture_default_str();
     cmd->add_option("--plot", o->plot, "Log-log plot of relMSE against wall time (PNG)")->capture_default_str();
     cmd->add_option("--metric", o->metric,

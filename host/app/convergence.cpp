@@ -31,7 +31,7 @@ std::optional<uint32_t> parseUnsigned(const std::string& text) {
 
 uint32_t unsignedValue(const char* knob, const std::string& value) {
     const auto v = parseUnsigned(value);
-    if (!v) throw InputError(fmt::format("--sweep {}: '{}' is not a whole number", knob, value));
+    if (!v) throw InputError(fmt::format("{}: '{}' is not a whole number", knob, value));
     return *v;
 }
 
@@ -42,7 +42,7 @@ float offOrNumber(const char* knob, const std::string& value, const char* what, 
     float number = 0;
     const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
     if (error != std::errc() || end != value.data() + value.size() || !valid(number))
-        throw InputError(fmt::format("--sweep {}: '{}' is neither off nor {}", knob, value, what));
+        throw InputError(fmt::format("{}: '{}' is neither off nor {}", knob, value, what));
     return number;
 }
 
@@ -54,7 +54,7 @@ const std::vector<Knob> KNOBS = {
     {"rr-depth", "whole numbers", [](wavefront::RenderSettings& s, const std::string& v) { s.rouletteDepth = unsignedValue("rr-depth", v); }, false},
     {"sampler", "independent or sobol", [](wavefront::RenderSettings& s, const std::string& v) {
          const auto sampler = wavefront::parseSampler(v);
-         if (!sampler) throw InputError(fmt::format("--sweep sampler: '{}' is neither independent nor sobol", v));
+         if (!sampler) throw InputError(fmt::format("sampler: '{}' is neither independent nor sobol", v));
          s.sampler = *sampler;
      }, false},
     {"clamp", "off or numbers > 0", [](wavefront::RenderSettings& s, const std::string& v) {
@@ -75,7 +75,7 @@ std::vector<uint32_t> parseSppList(const std::string& text) {
     for (const std::string& part : splitCommas(text)) {
         const auto v = parseUnsigned(part);
         if (!v || *v == 0 || (!list.empty() && *v <= list.back()))
-            throw InputError(fmt::format("--spp: '{}' is not a list of increasing sample counts >= 1, e.g. 1,2,4,8", text));
+            throw InputError(fmt::format("'{}' is not a list of increasing sample counts >= 1, e.g. 1,2,4,8", text));
         list.push_back(*v);
     }
     return list;
@@ -88,16 +88,16 @@ Sweep parseSweep(const std::string& text) {
     std::string names;
     for (const Knob& k : KNOBS) names += (names.empty() ? "" : ", ") + std::string(k.name);
     if (equals == std::string::npos)
-        throw InputError(fmt::format("--sweep: '{}' is not KNOB=v1,v2,... (knobs: {})", text, names));
+        throw InputError(fmt::format("'{}' is not KNOB=v1,v2,... (knobs: {})", text, names));
     const std::string name = text.substr(0, equals);
     Sweep sweep;
     for (const Knob& k : KNOBS)
         if (name == k.name) sweep.knob = &k;
-    if (!sweep.knob) throw InputError(fmt::format("--sweep: unknown knob '{}' (knobs: {})", name, names));
+    if (!sweep.knob) throw InputError(fmt::format("unknown knob '{}' (knobs: {})", name, names));
     sweep.values = splitCommas(text.substr(equals + 1));
     for (const std::string& value : sweep.values) {
         if (value.empty())
-            throw InputError(fmt::format("--sweep {}: empty value in '{}' ({})", name, text, sweep.knob->values));
+            throw InputError(fmt::format("{}: empty value in '{}' ({})", name, text, sweep.knob->values));
         wavefront::RenderSettings check;
         sweep.knob->apply(check, value);
     }

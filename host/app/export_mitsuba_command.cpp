@@ -56,7 +56,9 @@ void addExportMitsubaCommand(CLI::App& app, const GlobalOptions&, Commands& comm
                                    "scene (OUT_DIR/scene.xml, PLY meshes)");
     addRenderOptions(*cmd, *o);
     cmd->add_option("out_dir", o->outDir, "Output folder")->required();
-    cmd->add_option("-s,--spp", o->spp, "Samples per pixel of Mitsuba's sampler")->capture_default_str();
+    cmd->add_option("-s,--spp", o->spp, "Samples per pixel of Mitsuba's sampler")
+        ->check(CLI::Range(1u, UINT32_MAX))
+        ->capture_default_str();
     cmd->callback([&commands, o] { commands.run = [o] { return runExport(*o); }; });
 }
 

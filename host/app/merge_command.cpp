@@ -63,6 +63,10 @@ int runMerge(const MergeOptions& o) {
         for (const char* key : IDENTITY_KEYS)
             if (!p.metadata.count(key))
                 throw InputError(fmt::format("{}: no {} in its header: not a part written by vkpath render", path, key));
+        if (!isSettingsRecord(p.metadata.at("vkpath:settings")))
+            throw InputError(fmt::format("{}: written by an older vkpath build (its vkpath:settings are not JSON): "
+                                         "render the part again",
+                                         path));
         p.mean = image::readImage(path);
         if (!o.aovs.empty()) p.varianceOfMean = image::readImage(image::aovPath(path, "variance"));
         parts.push_back(std::move(p));
@@ -149,7 +153,7 @@ void addMergeCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
     auto o = std::make_shared<MergeOptions>();
     auto* cmd = app.add_subcommand(
         "merge", "Merge the parts of one render (vkpath render --samples FIRST:COUNT), weighted by their sample counts");
-    cmd->add_option("parts", o->parts, "The parts' EXRs")->required();
+    cmd->add_option("parts", o->parts, "The parts' EXRs")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", o->output, "The merged EXR")->required();
     cmd->add_option("--aov", o->aovs, "Also merge the parts' AOVs beside them: variance")
         ->check(CLI::IsMember({"variance"}));

@@ -20,6 +20,7 @@
 #include "app/commands.h"
 #include "app/film_size.h"
 #include "app/render_options.h"
+#include "app/validators.h"
 #include "app/stop_signal.h"
 #include "image/image.h"
 #include "image/statistics.h"
@@ -102,7 +103,7 @@ wavefront::RenderResult renderWithProgress(Renderer& renderer, const wavefront::
     return result;
 }
 
-// "FIRST:COUNT" of --samples; throws InputError naming the flag.
+// "FIRST:COUNT" of --samples, within 32-bit sample indices; throws InputError.
 wavefront::SampleRange parseSampleRange(const std::string& text) {
     const size_t colon = text.find(':');
     uint64_t first = 0, count = 0;
@@ -114,7 +115,9 @@ wavefront::SampleRange parseSampleRange(const std::string& text) {
     };
     if (colon == std::string::npos || !number(text.substr(0, colon), first) || !number(text.substr(colon + 1), count) ||
         count == 0)
-        throw InputError(fmt::format("--samples {}: expected FIRST:COUNT, two whole numbers, COUNT at least 1", text));
+        throw InputError(fmt::format("'{}' is not FIRST:COUNT, two whole numbers, COUNT at least 1", text));
+    if (first + count > (uint64_t(1) << 32))
+        throw InputError(fmt::format("'{}': sample indices beyond 2^32 - 1", text));
     return {uint32_t(first), uint32_t(count)};
 }
 
@@ -239,19 +242,12 @@ int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity, 
 }
 
 int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
-    if (o.spp && *o.spp == 0) throw InputError("-s: samples per pixel must be at least 1");
-    if (o.timeBudget && !(*o.timeBudget > 0)) throw InputError("--time-budget: seconds must be positive");
-    if (!std::isfinite(o.exposure)) throw InputError("--exposure: stops must be a finite number");
-    if (!(o.checkpointEvery >= 0) || !std::isfinite(o.checkpointEvery))
-        throw InputError("--checkpoint-every: seconds must be a finite number >= 0");
+    // The flags' values were checked as they were parsed (addRenderCommand).
     const FilmSize film = parseFilmSize(o.size);
     // A budget without -s renders until the budget is spent (sample indices
     // are 32-bit: at most 2^32 - 1 samples).
-    if (o.spp && !o.samples.empty()) throw InputError("-s and --samples: give one (--samples FIRST:COUNT includes the count)");
     wavefront::SampleRange samples{0, o.spp ? *o.spp : o.timeBudget ? UINT32_MAX : 16};
     if (!o.samples.empty()) samples = parseSampleRange(o.samples);
-    if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
-        throw InputError(fmt::format("--samples {}:{}: sample indices beyond 2^32 - 1", samples.first, samples.count));
     const uint32_t spp = samples.count;
     wavefront::RenderSettings settings = renderSettings(o, spp);
     settings.timeBudgetSeconds = o.timeBudget;
@@ -311,15 +307,20 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
     addRenderOptions(*cmd, *o);
     cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
-    cmd->add_option("-s,--spp", o->spp, "Samples per pixel (default 16; with --time-budget, as many as it allows)");
+    auto* spp = cmd->add_option("-s,--spp", o->spp,
+                                "Samples per pixel (default 16; with --time-budget, as many as it allows)")
+                    ->check(CLI::Range(1u, UINT32_MAX));
     cmd->add_option("--samples", o->samples,
                     "FIRST:COUNT: render sample indices FIRST to FIRST + COUNT - 1 of every pixel (instead of -s), a "
-                    "part for `vkpath merge`");
+                    "part for `vkpath merge`")
+        ->check(parsedBy("FIRST:COUNT", [](const std::string& text) { parseSampleRange(text); }))
+        ->excludes(spp);
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
-    cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->capture_default_str();
+    cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->check(finiteReal<float>())->capture_default_str();
     cmd->add_option("--time-budget", o->timeBudget,
                     "Render whole waves until this many seconds are spent (up to -s samples if given); the EXR and "
-                    "the summary give the spp reached");
+                    "the summary give the spp reached")
+        ->check(realAbove<double>(0, false));
     cmd->add_option("--aov", o->aovs, "Extra outputs beside the EXR: variance (of each pixel's mean)")
         ->check(CLI::IsMember({"variance"}));
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
@@ -328,11 +329,13 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
                     "--checkpoint-every seconds, on a stop and at the end), for --resume");
     cmd->add_option("--checkpoint-every", o->checkpointEvery,
                     "Seconds of rendering between checkpoints (0: after every whole sample)")
+        ->check(realAtLeast<double>(0))
         ->capture_default_str()
         ->needs(checkpoint);
     cmd->add_option("--resume", o->resume,
                     "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "
-                    "the image equals the uninterrupted render's bit for bit");
+                    "the image equals the uninterrupted render's bit for bit")
+        ->check(CLI::ExistingFile);
     cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
 }
 

@@ -2,13 +2,14 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 
 #include "app/fnv1a.h"
+#include "app/validators.h"
 #include "input_error.h"
 #include "scene/environment.h"
 #include "scene/load.h"
@@ -17,11 +18,18 @@
 namespace vkpath::app {
 
 void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
-    cmd.add_option("scene", o.scene, "Scene file (.gltf, .glb, .dae)")->required();
+    // Beyond MAX_DEPTH and MAX_LIGHT_SAMPLES a render runs for hours before its
+    // first sample and buys nothing: after 1024 bounces of albedo 0.99 a path
+    // keeps 3e-5 of its weight, and 1024 light samples per vertex are 1024
+    // shadow rays each.
+    cmd.add_option("scene", o.scene, "Scene file (.gltf, .glb, .dae)")->required()->check(CLI::ExistingFile);
     cmd.add_option("-m,--max-depth", o.maxDepth, "Maximum bounces (0: emitters seen directly only, 1: direct lighting)")
+        ->check(CLI::Range(0u, MAX_DEPTH))
         ->capture_default_str();
-    cmd.add_option("-d,--size", o.size, "Film size WxH")->capture_default_str();
-    cmd.add_option("-l,--light-samples", o.lightSamples, "Light samples per diffuse vertex")->capture_default_str();
+    cmd.add_option("-d,--size", o.size, "Film size WxH")->check(filmSizeValidator())->capture_default_str();
+    cmd.add_option("-l,--light-samples", o.lightSamples, "Light samples per diffuse vertex")
+        ->check(CLI::Range(0u, MAX_LIGHT_SAMPLES))
+        ->capture_default_str();
     cmd.add_option("--rr-depth", o.rouletteDepth, "Russian roulette from this bounce on (unbiased at any depth)")
         ->capture_default_str();
     cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
@@ -32,36 +40,44 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
         ->capture_default_str();
     cmd.add_option("--clamp", o.clamp,
                    "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
+        ->check(realAtLeast<float>(0))
         ->capture_default_str();
     cmd.add_option("--regularize", o.regularize,
                    "Path regularisation: after a path's first non-delta bounce, widen mirror, glass and smooth "
                    "microfacet lobes to at least this GGX alpha, in (0, 1] (biased: blurs caustics, removes their "
                    "fireflies; 0: off)")
+        ->check(realIn<float>(0, 1))
         ->capture_default_str();
     cmd.add_option("--guide-spheres", o.guideSpheres,
                    "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass spheres it sees, in "
                    "[0, 1), in scenes with emissive surfaces and no environment map (unbiased: finds caustics "
                    "sooner; 0: off)")
+        ->check(realIn<float>(0, 1, true))  // at 1 no cosine sample is left: light outside the cones would be lost
         ->capture_default_str();
-    cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular");
+    cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular")->check(CLI::ExistingFile);
     cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
-    cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier (default: the scene's, or 1)");
+    cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier (default: the scene's, or 1)")
+        ->check(realAtLeast<float>(0));
     cmd.add_option("--env-rotate", o.environmentRotation,
-                   "Environment rotation about +Y, degrees (default: the scene's, or 0)");
+                   "Environment rotation about +Y, degrees (default: the scene's, or 0)")
+        ->check(finiteReal<float>());
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
     cmd.add_option("--workgroup-size", o.workgroupSize, "Threads per workgroup of the stage kernels")
         ->capture_default_str();
     cmd.add_option("--megakernel-paths", o.megakernelPaths,
                    "--kernel megakernel: paths each invocation traces one after another (path regeneration; 1: one)")
+        ->check(CLI::Range(1u, UINT32_MAX))
         ->capture_default_str();
     cmd.add_option("--paths-in-flight", o.pathsInFlight,
                    "Upper bound on the paths of one wave (default: 16777216 on a discrete GPU, 1048576 on others)");
     cmd.add_option("--max-wave-ms", o.maxWaveMs,
                    "GPU: size the waves to take at most this many milliseconds each, for drivers whose watchdog "
-                   "ends long submissions (the image is the same)");
+                   "ends long submissions (the image is the same)")
+        ->check(realAbove<double>(0));
     cmd.add_option("--max-device-memory", o.maxDeviceMemoryMiB,
                    "GPU: MiB of device memory the scene, film and paths in flight may take, for a device shared "
-                   "with other work (fewer paths in flight; the image is the same)");
+                   "with other work (fewer paths in flight; the image is the same)")
+        ->check(realAbove<double>(0));
     cmd.add_option("--kernel", o.kernel,
                    "GPU kernel form: wavefront (stages with queues between them) or megakernel (one invocation per "
                    "path); default: the faster on the device's type")
@@ -89,33 +105,68 @@ uint64_t hashFile(const std::string& path, uint64_t hash) {
 
 }  // namespace
 
+namespace {
+
+// A float as the double of its shortest decimal form (0.1f as 0.1), so the
+// JSON reads as the flag was written and still gives the float back exactly.
+double shortest(float v) { return std::stod(fmt::format("{}", v)); }
+
+// The settings record, or null for text that is not a JSON object (an older
+// build's "key=value" words).
+nlohmann::ordered_json parseSettings(const std::string& text) {
+    nlohmann::ordered_json record = nlohmann::ordered_json::parse(text, nullptr, false);
+    return record.is_object() ? record : nlohmann::ordered_json();
+}
+
+// "key=value", a string value without its quotes.
+std::string keyValue(const std::string& key, const nlohmann::ordered_json& value) {
+    return key + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+}
+
+}  // namespace
+
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
     uint64_t hash = hashFile(o.scene, FNV1A_OFFSET);
     for (const std::filesystem::path& file : scene.referencedFiles) hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
-    auto optional = [](const std::optional<float>& v) { return v ? fmt::format("{}", *v) : std::string("scene"); };
-    std::string color = "none";
+    auto optional = [](const std::optional<float>& v) {
+        return v ? nlohmann::ordered_json(shortest(*v)) : nlohmann::ordered_json("scene");
+    };
+    nlohmann::ordered_json color = "none";
     if (!o.environmentColor.empty())
-        color = fmt::format("{},{},{}", o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]);
-    return {fmt::format("{:016x}", hash),
-            fmt::format("size={} max-depth={} light-samples={} rr-depth={} seed={} sampler={} clamp={} "
-                        "regularize={} guide-spheres={} env={} env-color={} env-strength={} env-rotate={} "
-                        "camera={} estimator={}",
-                        o.size, o.maxDepth, o.lightSamples, o.rouletteDepth, o.seed, o.sampler, o.clamp, o.regularize,
-                        o.guideSpheres,
-                        o.environment.empty() ? "none" : "file", color, optional(o.environmentStrength),
-                        optional(o.environmentRotation), o.camera.empty() ? "default" : o.camera,
-                        VKP_ESTIMATOR_VERSION)};
+        color = {shortest(o.environmentColor[0]), shortest(o.environmentColor[1]), shortest(o.environmentColor[2])};
+    nlohmann::ordered_json settings;
+    settings["size"] = o.size;
+    settings["max-depth"] = o.maxDepth;
+    settings["light-samples"] = o.lightSamples;
+    settings["rr-depth"] = o.rouletteDepth;
+    settings["seed"] = o.seed;
+    settings["sampler"] = o.sampler;
+    settings["clamp"] = shortest(o.clamp);
+    settings["regularize"] = shortest(o.regularize);
+    settings["guide-spheres"] = shortest(o.guideSpheres);
+    settings["env"] = o.environment.empty() ? "none" : "file";
+    settings["env-color"] = color;
+    settings["env-strength"] = optional(o.environmentStrength);
+    settings["env-rotate"] = optional(o.environmentRotation);
+    settings["camera"] = o.camera.empty() ? "default" : o.camera;
+    settings["estimator"] = VKP_ESTIMATOR_VERSION;
+    return {fmt::format("{:016x}", hash), settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
 }
 
+bool isSettingsRecord(const std::string& settings) { return !parseSettings(settings).is_null(); }
+
 std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y) {
-    std::istringstream xs(x), ys(y);
-    std::string a, b;
-    while (true) {
-        const bool moreX = bool(xs >> a), moreY = bool(ys >> b);
-        if (!moreX && !moreY) return {};
-        if (!moreX || !moreY || a != b) return {moreX ? a : "nothing", moreY ? b : "nothing"};
+    const nlohmann::ordered_json a = parseSettings(x), b = parseSettings(y);
+    if (a.is_null() || b.is_null()) return x == y ? std::pair<std::string, std::string>() : std::pair(x, y);
+    // In y's order, then the keys only x has.
+    for (const auto& [key, value] : b.items()) {
+        if (!a.contains(key)) return {"nothing", keyValue(key, value)};
+        if (a[key] != value) return {keyValue(key, a[key]), keyValue(key, value)};
     }
+    for (const auto& [key, value] : a.items())
+        if (!b.contains(key)) return {keyValue(key, value), "nothing"};
+    return {};
 }
 
 scene::Scene loadRenderScene(const RenderOptions& o) {
@@ -128,15 +179,8 @@ scene::Scene loadRenderScene(const RenderOptions& o) {
         if (!o.environmentColor.empty()) env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
         scene.environment = env;
     }
-    if (o.environmentStrength) {
-        if (!(*o.environmentStrength >= 0) || !std::isfinite(*o.environmentStrength))
-            throw InputError("--env-strength must be a finite number >= 0");
-        if (scene.environment) scene.environment->strength = *o.environmentStrength;
-    }
-    if (o.environmentRotation) {
-        if (!std::isfinite(*o.environmentRotation)) throw InputError("--env-rotate must be a finite number");
-        if (scene.environment) scene.environment->rotationDegrees = *o.environmentRotation;
-    }
+    if (o.environmentStrength && scene.environment) scene.environment->strength = *o.environmentStrength;
+    if (o.environmentRotation && scene.environment) scene.environment->rotationDegrees = *o.environmentRotation;
     return scene;
 }
 
@@ -145,19 +189,6 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (samplesPerPixel == 0) throw InputError("samples per pixel must be at least 1");
     if (o.threads && o.device != "cpu")
         throw InputError("-t/--threads: only the CPU reference (--device cpu) runs on threads");
-    if (!(o.clamp >= 0) || !std::isfinite(o.clamp)) throw InputError("--clamp must be a finite number >= 0");
-    if (!(o.regularize >= 0 && o.regularize <= 1))
-        throw InputError("--regularize must be a GGX alpha in (0, 1], or 0 for off");
-    // At 1 no cosine sample is left: directions outside the spheres' cones
-    // would have density 0 and the estimate would lose their light.
-    if (!(o.guideSpheres >= 0 && o.guideSpheres < 1))
-        throw InputError("--guide-spheres must be a fraction in [0, 1)");
-    // Beyond these a render runs for hours before its first sample and buys
-    // nothing: after 1024 bounces of albedo 0.99 a path keeps 3e-5 of its
-    // weight, and 1024 light samples per vertex are 1024 shadow rays each.
-    if (o.maxDepth > MAX_DEPTH) throw InputError(fmt::format("-m {}: at most {} bounces", o.maxDepth, MAX_DEPTH));
-    if (o.lightSamples > MAX_LIGHT_SAMPLES)
-        throw InputError(fmt::format("-l {}: at most {} light samples per vertex", o.lightSamples, MAX_LIGHT_SAMPLES));
 
     wavefront::RenderSettings settings;
     settings.width = film.width;
@@ -178,15 +209,10 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);
     settings.specialize = !o.noSpecialize;
     settings.workgroupSize = o.workgroupSize;
-    if (o.megakernelPaths == 0) throw InputError("--megakernel-paths must be at least 1");
     settings.megakernelPathsPerInvocation = o.megakernelPaths;
     settings.maxPathsInFlight = o.pathsInFlight;
-    if (o.maxWaveMs && !(*o.maxWaveMs > 0 && std::isfinite(*o.maxWaveMs)))
-        throw InputError(fmt::format("--max-wave-ms {}: milliseconds must be a finite number > 0", *o.maxWaveMs));
     settings.maxWaveMilliseconds = o.maxWaveMs;
     if (o.maxDeviceMemoryMiB) {
-        if (!(*o.maxDeviceMemoryMiB > 0) || !std::isfinite(*o.maxDeviceMemoryMiB))
-            throw InputError(fmt::format("--max-device-memory {}: MiB must be a finite number > 0", *o.maxDeviceMemoryMiB));
         // 10^12 MiB (an exabyte) bounds no device, and keeps the bytes in 64 bits.
         settings.maxDeviceMemoryBytes = uint64_t(std::min(*o.maxDeviceMemoryMiB, 1e12) * 1024 * 1024);
     }

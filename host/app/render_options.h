@@ -51,7 +51,8 @@ struct RenderOptions {
     std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
 };
 
-// Registers the shared flags on `cmd`, the scene as its first positional argument.
+// Registers the shared flags on `cmd`, the scene as its first positional
+// argument, each with the validator of its values (app/validators.h).
 void addRenderOptions(CLI::App& cmd, RenderOptions& o);
 
 // The scene file with the flags' environment and camera applied. Throws
@@ -66,17 +67,27 @@ scene::Scene loadRenderScene(const RenderOptions& o);
 // and GPU render the same samples).
 struct RenderIdentity {
     std::string sceneHash;  // 16 hex digits, FNV-1a 64
-    std::string settings;   // "size=640x480 max-depth=8 ...": each key once, in a fixed order
+    // A JSON object, {"size":"640x480","max-depth":8,...,"estimator":N}: each
+    // key once, in a fixed order, the estimator's version last.
+    std::string settings;
 };
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene);
 
-// The first "key=value" word in which two RenderIdentity::settings differ:
-// (x's, y's), "nothing" for one that ended first (a key an older build did
-// not write); two empty words when they are the same.
+// Whether `settings` is a settings record of this format (a JSON object);
+// builds before it wrote "key=value" words, which are not.
+bool isSettingsRecord(const std::string& settings);
+
+// The first setting in which two RenderIdentity::settings differ, as
+// ("key=x's value", "key=y's value"), "nothing" on the side that lacks the
+// key (one an older build did not write); two empty strings when they are
+// the same. Where either is not a settings record, the two whole strings.
 std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y);
 
-// The settings for `samplesPerPixel` samples of the film `o.size`. Throws
-// InputError on out-of-range flags.
+// The settings for `samplesPerPixel` samples of the film `o.size`. Each
+// flag's value is checked where it is parsed (addRenderOptions' validators:
+// a value out of range never gets here); throws InputError for flags that do
+// not go together (-t without --device cpu, --kernel with it) and a film size
+// that is not WxH.
 wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t samplesPerPixel);
 
 }  // namespace vkpath::app

@@ -195,7 +195,7 @@ void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands
     };
     auto o = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("scene-info", "Import a scene and summarise what it contains");
-    cmd->add_option("FILE", o->file, "Scene file (.gltf, .glb or .dae)")->required();
+    cmd->add_option("FILE", o->file, "Scene file (.gltf, .glb or .dae)")->required()->check(CLI::ExistingFile);
     cmd->add_flag("--json", o->json, "Print JSON instead of text");
     cmd->callback([&commands, o] {
         commands.run = [o] {

@@ -1,5 +1,6 @@
 #include "image/statistics.h"
 
+#include <boost/math/distributions/normal.hpp>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -58,13 +59,8 @@ double sidakAlpha(double alpha, uint64_t tests) {
 }
 
 double normalCritical(double alpha) {
-    // Invert the two-sided tail 2 (1 - Phi(z)) = erfc(z / sqrt 2) by bisection.
-    double lo = 0, hi = 40;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
-    }
-    return 0.5 * (lo + hi);
+    // The upper alpha/2 quantile: 1 - Phi(z) = alpha / 2.
+    return boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), alpha / 2));
 }
 
 BlockComparison compareBlocks(const Image& a, const Image& varianceA, const Image& b, const Image& varianceB,

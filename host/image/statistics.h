@@ -36,7 +36,8 @@ RegionMean regionMean(const Image& image, const Image& varianceOfMean,
 // true hypothesis with probability `alpha` (Sidak): 1 - (1 - alpha)^(1/tests).
 double sidakAlpha(double alpha, uint64_t tests);
 
-// The two-sided standard normal critical value z with P(|Z| > z) = alpha.
+// The two-sided standard normal critical value z with P(|Z| > z) = alpha, for
+// alpha in (0, 1] (Boost.Math's normal quantile).
 double normalCritical(double alpha);
 
 struct BlockComparison {

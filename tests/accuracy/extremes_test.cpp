@@ -15,6 +15,7 @@
 #include "scene/load.h"
 #include "image/statistics.h"
 #include "reference/reference_renderer.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
 
@@ -22,16 +23,7 @@ namespace {
 
 using namespace vkpath;
 
-wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t seed,
-                               uint32_t size = 40) {
-    wavefront::RenderSettings settings;
-    settings.width = settings.height = size;
-    settings.samplesPerPixel = spp;
-    settings.maxDepth = maxDepth;
-    settings.seed = seed;
-    wavefront::GpuRenderer renderer(test::context(), s, settings);
-    return renderer.render();
-}
+using test::render;
 
 // p -> scale * p + offset for everything with a position; radiances stay, a
 // point light's intensity grows with scale^2 so its irradiance stays.
@@ -72,8 +64,8 @@ TEST_P(SceneScale, CornellBoxLooksTheSame) {
     const scene::Scene loaded = scene::loadScene(test::sourcePath("assets/cornell_box.gltf"));
     const scene::Scene moved = transformed(loaded, scale, shift);
     const scene::Scene base = offset != 0 ? transformed(moved, 1.0f, -shift) : loaded;
-    const auto reference = render(base, 16, 6, 1);
-    const auto far = render(moved, 16, 6, 2);
+    const auto reference = render(base, 16, 6, 40, 1);
+    const auto far = render(moved, 16, 6, 40, 2);
     expectSameImage(reference, far);
 }
 
@@ -90,7 +82,7 @@ TEST(SceneScale, DetectsADifferentScene) {
     const scene::Scene base = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
     scene::Scene dimmer = base;
     for (auto& m : dimmer.materials) m.emission *= 0.9f;
-    const auto a = render(base, 16, 6, 1), b = render(dimmer, 16, 6, 2);
+    const auto a = render(base, 16, 6, 40, 1), b = render(dimmer, 16, 6, 40, 2);
     EXPECT_GT(image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01).rejected, 0);
 }
 
@@ -98,8 +90,8 @@ TEST(SceneScale, DetectsADifferentScene) {
 // beyond 64 bounces is below the noise: the two agree statistically.
 TEST(Depth, ThousandBouncesMatchSixtyFour) {
     const scene::Scene box = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
-    const auto deep = render(box, 16, 1000, 1, 32);
-    const auto shallow = render(box, 16, 64, 2, 32);
+    const auto deep = render(box, 16, 1000, 32, 1);
+    const auto shallow = render(box, 16, 64, 32, 2);
     expectSameImage(deep, shallow);
 }
 
@@ -119,7 +111,7 @@ TEST(NonFinite, DegenerateGeometryAndHugeEmissionStayFinite) {
     flat.triangles = {{0, 1, 2}, {0, 3, 1}};
     flat.material = hugeMaterial;
     s.meshes.push_back(flat);
-    const auto r = render(s, 4, 4, 1, 24);
+    const auto r = render(s, 4, 4, 24, 1);
     for (const glm::vec3& p : r.image.pixels)
         for (int i = 0; i < 3; ++i) ASSERT_TRUE(std::isfinite(p[i]));
     EXPECT_GT(r.nonFiniteSamples, 0u);
@@ -159,8 +151,8 @@ TEST(NonFinite, LightsWithPdfZeroAreRejectedBeforeTheFilm) {
         ASSERT_LT(n.y, 0.0f);
         s.meshes.push_back(quad);
     }
-    const auto withEdgeOn = render(s, 16, 6, 1);
-    const auto plain = render(box, 16, 6, 2);
+    const auto withEdgeOn = render(s, 16, 6, 40, 1);
+    const auto plain = render(box, 16, 6, 40, 2);
     for (const glm::vec3& p : withEdgeOn.image.pixels)
         for (int i = 0; i < 3; ++i) ASSERT_TRUE(std::isfinite(p[i]));
     EXPECT_EQ(withEdgeOn.nonFiniteSamples, 0u);

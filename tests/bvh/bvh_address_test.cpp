@@ -68,6 +68,7 @@ class BvhAddressScene : public testing::TestWithParam<const char*> {};
 // The trace kernels built for the address path return what the bound path
 // returns, bit for bit, on 10^5 random rays.
 TEST_P(BvhAddressScene, TraversalEqualsTheBoundPath) {
+    VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const scene::Scene s = scene::loadScene(test::sharedScene(GetParam()));
     const bvh::BvhBuild build = buildChecked(s);
     const vec3 lo = build.nodes[0].boundsMin, hi = build.nodes[0].boundsMax;
@@ -90,6 +91,7 @@ TEST_P(BvhAddressScene, TraversalEqualsTheBoundPath) {
 // The whole renderer on the address path (every scene array by address)
 // gives the same image as on the bound path: the same paths, the same sums.
 TEST_P(BvhAddressScene, RenderEqualsTheBoundPath) {
+    VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const scene::Scene s = scene::loadScene(test::sharedScene(GetParam()));
     wavefront::RenderSettings settings;
     settings.width = 32;

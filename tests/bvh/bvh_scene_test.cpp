@@ -27,6 +27,7 @@ constexpr size_t BRUTE_FORCE_PAIRS = 100'000'000;
 class BvhScene : public testing::TestWithParam<const char*> {};
 
 TEST_P(BvhScene, GpuMatchesCpuTraversalAndBruteForce) {
+    VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const scene::Scene s = scene::loadScene(test::sharedScene(GetParam()));
     const bvh::BvhBuild build = buildChecked(s);
     ASSERT_FALSE(build.primitives.empty());

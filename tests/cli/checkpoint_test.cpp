@@ -7,6 +7,7 @@
 // names it.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <csignal>
 #include <chrono>
@@ -142,13 +143,25 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
     std::filesystem::copy_file(checkpoint, damaged);
     std::filesystem::resize_file(damaged, std::filesystem::file_size(damaged) - 5);
     // The same checkpoint as a build before the estimator's version wrote it:
-    // its settings end before "estimator=".
+    // its settings lack "estimator".
     const std::string older = (dir / "older.ckpt").string();
     app::Checkpoint withoutVersion = app::readCheckpoint(checkpoint);
-    std::string& settings = withoutVersion.identity.settings;
-    ASSERT_NE(settings.find(" estimator="), std::string::npos) << settings;
-    settings.erase(settings.find(" estimator="));
+    auto settings = nlohmann::ordered_json::parse(withoutVersion.identity.settings);
+    ASSERT_EQ(settings.erase("estimator"), 1u) << withoutVersion.identity.settings;
+    withoutVersion.identity.settings = settings.dump();
     app::writeCheckpoint(older, withoutVersion);
+    // Settings as builds before JSON wrote them, "key=value" words.
+    const std::string wordSettings = (dir / "words.ckpt").string();
+    app::Checkpoint withWords = app::readCheckpoint(checkpoint);
+    withWords.identity.settings = "size=24x18 max-depth=8 light-samples=1";
+    app::writeCheckpoint(wordSettings, withWords);
+    // A file of the format before JSON ("key value" lines), and one whose
+    // header is not JSON.
+    const std::string formatOne = (dir / "format1.ckpt").string();
+    std::ofstream(formatOne, std::ios::binary) << "vkpath checkpoint 1\nscene-hash 0123456789abcdef\nsettings "
+                                                  "size=24x18 max-depth=8\n\n";
+    const std::string notJson = (dir / "not_json.ckpt").string();
+    std::ofstream(notJson, std::ios::binary) << "vkpath checkpoint 2\n{\"scene-hash\": \n12345678";
     struct Case {
         std::string args;
         std::string says;
@@ -159,12 +172,15 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
         {box() + " -d 24x18 --seed 3 --resume " + checkpoint, "seed=0 in the checkpoint, seed=3 here"},
         {box() + " -d 24x18 --resume " + older,
          fmt::format("other settings: nothing in the checkpoint, estimator={} here", VKP_ESTIMATOR_VERSION)},
+        {box() + " -d 24x18 --resume " + wordSettings, "written by an older vkpath build (its settings are not JSON)"},
+        {box() + " -d 24x18 --resume " + formatOne, "a checkpoint of format 1, written by an older vkpath build"},
+        {box() + " -d 24x18 --resume " + notJson, "damaged checkpoint: its header is not a JSON object"},
         {box() + " -d 24x18 --device cpu --resume " + checkpoint, "written by the GPU renderer"},
         {box() + " -d 24x18 --samples 5:4 --resume " + checkpoint, "samples from 0 on"},
         {box() + " -d 24x18 -s 1 --resume " + checkpoint, "more than the 1 asked"},
         {box() + " -d 24x18 --resume " + damaged, "damaged checkpoint"},
         {box() + " -d 24x18 --resume " + (dir / "a.exr").string(), "not a vkpath checkpoint"},
-        {box() + " -d 24x18 --resume " + (dir / "none.ckpt").string(), "no such file"},
+        {box() + " -d 24x18 --resume " + (dir / "none.ckpt").string(), "--resume: File does not exist"},
     };
     for (const Case& c : cases) {
         const std::string output = (dir / "out.exr").string();

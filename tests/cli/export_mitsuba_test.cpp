@@ -168,6 +168,7 @@ pugi::xml_document exportAndCheck(const fs::path& scenePath, const std::string& 
 }
 
 TEST(ExportMitsuba, CBspheres) {
+    VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const vkpath::test::TempDir dir;
     const fs::path scenePath = vkpath::test::sharedScene("CBspheres.dae");
     const pugi::xml_document doc = exportAndCheck(scenePath, "-d 80x60 -m 5 -s 7", dir / "cb", 80, 60, 5);
@@ -233,7 +234,7 @@ TEST(ExportMitsuba, BadInputIsOneLineAndNothingWritten) {
     EXPECT_EQ(lineCount(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(missing.string()), std::string::npos) << r.err;
 
-    r = runVkpath("export-mitsuba " + quoted(vkpath::test::sharedScene("CBspheres.dae")) + " " +
+    r = runVkpath("export-mitsuba " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")) + " " +
                   quoted(dir / "out") + " -d 0x10");
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lineCount(r.err), 1) << r.err;

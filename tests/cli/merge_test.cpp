@@ -86,14 +86,30 @@ TEST(Merge, MismatchedPartsAreOneLineAndNothingWritten) {
                               " -d 24x18 --samples 2:2 -o " + otherScene)
                   .exitCode,
               0);
+    // The samples after a's, as a build before JSON settings wrote them:
+    // its vkpath:settings are "key=value" words.
+    const std::string next = render(dir, "next", "--samples 2:2");
+    const std::string older = (dir / "older.exr").string();
+    image::Metadata metadata;
+    for (const auto& [key, value] : test::vkpathMetadata(next))
+        metadata.emplace_back(key, key == "vkpath:settings" ? "size=24x18 max-depth=8 light-samples=1" : value);
+    image::writeExr(older, image::readImage(next), metadata);
+    ASSERT_EQ(test::runVkpath("merge " + a + " " + next + " -o " + (dir / "fine.exr").string()).exitCode, 0);
+
     const std::string merged = (dir / "merged.exr").string();
-    for (const std::string& other : {overlapping, afterGap, otherSeed, otherScene, a,
+    for (const std::string& other : {overlapping, afterGap, otherSeed, otherScene, a, older,
                                      test::sourcePath("assets/sky.hdr").string()}) {
         SCOPED_TRACE(other);
         const auto r = test::runVkpath("merge " + a + " " + other + " -o " + merged);
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(merged));
+        if (other == older) {
+            EXPECT_NE(r.err.find("written by an older vkpath build"), std::string::npos) << r.err;
+        }
+        if (other == otherSeed) {
+            EXPECT_NE(r.err.find("seed=9 against seed=0"), std::string::npos) << r.err;
+        }
     }
     // A gap is accepted when asked for: 3 samples of 0..3.
     const auto r = test::runVkpath("merge " + a + " " + afterGap + " -o " + merged + " --allow-gaps");

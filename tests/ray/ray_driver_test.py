@@ -15,8 +15,9 @@ Last, the driver joins a cluster that `ray start --head` started apart from it
 (`--address`, as on several machines): equal again.
 
 Ray comes from PyPI into --venv (made once, kept in the build folder). Exit
-code 77 (CTest's skip) only when PyPI cannot be reached; any other failure is
-a failure.
+code 77 (CTest's skip) only when PyPI cannot be reached or the scene is absent
+(the assignment's scene folder, VKPATH_SCENES_DIR); any other failure is a
+failure.
 """
 import argparse
 import json
@@ -100,6 +101,10 @@ def main():
     p.add_argument("--venv", required=True)
     p.add_argument("--scene", required=True)
     args = p.parse_args()
+    if not os.path.isfile(args.scene):
+        print(f"SKIPPED: the assignment's scene {args.scene} is absent (set the CMake variable "
+              "VKPATH_SCENES_DIR to the folder holding scotty3d/; README.md, \"Scenes\")")
+        sys.exit(77)
     python = ensure_venv(args.venv)
     work = tempfile.mkdtemp(prefix="vkpath-ray-test-")
     try:

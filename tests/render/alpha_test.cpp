@@ -20,6 +20,7 @@
 #include "reference/reference_renderer.h"
 #include "scene/load.h"
 #include "support/pixel_match.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
@@ -104,10 +105,7 @@ wavefront::RenderSettings settings(uint32_t spp, uint32_t maxDepth = 4, uint32_t
     return s;
 }
 
-wavefront::RenderResult renderGpu(const scene::Scene& s, const wavefront::RenderSettings& settings) {
-    wavefront::GpuRenderer renderer(test::context(), s, settings);
-    return renderer.render();
-}
+using test::renderGpu;
 
 image::RegionMean meanOf(const wavefront::RenderResult& r,
                          const std::function<bool(uint32_t, uint32_t)>& select = [](uint32_t, uint32_t) {

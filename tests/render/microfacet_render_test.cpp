@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 #include "shared/bsdf.h"
 #include "support/direction_chi2.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "support/test_scenes.h"
 #include "wavefront/gpu_scene.h"
@@ -27,18 +28,7 @@ using namespace vkpath;
 constexpr double Z_BOUND = 5.0;
 constexpr double PI = 3.14159265358979323846;
 
-wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size,
-                               uint32_t seed, uint32_t lightSamples = 1) {
-    wavefront::RenderSettings settings;
-    settings.lightSamples = lightSamples;
-    settings.width = size;
-    settings.height = size;
-    settings.samplesPerPixel = spp;
-    settings.maxDepth = maxDepth;
-    settings.seed = seed;
-    wavefront::GpuRenderer renderer(test::context(), s, settings);
-    return renderer.render();
-}
+using test::render;
 
 // A unit sphere of material `m` at the origin in a constant white sky, seen
 // from (0, 0, 4) (test::sphereInEnvironment).

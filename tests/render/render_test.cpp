@@ -14,6 +14,7 @@
 #include "image/statistics.h"
 #include "input_error.h"
 #include "scene/scene.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "support/test_scenes.h"
 #include "wavefront/renderer.h"
@@ -24,20 +25,8 @@ using namespace vkpath;
 
 constexpr double Z_BOUND = 5.0;
 
+using test::render;
 using test::sphereInEnvironment;
-
-wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size = 48,
-                               uint32_t seed = 1, uint32_t lightSamples = 1) {
-    wavefront::RenderSettings settings;
-    settings.width = size;
-    settings.height = size;
-    settings.samplesPerPixel = spp;
-    settings.maxDepth = maxDepth;
-    settings.seed = seed;
-    settings.lightSamples = lightSamples;
-    wavefront::GpuRenderer renderer(test::context(), s, settings);
-    return renderer.render();
-}
 
 // Pixels whose whole footprint sees the sphere (radius 1 at distance 4, 40
 // degree fov: the sphere spans about 0.73 of the half-width), and pixels

@@ -7,6 +7,7 @@
 
 #include "image/statistics.h"
 #include "scene/scene.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "support/test_scenes.h"
 #include "wavefront/renderer.h"
@@ -45,19 +46,7 @@ double geometricSeries(double rho, uint32_t depth) {
     return sum;
 }
 
-wavefront::RenderResult render(const scene::Scene& s, SamplerKind sampler, uint32_t spp, uint32_t maxDepth,
-                               uint32_t seed, uint32_t lightSamples = 1, uint32_t size = 32) {
-    wavefront::RenderSettings settings;
-    settings.width = size;
-    settings.height = size;
-    settings.samplesPerPixel = spp;
-    settings.maxDepth = maxDepth;
-    settings.seed = seed;
-    settings.lightSamples = lightSamples;
-    settings.sampler = sampler;
-    wavefront::GpuRenderer renderer(test::context(), s, settings);
-    return renderer.render();
-}
+using test::render;
 
 // Pixels whose whole footprint sees the sphere of sphereInFurnace.
 bool onSphere(uint32_t x, uint32_t y, uint32_t size) {
@@ -86,20 +75,20 @@ void expectRegionMean(const wavefront::RenderResult& r, bool sphereOnly, double 
 TEST(SobolRender, WhiteFurnaceSphereIsInvisible) {
     for (uint32_t lightSamples : {1u, 3u}) {
         SCOPED_TRACE(lightSamples);
-        const auto r = render(sphereInFurnace(1.0f), SamplerKind::Sobol, 16, 8, 1, lightSamples, 48);
+        const auto r = render(sphereInFurnace(1.0f), 16, 8, 48, 1, lightSamples, SamplerKind::Sobol);
         expectRegionMean(r, false, 1.0);
     }
 }
 
 TEST(SobolRender, GreySphereReflectsItsAlbedo) {
-    expectRegionMean(render(sphereInFurnace(0.5f), SamplerKind::Sobol, 16, 3, 1, 1, 48), true, 0.5);
+    expectRegionMean(render(sphereInFurnace(0.5f), 16, 3, 48, 1, 1, SamplerKind::Sobol), true, 0.5);
 }
 
 // Depth 5 with Russian roulette from bounce 4: every pair of a bounce in use.
 TEST(SobolRender, InsideAnEmitterGivesTheGeometricSeries) {
     for (uint32_t depth : {1u, 5u}) {
         SCOPED_TRACE(depth);
-        expectRegionMean(render(insideEmitter(0.9f), SamplerKind::Sobol, 8, depth, 1), false,
+        expectRegionMean(render(insideEmitter(0.9f), 8, depth, 32, 1, 1, SamplerKind::Sobol), false,
                          geometricSeries(0.9, depth));
     }
 }
@@ -133,8 +122,8 @@ TEST(SobolRender, LowerErrorThanIndependentAtEqualSpp) {
     const scene::Scene s = sphereInFurnace(0.5f);
     double independent = 0, sobol = 0;
     for (uint32_t seed = 1; seed <= 3; ++seed) {
-        independent += sphereSquaredError(render(s, SamplerKind::Independent, ERROR_SPP, 3, seed), 0.5);
-        sobol += sphereSquaredError(render(s, SamplerKind::Sobol, ERROR_SPP, 3, seed), 0.5);
+        independent += sphereSquaredError(render(s, ERROR_SPP, 3, 32, seed, 1, SamplerKind::Independent), 0.5);
+        sobol += sphereSquaredError(render(s, ERROR_SPP, 3, 32, seed, 1, SamplerKind::Sobol), 0.5);
     }
     RecordProperty("errorRatio", std::to_string(independent / sobol));
     EXPECT_GT(independent, MIN_ERROR_RATIO * sobol) << "independent " << independent << ", sobol " << sobol;

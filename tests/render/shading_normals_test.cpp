@@ -12,6 +12,7 @@
 #include "reference/reference_renderer.h"
 #include "scene/camera.h"
 #include "shared/camera.h"
+#include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
 #include "wavefront/surface_tables.h"
@@ -55,10 +56,7 @@ wavefront::RenderSettings settings(uint32_t size, uint32_t spp) {
     return s;
 }
 
-wavefront::RenderResult renderGpu(const scene::Scene& s, const wavefront::RenderSettings& settings) {
-    wavefront::GpuRenderer renderer(test::context(), s, settings);
-    return renderer.render();
-}
+using test::renderGpu;
 
 TEST(SurfaceTables, FlatTrianglesKeepNoNormals) {
     const glm::vec3 p0(0, 0, 0), p1(1, 0, 0), p2(0, 1, 0), up(0, 0, 1);

@@ -277,6 +277,7 @@ TEST(SphereGuiding, WhiteFurnaceStaysWhite) {
 // are in the cosine-sampled image too, only noisier. Measured over 3 seed
 // pairs (3/4, 5/6, 7/8): worst |z| 2.18, 2.97, 1.96.
 TEST(SphereGuiding, EstimatesTheSameImageAsCosineSampling) {
+    VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const scene::Scene s = scene::loadScene(test::sharedScene("CBspheres.dae").string());
     wavefront::RenderSettings settings;
     settings.width = 64;

@@ -1,42 +1,18 @@
 #include "support/statistics.h"
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 namespace vkpath::test {
 
-double regularizedGammaQ(double a, double x) {
-    if (x < 0 || a <= 0) throw std::invalid_argument("regularizedGammaQ: bad arguments");
-    if (x == 0) return 1.0;
-    const double logPrefix = a * std::log(x) - x - std::lgamma(a);
-    constexpr double EPS = 1e-15;
-    if (x < a + 1) {
-        // P(a, x) by its series; Q = 1 - P.
-        double term = 1.0 / a, sum = term;
-        for (int n = 1; n < 10000; ++n) {
-            term *= x / (a + n);
-            sum += term;
-            if (std::abs(term) < std::abs(sum) * EPS) break;
-        }
-        return 1.0 - sum * std::exp(logPrefix);
-    }
-    // Q(a, x) by its continued fraction, modified Lentz.
-    constexpr double TINY = std::numeric_limits<double>::min() / EPS;
-    double b = x + 1 - a, c = 1 / TINY, d = 1 / b, h = d;
-    for (int i = 1; i < 10000; ++i) {
-        const double an = -i * (i - a);
-        b += 2;
-        d = an * d + b;
-        if (std::abs(d) < TINY) d = TINY;
-        c = b + an / c;
-        if (std::abs(c) < TINY) c = TINY;
-        d = 1 / d;
-        const double delta = d * c;
-        h *= delta;
-        if (std::abs(delta - 1) < EPS) break;
-    }
-    return std::exp(logPrefix) * h;
+double chiSquarePValue(double statistic, int degreesOfFreedom) {
+    if (degreesOfFreedom <= 0 || !(statistic >= 0)) throw std::invalid_argument("chiSquarePValue: bad arguments");
+    if (std::isinf(statistic)) return 0.0;
+    return boost::math::cdf(boost::math::complement(boost::math::chi_squared_distribution<double>(degreesOfFreedom),
+                                                    statistic));
 }
 
 ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected,
@@ -68,9 +44,7 @@ ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::ve
         ++cells;
     }
     r.degreesOfFreedom = cells - 1;
-    r.pValue = r.degreesOfFreedom > 0 ? regularizedGammaQ(0.5 * r.degreesOfFreedom, 0.5 * r.statistic) : 1.0;
+    r.pValue = r.degreesOfFreedom > 0 ? chiSquarePValue(r.statistic, r.degreesOfFreedom) : 1.0;
     return r;
 }
-
-
 }  // namespace vkpath::test

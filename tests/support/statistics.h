@@ -9,10 +9,10 @@
 
 namespace vkpath::test {
 
-// Upper tail Q(a, x) = Gamma(a, x) / Gamma(a) of the regularised incomplete
-// gamma function (series for x < a + 1, Lentz continued fraction otherwise;
-// Numerical Recipes 3rd ed., section 6.2).
-double regularizedGammaQ(double a, double x);
+// The chi-square distribution's upper tail P(X > statistic) for
+// degreesOfFreedom > 0 (Boost.Math: Q(k/2, x/2), the regularised incomplete
+// gamma function's upper part).
+double chiSquarePValue(double statistic, int degreesOfFreedom);
 
 struct ChiSquareResult {
     double statistic = 0;

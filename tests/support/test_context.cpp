@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <memory>
 
 namespace vkpath::test {
@@ -23,8 +24,20 @@ vk::Context& context() {
     return *g_context;
 }
 
-std::filesystem::path sharedScene(const std::string& name) {
-    return std::filesystem::path(VKPATH_SHARED_SCENES) / "scotty3d" / name;
+std::filesystem::path scenesDir() {
+    const char* given = std::getenv("VKPATH_SCENES_DIR");
+    return std::filesystem::path(given && *given ? given : VKPATH_SCENES_DIR);
+}
+
+std::filesystem::path sharedScene(const std::string& name) { return scenesDir() / "scotty3d" / name; }
+
+std::string sharedScenesMissing() {
+    const std::filesystem::path folder = scenesDir() / "scotty3d";
+    std::error_code ec;
+    if (std::filesystem::is_directory(folder, ec)) return {};
+    return "the assignment's scenes are not here: no folder " + folder.string() +
+           " (set VKPATH_SCENES_DIR, a CMake cache variable or an environment variable, to the folder "
+           "holding scotty3d/; README.md, \"Scenes\")";
 }
 
 std::filesystem::path sourcePath(const std::string& relative) {

@@ -11,12 +11,12 @@ namespace {
 
 using namespace vkpath::test;
 
-TEST(Statistics, GammaQMatchesTables) {
+TEST(Statistics, ChiSquarePValueMatchesTables) {
     // Chi-square upper-tail probabilities: Q(k/2, x/2).
-    EXPECT_NEAR(regularizedGammaQ(0.5, 3.841458820694124 / 2), 0.05, 1e-9);   // k = 1
-    EXPECT_NEAR(regularizedGammaQ(5.0, 23.209251158954356 / 2), 0.01, 1e-9);  // k = 10
-    EXPECT_NEAR(regularizedGammaQ(31.5, 82.52872654 / 2), 0.05, 1e-6);        // k = 63
-    EXPECT_NEAR(regularizedGammaQ(1.0, 2.0), std::exp(-2.0), 1e-12);          // Q(1, x) = e^-x
+    EXPECT_NEAR(chiSquarePValue(3.841458820694124, 1), 0.05, 1e-9);   // k = 1
+    EXPECT_NEAR(chiSquarePValue(23.209251158954356, 10), 0.01, 1e-9);  // k = 10
+    EXPECT_NEAR(chiSquarePValue(82.52872654, 63), 0.05, 1e-6);        // k = 63
+    EXPECT_NEAR(chiSquarePValue(4.0, 2), std::exp(-2.0), 1e-12);       // k = 2: Q(1, x) = e^-x
 }
 
 TEST(Statistics, ChiSquarePoolsAndRejects) {
