@@ -18,9 +18,9 @@ build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # The bundled Cornell box (mirror and glass spheres, ceiling lamp) at 256 spp,
-# enough samples that its caustics no longer speckle every wall: about 20 s on
-# two CPU cores through lavapipe (17 s on 2026-12-04); its 31 M paths take an
-# H200 tens of milliseconds (1 to 2.3 Gpaths/s: docs/BENCHMARKS.md).
+# enough samples that its caustics no longer speckle every wall: tens of
+# seconds on two CPU cores through lavapipe, tens of milliseconds on a data
+# centre GPU (docs/BENCHMARKS.md, "An NVIDIA H200").
 demo: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target vkpath
 	@$(VKPATH) render assets/cornell_box.gltf -d 400x300 -s 256 -m 8 -o out/cornell_box.exr --png out/cornell_box.png

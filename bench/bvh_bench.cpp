@@ -49,7 +49,8 @@ using glm::vec3;
 constexpr uint32_t FILM = 512;  // coherent rays: one per pixel of a 512 x 512 film
 constexpr float FLT_MAX_VALUE = 3.402823466e+38f;
 // Threads per workgroup of the trace kernels, as the wavefront stages use them
-// (chosen by the trace-wg benchmarks, docs/BENCHMARKS.md).
+// (chosen by the trace-wg benchmarks, docs/BENCHMARKS.md, "Kernel forms and
+// specialisation").
 constexpr uint32_t DEFAULT_WORKGROUP = 64;
 
 // ---- scenes ---------------------------------------------------------------------
@@ -281,8 +282,8 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
                                             (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest" +
                                             (wide ? "/wide" : "/binary");
                 // Half a second of passes over the rays: two passes (tens of
-                // milliseconds) spread by 0.90-1.09 between runs of one binary
-                // on a shared VM (docs/BENCHMARKS.md).
+                // milliseconds) spread too much between runs of one binary on a
+                // shared VM (docs/BENCHMARKS.md, "On the CPU (the eight-wide tree)").
                 benchmark::RegisterBenchmark(cpuName.c_str(), cpuTraceBenchmark, &s, kind, wide)
                     ->Unit(benchmark::kMillisecond)
                     ->MinTime(0.5);
