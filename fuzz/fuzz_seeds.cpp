@@ -30,10 +30,12 @@
 #include <vector>
 
 #include "fuzz_support.h"
+#include "support/base64.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using vkpath::test::base64;
 
 struct MapSpec {
     std::string name;
@@ -103,21 +105,6 @@ std::string gltfWithBuffer(const std::string& uri, const std::string& imageUri =
         R"({{"buffer":0,"byteOffset":{},"byteLength":6}}],)"
         R"("buffers":[{{"uri":"{}","byteLength":{}}}]{}}})",
         BUFFER_POSITIONS_OFFSET, BUFFER_INDICES_OFFSET, uri, BUFFER_BYTES, images);
-}
-
-std::string base64(const std::vector<uint8_t>& data) {
-    static const char* TABLE = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < data.size(); i += 3) {
-        const uint32_t n = uint32_t(data[i]) << 16 |
-                           (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                           (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-        out += TABLE[(n >> 18) & 63];
-        out += TABLE[(n >> 12) & 63];
-        out += i + 1 < data.size() ? TABLE[(n >> 6) & 63] : '=';
-        out += i + 2 < data.size() ? TABLE[n & 63] : '=';
-    }
-    return out;
 }
 
 // One triangle with quantized positions (u16), normals (normalized i8),

@@ -18,6 +18,7 @@
 #pragma GCC diagnostic pop
 
 #include "input_error.h"
+#include "support/base64.h"
 #include "scene/gltf_loader.h"
 
 namespace vkpath::test {
@@ -35,21 +36,6 @@ inline void writeBytes(const fs::path& path, const void* data, size_t size) {
 
 inline void writeText(const fs::path& path, const std::string& text) {
     writeBytes(path, text.data(), text.size());
-}
-
-inline std::string base64(const std::vector<uint8_t>& data) {
-    static const char* TABLE = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < data.size(); i += 3) {
-        const uint32_t n = uint32_t(data[i]) << 16 |
-                           (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                           (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-        out += TABLE[(n >> 18) & 63];
-        out += TABLE[(n >> 12) & 63];
-        out += i + 1 < data.size() ? TABLE[(n >> 6) & 63] : '=';
-        out += i + 2 < data.size() ? TABLE[n & 63] : '=';
-    }
-    return out;
 }
 
 // Builds a glTF document and its one binary buffer.
