@@ -58,8 +58,9 @@ constexpr uint32_t DEFAULT_WORKGROUP = 64;
 // The unit icosphere split 4^subdivisions times (20 * 4^s triangles), vertices shared.
 scene::Mesh icosphere(uint32_t subdivisions) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    std::vector<vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                           {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                           {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
     for (vec3& p : v) p = glm::normalize(p);
     std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                  {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
@@ -76,13 +77,15 @@ scene::Mesh icosphere(uint32_t subdivisions) {
         std::vector<glm::uvec3> next;
         next.reserve(f.size() * 4);
         for (const glm::uvec3& tri : f) {
-            const uint32_t a = midpoint(tri.x, tri.y), b = midpoint(tri.y, tri.z), c = midpoint(tri.z, tri.x);
+            const uint32_t a = midpoint(tri.x, tri.y), b = midpoint(tri.y, tri.z),
+                           c = midpoint(tri.z, tri.x);
             next.insert(next.end(), {{tri.x, a, c}, {tri.y, b, a}, {tri.z, c, b}, {a, b, c}});
         }
         f = std::move(next);
     }
     // A bumpy surface (radius 1 +- 0.15) so the BVH has more than a sphere to fit.
-    for (vec3& p : v) p *= 1.0f + 0.15f * std::sin(9.0f * p.x) * std::sin(7.0f * p.y) * std::sin(8.0f * p.z);
+    for (vec3& p : v)
+        p *= 1.0f + 0.15f * std::sin(9.0f * p.x) * std::sin(7.0f * p.y) * std::sin(8.0f * p.z);
     scene::Mesh mesh;
     mesh.name = "icosphere";
     mesh.positions = std::move(v);
@@ -129,7 +132,8 @@ std::vector<shared::Ray> cameraRays(const shared::Camera& camera) {
 
 // From every camera-ray hit, one ray in a uniformly random direction of the
 // hemisphere it came from (a diffuse bounce): incoherent secondary rays.
-std::vector<shared::Ray> bounceRays(const bvh::BvhBuild& build, const std::vector<shared::Ray>& primary) {
+std::vector<shared::Ray> bounceRays(const bvh::BvhBuild& build,
+                                    const std::vector<shared::Ray>& primary) {
     const shared::BvhView view{build.traversalNodes, build.primitives};
     std::mt19937 rng(1);
     std::normal_distribution<float> n(0.0f, 1.0f);
@@ -137,7 +141,8 @@ std::vector<shared::Ray> bounceRays(const bvh::BvhBuild& build, const std::vecto
     for (const shared::Ray& r : primary) {
         const shared::Hit hit = view.bvhClosestHit(r);
         if (hit.primitive == VKP_NO_HIT) continue;
-        const shared::SurfacePoint sp = shared::surfacePoint(build.primitives[hit.primitive], r, hit);
+        const shared::SurfacePoint sp =
+            shared::surfacePoint(build.primitives[hit.primitive], r, hit);
         const vec3 back = glm::dot(sp.normal, r.direction) < 0.0f ? sp.normal : -sp.normal;
         vec3 d = glm::normalize(vec3(n(rng), n(rng), n(rng)));
         if (glm::dot(d, back) < 0.0f) d = -d;
@@ -152,7 +157,9 @@ std::vector<shared::Ray> bounceRays(const bvh::BvhBuild& build, const std::vecto
 double processCpuSeconds() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
-    auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+    auto seconds = [](const timeval& t) {
+        return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
     return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
@@ -178,7 +185,8 @@ void buildBenchmark(benchmark::State& state, const scene::Scene* s, bvh::BvhOpti
     }
     const double primitives = static_cast<double>(build.primitives.size());
     state.counters["prims"] = primitives;
-    state.counters["Mprims/s"] = benchmark::Counter(primitives * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["Mprims/s"] =
+        benchmark::Counter(primitives * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
     state.counters["sah"] = build.stats.sahCost;
     state.counters["nodes"] = static_cast<double>(build.stats.nodes);
     state.counters["depth"] = build.stats.maxDepth;
@@ -187,8 +195,8 @@ void buildBenchmark(benchmark::State& state, const scene::Scene* s, bvh::BvhOpti
 
 enum class RayKind { Coherent, Incoherent };
 
-void traceBenchmark(benchmark::State& state, const BenchScene* s, bvh::BvhOptions options, RayKind kind,
-                    bool anyHit, uint32_t workgroupSize, bool byAddress) {
+void traceBenchmark(benchmark::State& state, const BenchScene* s, bvh::BvhOptions options,
+                    RayKind kind, bool anyHit, uint32_t workgroupSize, bool byAddress) {
     const bvh::BvhBuild build = bvh::buildBvh(s->scene, options);
     std::vector<shared::Ray> rays = cameraRays(s->camera);
     if (kind == RayKind::Incoherent) rays = bounceRays(build, rays);
@@ -219,10 +227,10 @@ void traceBenchmark(benchmark::State& state, const BenchScene* s, bvh::BvhOption
         totalMs += ms;
     }
     state.counters["rays"] = count;
-    state.counters["Mrays/s"] = static_cast<double>(count) * static_cast<double>(state.iterations()) /
-                                (totalMs * 1e-3) * 1e-6;
-    state.counters["Mrays/cpu-s"] = static_cast<double>(count) * static_cast<double>(state.iterations()) /
-                                    cpuSeconds * 1e-6;
+    state.counters["Mrays/s"] = static_cast<double>(count) *
+                                static_cast<double>(state.iterations()) / (totalMs * 1e-3) * 1e-6;
+    state.counters["Mrays/cpu-s"] =
+        static_cast<double>(count) * static_cast<double>(state.iterations()) / cpuSeconds * 1e-6;
     state.counters["sah"] = build.stats.sahCost;
 }
 
@@ -237,7 +245,8 @@ void cpuTraceBenchmark(benchmark::State& state, const BenchScene* s, RayKind kin
     const bvh::WideBvh wideBvh = bvh::collapseBvh(build.nodes, build.primitives);
     for (auto _ : state)
         for (const shared::Ray& r : rays)
-            benchmark::DoNotOptimize(wide ? bvh::traceWide(view, wideBvh, r, false, 0u) : view.bvhClosestHit(r));
+            benchmark::DoNotOptimize(wide ? bvh::traceWide(view, wideBvh, r, false, 0u)
+                                          : view.bvhClosestHit(r));
     state.counters["rays"] = static_cast<double>(rays.size());
     state.counters["Mrays/s"] = benchmark::Counter(static_cast<double>(rays.size()) * 1e-6,
                                                    benchmark::Counter::kIsIterationInvariantRate);
@@ -253,7 +262,8 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
         const size_t triangles = s.scene.triangleCount();
         for (uint32_t threads : {1u, 0u}) {
             const std::string name = "build/" + s.name + (threads == 1 ? "/serial" : "/parallel");
-            benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene, bvh::BvhOptions{.threads = threads})
+            benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene,
+                                         bvh::BvhOptions{.threads = threads})
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime()
                 ->Iterations(triangles > 500000 ? 2 : 5);
@@ -268,19 +278,22 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
             ->Iterations(triangles > 500000 ? 2 : 5);
         for (uint32_t leaf : {1u, 2u, 4u, 8u, 15u}) {
             const std::string name = "build/" + s.name + "/leaf:" + std::to_string(leaf);
-            benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene, bvh::BvhOptions{.maxLeafSize = leaf})
+            benchmark::RegisterBenchmark(name.c_str(), buildBenchmark, &s.scene,
+                                         bvh::BvhOptions{.maxLeafSize = leaf})
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime()
                 ->Iterations(triangles > 500000 ? 1 : 3);
         }
     }
     for (const BenchScene& s : scenes()) {
-        if (s.scene.triangleCount() > 500000) continue;  // traversal: the smaller scenes are enough on lavapipe
+        if (s.scene.triangleCount() > 500000)
+            continue;  // traversal: the smaller scenes are enough on lavapipe
         for (RayKind kind : {RayKind::Coherent, RayKind::Incoherent}) {
             for (bool wide : {false, true}) {
-                const std::string cpuName = "trace-cpu/" + s.name +
-                                            (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest" +
-                                            (wide ? "/wide" : "/binary");
+                const std::string cpuName =
+                    "trace-cpu/" + s.name +
+                    (kind == RayKind::Coherent ? "/coherent" : "/incoherent") + "/closest" +
+                    (wide ? "/wide" : "/binary");
                 // Half a second of passes over the rays: two passes (tens of
                 // milliseconds) spread too much between runs of one binary on a
                 // shared VM (docs/BENCHMARKS.md, "On the CPU (the eight-wide tree)").
@@ -288,24 +301,28 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
                     ->Unit(benchmark::kMillisecond)
                     ->MinTime(0.5);
             }
-            const std::string group = s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent");
+            const std::string group =
+                s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent");
             for (bool anyHit : {false, true}) {
                 const std::string hit = anyHit ? "/anyhit" : "/closest";
                 // Scene arrays bound as storage buffers, or read by address
                 // (the path for scenes beyond maxStorageBufferRange).
                 for (bool byAddress : {false, true}) {
-                    const std::string name = "trace-access/" + group + hit + (byAddress ? "/address" : "/binding");
-                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s, bvh::BvhOptions{}, kind, anyHit,
-                                                 DEFAULT_WORKGROUP, byAddress)
+                    const std::string name =
+                        "trace-access/" + group + hit + (byAddress ? "/address" : "/binding");
+                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s,
+                                                 bvh::BvhOptions{}, kind, anyHit, DEFAULT_WORKGROUP,
+                                                 byAddress)
                         ->Unit(benchmark::kMillisecond)
                         ->UseManualTime()
                         ->Iterations(5);
                 }
                 // Workgroup sizes (threads per workgroup of the trace kernels).
                 for (uint32_t workgroup : {32u, 64u, 128u, 256u}) {
-                    const std::string name = "trace-wg/" + group + hit + "/wg:" + std::to_string(workgroup);
-                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s, bvh::BvhOptions{}, kind, anyHit,
-                                                 workgroup, false)
+                    const std::string name =
+                        "trace-wg/" + group + hit + "/wg:" + std::to_string(workgroup);
+                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s,
+                                                 bvh::BvhOptions{}, kind, anyHit, workgroup, false)
                         ->Unit(benchmark::kMillisecond)
                         ->UseManualTime()
                         ->Iterations(5);
@@ -314,15 +331,18 @@ void registerAll(const std::vector<std::filesystem::path>& scenePaths) {
             for (bool anyHit : {false, true}) {
                 // Leaf sizes at the default SAH traversal cost (1), then other
                 // traversal costs with room for larger leaves.
-                const std::pair<uint32_t, float> variants[] = {{1, 1.0f}, {2, 1.0f}, {4, 1.0f}, {8, 1.0f},
-                                                               {8, 0.5f}, {8, 2.0f}, {8, 4.0f}};
+                const std::pair<uint32_t, float> variants[] = {
+                    {1, 1.0f}, {2, 1.0f}, {4, 1.0f}, {8, 1.0f}, {8, 0.5f}, {8, 2.0f}, {8, 4.0f}};
                 for (const auto& [leaf, traversalCost] : variants) {
-                    std::string name = "trace/" + s.name + (kind == RayKind::Coherent ? "/coherent" : "/incoherent") +
-                                       (anyHit ? "/anyhit" : "/closest") + "/leaf:" + std::to_string(leaf);
+                    std::string name = "trace/" + s.name +
+                                       (kind == RayKind::Coherent ? "/coherent" : "/incoherent") +
+                                       (anyHit ? "/anyhit" : "/closest") +
+                                       "/leaf:" + std::to_string(leaf);
                     if (traversalCost != 1.0f) name += "/ct:" + fmt::format("{}", traversalCost);
-                    benchmark::RegisterBenchmark(name.c_str(), traceBenchmark, &s,
-                                                 bvh::BvhOptions{.maxLeafSize = leaf, .traversalCost = traversalCost},
-                                                 kind, anyHit, DEFAULT_WORKGROUP, false)
+                    benchmark::RegisterBenchmark(
+                        name.c_str(), traceBenchmark, &s,
+                        bvh::BvhOptions{.maxLeafSize = leaf, .traversalCost = traversalCost}, kind,
+                        anyHit, DEFAULT_WORKGROUP, false)
                         ->Unit(benchmark::kMillisecond)
                         ->UseManualTime()
                         ->Iterations(3);
@@ -349,7 +369,8 @@ int main(int argc, char** argv) {
     }
     if (!scenesGiven) {
         for (const char* name : {"bunny.dae", "CBbunny.dae", "plane16384.dae", "CBspheres.dae"}) {
-            const std::filesystem::path p = std::filesystem::path(VKPATH_SCENES_DIR) / "scotty3d" / name;
+            const std::filesystem::path p =
+                std::filesystem::path(VKPATH_SCENES_DIR) / "scotty3d" / name;
             if (std::filesystem::exists(p)) scenePaths.push_back(p);
         }
     }

@@ -29,8 +29,12 @@ void pairs(benchmark::State& state, uint32_t samplerKind) {
     state.SetItemsProcessed(state.iterations());
 }
 
-void BM_SobolPair(benchmark::State& state) { pairs(state, VKP_SAMPLER_SOBOL); }
-void BM_IndependentPair(benchmark::State& state) { pairs(state, VKP_SAMPLER_INDEPENDENT); }
+void BM_SobolPair(benchmark::State& state) {
+    pairs(state, VKP_SAMPLER_SOBOL);
+}
+void BM_IndependentPair(benchmark::State& state) {
+    pairs(state, VKP_SAMPLER_INDEPENDENT);
+}
 
 // Reversals in a chain, each of the last one's result, as the Sobol'
 // sampler's are (reverse, hash, reverse): latency, which no compiler can
@@ -45,11 +49,19 @@ void reversals(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations() * 64);
 }
 
-uint32_t sharedReverse(uint32_t x) { return shared::bitfieldReverse(x); }
-uint32_t glmReverse(uint32_t x) { return glm::bitfieldReverse(x); }
+uint32_t sharedReverse(uint32_t x) {
+    return shared::bitfieldReverse(x);
+}
+uint32_t glmReverse(uint32_t x) {
+    return glm::bitfieldReverse(x);
+}
 
-void BM_BitReverseShared(benchmark::State& state) { reversals<sharedReverse>(state); }
-void BM_BitReverseGlm(benchmark::State& state) { reversals<glmReverse>(state); }
+void BM_BitReverseShared(benchmark::State& state) {
+    reversals<sharedReverse>(state);
+}
+void BM_BitReverseGlm(benchmark::State& state) {
+    reversals<glmReverse>(state);
+}
 
 BENCHMARK(BM_SobolPair);
 BENCHMARK(BM_IndependentPair);

@@ -29,8 +29,8 @@ void checkMap(const vkpath::image::Image& map) {
         finding(fmt::format("map of {}x{} texels passed the cap of {}", map.width, map.height,
                             FUZZ_MAX_PIXELS));
     if (map.pixels.size() != size_t(map.width) * map.height)
-        finding(fmt::format("map of {}x{} has {} texels", map.width, map.height,
-                            map.pixels.size()));
+        finding(
+            fmt::format("map of {}x{} has {} texels", map.width, map.height, map.pixels.size()));
     for (const glm::vec3& t : map.pixels)
         for (int c = 0; c < 3; ++c)
             if (!std::isfinite(t[c]) || t[c] < 0.0f)
@@ -47,7 +47,6 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const bool exr = size >= 4 && std::memcmp(data, EXR_MAGIC, 4) == 0;
     const auto path = vkpath::fuzz::writeInput(exr ? "input.exr" : "input.hdr", data, size);
-    vkpath::fuzz::run(
-        [&] { checkMap(vkpath::scene::loadEnvironmentMap(path, FUZZ_MAX_PIXELS)); });
+    vkpath::fuzz::run([&] { checkMap(vkpath::scene::loadEnvironmentMap(path, FUZZ_MAX_PIXELS)); });
     return 0;
 }

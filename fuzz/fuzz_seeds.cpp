@@ -42,7 +42,7 @@ struct MapSpec {
     int width = 8, height = 4, channels = 3;
     OIIO::TypeDesc type = OIIO::TypeDesc::HALF;
     std::string compression = "none";
-    int tile = 0;  // 0: scanlines
+    int tile = 0;          // 0: scanlines
     float special = 0.0f;  // written into texel 0 when not 0
 };
 
@@ -123,14 +123,12 @@ std::string gltfWithAttributes() {
             for (size_t b = 0; b < bytes; ++b)  // little-endian, two's complement
                 bin[offset + (i / width) * stride + (i % width) * bytes + b] =
                     uint8_t(uint32_t(values[i]) >> (8 * b));
-        views.push_back(fmt::format(R"({{"buffer":0,"byteOffset":{},"byteLength":{}{}}})", offset,
-                                    bin.size() - offset,
-                                    stride == element ? "" : fmt::format(R"(,"byteStride":{})",
-                                                                         stride)));
+        views.push_back(fmt::format(
+            R"({{"buffer":0,"byteOffset":{},"byteLength":{}{}}})", offset, bin.size() - offset,
+            stride == element ? "" : fmt::format(R"(,"byteStride":{})", stride)));
         accessors.push_back(fmt::format(
-            R"({{"bufferView":{},"componentType":{},"type":"{}","count":{}{}}})",
-            views.size() - 1, componentType, type, values.size() / width,
-            normalized ? R"(,"normalized":true)" : ""));
+            R"({{"bufferView":{},"componentType":{},"type":"{}","count":{}{}}})", views.size() - 1,
+            componentType, type, values.size() / width, normalized ? R"(,"normalized":true)" : ""));
     };
     add({0, 0, 0, 1, 0, 0, 0, 1, 0}, 2, 3, 5123, "VEC3", false);
     add({0, 0, 127, 0, 0, 127, 0, 0, 127}, 1, 3, 5120, "VEC3", true);
@@ -161,7 +159,8 @@ std::vector<uint8_t> smallPng(const fs::path& scratch) {
         !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
         return {};
     std::ifstream in(scratch, std::ios::binary);
-    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
     fs::remove(scratch);
     return bytes;
 }
@@ -172,7 +171,8 @@ std::vector<uint8_t> smallPng(const fs::path& scratch) {
 std::string gltfWithTexture(const std::vector<uint8_t>& png) {
     std::string gltf = gltfWithAttributes();
     const std::string primitiveEnd = R"("indices":6,"mode":4})";
-    gltf.replace(gltf.find(primitiveEnd), primitiveEnd.size(), R"("indices":6,"mode":4,"material":0})");
+    gltf.replace(gltf.find(primitiveEnd), primitiveEnd.size(),
+                 R"("indices":6,"mode":4,"material":0})");
     gltf.replace(gltf.find(R"("extensionsUsed":["KHR_mesh_quantization"])"),
                  std::string(R"("extensionsUsed":["KHR_mesh_quantization"])").size(),
                  R"("extensionsUsed":["KHR_mesh_quantization","KHR_texture_transform"])");
@@ -232,15 +232,19 @@ int main(int argc, char** argv) {
 
     const float inf = std::numeric_limits<float>::infinity();
     std::vector<MapSpec> maps;
-    for (const char* c : {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa",
-                          "dwab"})
+    for (const char* c :
+         {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"})
         maps.push_back({.name = fmt::format("half_{}.exr", c), .compression = c});
     maps.push_back({.name = "float_zip.exr", .type = OIIO::TypeDesc::FLOAT, .compression = "zip"});
-    maps.push_back({.name = "float_piz_tiled.exr", .width = 16, .height = 8,
-                    .type = OIIO::TypeDesc::FLOAT, .compression = "piz", .tile = 4});
-    maps.push_back({.name = "half_grey.exr", .channels = 1, .compression = "zips"});
-    maps.push_back({.name = "half_rgba_rle_tiled.exr", .channels = 4, .compression = "rle",
+    maps.push_back({.name = "float_piz_tiled.exr",
+                    .width = 16,
+                    .height = 8,
+                    .type = OIIO::TypeDesc::FLOAT,
+                    .compression = "piz",
                     .tile = 4});
+    maps.push_back({.name = "half_grey.exr", .channels = 1, .compression = "zips"});
+    maps.push_back(
+        {.name = "half_rgba_rle_tiled.exr", .channels = 4, .compression = "rle", .tile = 4});
     maps.push_back({.name = "half_negative.exr", .special = -1.0f});
     maps.push_back({.name = "float_infinite.exr", .type = OIIO::TypeDesc::FLOAT, .special = inf});
     maps.push_back({.name = "small.hdr", .type = OIIO::TypeDesc::FLOAT});
@@ -258,8 +262,7 @@ int main(int argc, char** argv) {
     writeText(gltfDir / "escape_backslash.gltf", gltfWithBuffer("..\\\\outside\\\\buffer.bin"));
     writeText(gltfDir / "escape_absolute.gltf", gltfWithBuffer("/etc/hostname"));
     writeText(gltfDir / "escape_scheme.gltf", gltfWithBuffer("file:///etc/hostname"));
-    writeText(gltfDir / "escape_image.gltf",
-              gltfWithBuffer("buffer.bin", "escape_dir/secret.txt"));
+    writeText(gltfDir / "escape_image.gltf", gltfWithBuffer("buffer.bin", "escape_dir/secret.txt"));
     writeText(gltfDir / "vertex_attributes.gltf", gltfWithAttributes());
     const std::vector<uint8_t> png = smallPng(gltfDir / "scratch.png");
     ok = !png.empty() && ok;
@@ -270,11 +273,15 @@ int main(int argc, char** argv) {
         writeText(colladaDir / "textured.dae", colladaWithTexture(vkpath::fuzz::TEXTURE_PNG));
         writeText(colladaDir / "texture_not_an_image.dae", colladaWithTexture("./buffer.bin"));
         writeText(colladaDir / "texture_escape_link.dae", colladaWithTexture("escape.bin"));
-        writeText(colladaDir / "texture_escape_linked_dir.dae", colladaWithTexture("escape_dir/secret.txt"));
-        writeText(colladaDir / "texture_escape_dotdot.dae", colladaWithTexture("../outside/buffer.bin"));
-        writeText(colladaDir / "texture_escape_encoded.dae", colladaWithTexture("%2e%2e/outside/buffer.bin"));
+        writeText(colladaDir / "texture_escape_linked_dir.dae",
+                  colladaWithTexture("escape_dir/secret.txt"));
+        writeText(colladaDir / "texture_escape_dotdot.dae",
+                  colladaWithTexture("../outside/buffer.bin"));
+        writeText(colladaDir / "texture_escape_encoded.dae",
+                  colladaWithTexture("%2e%2e/outside/buffer.bin"));
         writeText(colladaDir / "texture_escape_absolute.dae", colladaWithTexture("/etc/hostname"));
-        writeText(colladaDir / "texture_escape_scheme.dae", colladaWithTexture("file:///etc/hostname"));
+        writeText(colladaDir / "texture_escape_scheme.dae",
+                  colladaWithTexture("file:///etc/hostname"));
     }
     return ok ? 0 : 1;
 }

@@ -103,9 +103,10 @@ void checkTangents(const scene::Mesh& mesh, const scene::Material& material) {
         const float length = glm::length(glm::vec3(tangent));
         if (!finite(glm::vec3(tangent)) || std::abs(length - 1.0f) > 1e-3f ||
             (tangent.w != 1.0f && tangent.w != -1.0f) || t.sourceVertex[v] >= n)
-            finding(fmt::format("mesh '{}': generated tangent {} is not a unit vector with w = +-1 "
-                                "of a mesh vertex",
-                                mesh.name, v));
+            finding(
+                fmt::format("mesh '{}': generated tangent {} is not a unit vector with w = +-1 "
+                            "of a mesh vertex",
+                            mesh.name, v));
     }
     for (const glm::uvec3& tri : t.triangles)
         if (glm::any(glm::greaterThanEqual(tri, glm::uvec3(uint32_t(t.tangents.size())))))
@@ -215,9 +216,11 @@ void checkScene(const scene::Scene& s) {
             finding(fmt::format("material '{}' has a negative or non-finite value", m.name));
     // The microfacet kinds' parameters are fractions (shared/bsdf.h reads them unchecked).
     for (const scene::Material& m : s.materials)
-        if (!(m.roughness >= 0.0f && m.roughness <= 1.0f) || !(m.metallic >= 0.0f && m.metallic <= 1.0f) ||
+        if (!(m.roughness >= 0.0f && m.roughness <= 1.0f) ||
+            !(m.metallic >= 0.0f && m.metallic <= 1.0f) ||
             !(m.specular >= 0.0f && m.specular <= 1.0f))
-            finding(fmt::format("material '{}': roughness, metallic or specular outside [0, 1]", m.name));
+            finding(fmt::format("material '{}': roughness, metallic or specular outside [0, 1]",
+                                m.name));
     for (const scene::Mesh& mesh : s.meshes) {
         if (mesh.material >= materials)
             finding(
@@ -266,8 +269,8 @@ void checkScene(const scene::Scene& s) {
             finding(fmt::format("sphere '{}': material {} of {}", sphere.name, sphere.material,
                                 materials));
         if (!finite(sphere.center) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
-            finding(fmt::format("sphere '{}': centre or radius not finite and positive",
-                                sphere.name));
+            finding(
+                fmt::format("sphere '{}': centre or radius not finite and positive", sphere.name));
     }
     for (const scene::PointLight& l : s.pointLights)
         if (!finite(l.position) || !finiteNonNegative(l.intensity))

@@ -2,13 +2,13 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -58,7 +58,9 @@ void writeAll(int fd, const char* data, size_t size, const std::filesystem::path
     while (size > 0) {
         const ssize_t n = ::write(fd, data, size);
         if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", path.string(), std::strerror(errno)));
+        if (n < 0)
+            throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}",
+                                                 path.string(), std::strerror(errno)));
         data += n;
         size -= size_t(n);
     }
@@ -69,7 +71,8 @@ void writeAll(int fd, const char* data, size_t size, const std::filesystem::path
 template <typename T>
 T number(const nlohmann::ordered_json& fields, const char* key, const std::string& file) {
     const auto it = fields.find(key);
-    if (it == fields.end()) throw InputError(fmt::format("{}: damaged checkpoint: no {}", file, key));
+    if (it == fields.end())
+        throw InputError(fmt::format("{}: damaged checkpoint: no {}", file, key));
     if (!it->is_number_unsigned() || it->get<uint64_t>() > std::numeric_limits<T>::max())
         throw InputError(fmt::format("{}: damaged checkpoint: {} {}", file, key, it->dump()));
     return T(it->get<uint64_t>());
@@ -78,7 +81,8 @@ T number(const nlohmann::ordered_json& fields, const char* key, const std::strin
 // The string, or for "settings" the JSON text, at `key`; InputError if absent.
 std::string text(const nlohmann::ordered_json& fields, const char* key, const std::string& file) {
     const auto it = fields.find(key);
-    if (it == fields.end()) throw InputError(fmt::format("{}: damaged checkpoint: no {}", file, key));
+    if (it == fields.end())
+        throw InputError(fmt::format("{}: damaged checkpoint: no {}", file, key));
     if (it->is_string()) return it->get<std::string>();
     if (it->is_object()) return it->dump();
     throw InputError(fmt::format("{}: damaged checkpoint: {} {}", file, key, it->dump()));
@@ -96,13 +100,16 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
     auto temp = path;
     temp.replace_filename(fmt::format(".{}.partial", path.filename().string()));
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", path.string(), std::strerror(errno)));
+    if (fd < 0)
+        throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", path.string(),
+                                             std::strerror(errno)));
     try {
         writeAll(fd, text.data(), text.size(), path);
         writeAll(fd, film, checkpoint.state.film.size(), path);
         writeAll(fd, reinterpret_cast<const char*>(hashBytes), 8, path);
         if (::fsync(fd) != 0)
-            throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", path.string(), std::strerror(errno)));
+            throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}",
+                                                 path.string(), std::strerror(errno)));
     } catch (...) {
         ::close(fd);
         ::unlink(temp.c_str());
@@ -112,7 +119,8 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
     if (::rename(temp.c_str(), path.c_str()) != 0) {
         const int error = errno;
         ::unlink(temp.c_str());
-        throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", path.string(), std::strerror(error)));
+        throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", path.string(),
+                                             std::strerror(error)));
     }
     // The rename itself reaches the disk with the folder's entry.
     const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
@@ -126,30 +134,38 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
 Checkpoint readCheckpoint(const std::filesystem::path& path) {
     const std::string file = path.string();
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(fmt::format("{}: no such file", file));
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw InputError(fmt::format("{}: no such file", file));
     std::ifstream in(path, std::ios::binary);
     std::ostringstream buffer;
     buffer << in.rdbuf();
     const std::string bytes = buffer.str();
     if (!in && !in.eof()) throw InputError(fmt::format("{}: cannot read", file));
     const size_t magicEnd = bytes.find('\n');
-    if (bytes.compare(0, std::strlen(MAGIC_PREFIX), MAGIC_PREFIX) != 0 || magicEnd == std::string::npos)
+    if (bytes.compare(0, std::strlen(MAGIC_PREFIX), MAGIC_PREFIX) != 0 ||
+        magicEnd == std::string::npos)
         throw InputError(fmt::format("{}: not a vkpath checkpoint", file));
-    const std::string format = bytes.substr(std::strlen(MAGIC_PREFIX), magicEnd - std::strlen(MAGIC_PREFIX));
+    const std::string format =
+        bytes.substr(std::strlen(MAGIC_PREFIX), magicEnd - std::strlen(MAGIC_PREFIX));
     if (format != std::to_string(FORMAT)) {
         const bool older = format.size() == 1 && format[0] >= '1' && format[0] < '0' + FORMAT;
-        throw InputError(fmt::format("{}: a checkpoint of format {}, written by {} vkpath build; this build reads "
-                                     "format {} only: render again without --resume",
-                                     file, format.substr(0, 20), older ? "an older" : "another", FORMAT));
+        throw InputError(fmt::format(
+            "{}: a checkpoint of format {}, written by {} vkpath build; this build reads "
+            "format {} only: render again without --resume",
+            file, format.substr(0, 20), older ? "an older" : "another", FORMAT));
     }
     const size_t headerEnd = bytes.find('\n', magicEnd + 1);
-    if (headerEnd == std::string::npos) throw InputError(fmt::format("{}: damaged checkpoint: no end of header", file));
-    const auto fields =
-        nlohmann::ordered_json::parse(bytes.begin() + magicEnd + 1, bytes.begin() + headerEnd, nullptr, false);
-    if (!fields.is_object()) throw InputError(fmt::format("{}: damaged checkpoint: its header is not a JSON object", file));
+    if (headerEnd == std::string::npos)
+        throw InputError(fmt::format("{}: damaged checkpoint: no end of header", file));
+    const auto fields = nlohmann::ordered_json::parse(bytes.begin() + magicEnd + 1,
+                                                      bytes.begin() + headerEnd, nullptr, false);
+    if (!fields.is_object())
+        throw InputError(
+            fmt::format("{}: damaged checkpoint: its header is not a JSON object", file));
     Checkpoint c;
     c.identity = {text(fields, "scene-hash", file), text(fields, "settings", file)};
-    c.samples = {number<uint32_t>(fields, "first-sample", file), number<uint32_t>(fields, "sample-count", file)};
+    c.samples = {number<uint32_t>(fields, "first-sample", file),
+                 number<uint32_t>(fields, "sample-count", file)};
     wavefront::RenderState& s = c.state;
     s.filmFormat = text(fields, "film-format", file);
     s.width = number<uint32_t>(fields, "width", file);
@@ -158,7 +174,8 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
     s.nonFiniteSamples = number<uint64_t>(fields, "non-finite-samples", file);
     s.fireflySamples = number<uint64_t>(fields, "firefly-samples", file);
     s.rejectedLightSamples = number<uint64_t>(fields, "rejected-light-samples", file);
-    s.rays = {number<uint64_t>(fields, "closest-rays", file), number<uint64_t>(fields, "shadow-rays", file)};
+    s.rays = {number<uint64_t>(fields, "closest-rays", file),
+              number<uint64_t>(fields, "shadow-rays", file)};
     s.waves = number<uint32_t>(fields, "waves", file);
     const auto seconds = fields.find("seconds");
     if (seconds == fields.end() || !seconds->is_number())
@@ -167,12 +184,14 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
     const uint64_t filmBytes = number<uint64_t>(fields, "film-bytes", file);
     const size_t filmStart = headerEnd + 1;
     if (bytes.size() < filmStart || bytes.size() - filmStart != filmBytes + 8)
-        throw InputError(fmt::format("{}: damaged checkpoint: {} bytes, expected {}", file, bytes.size(),
-                                     filmStart + filmBytes + 8));
+        throw InputError(fmt::format("{}: damaged checkpoint: {} bytes, expected {}", file,
+                                     bytes.size(), filmStart + filmBytes + 8));
     uint64_t stored = 0;
-    for (int i = 0; i < 8; ++i) stored |= uint64_t(uint8_t(bytes[filmStart + filmBytes + i])) << (8 * i);
+    for (int i = 0; i < 8; ++i)
+        stored |= uint64_t(uint8_t(bytes[filmStart + filmBytes + i])) << (8 * i);
     if (fnv1a(std::as_bytes(std::span(bytes.data(), filmStart + filmBytes))) != stored)
-        throw InputError(fmt::format("{}: damaged checkpoint: its hash does not match its contents", file));
+        throw InputError(
+            fmt::format("{}: damaged checkpoint: its hash does not match its contents", file));
     s.film.resize(filmBytes);
     std::memcpy(s.film.data(), bytes.data() + filmStart, filmBytes);
     return c;
@@ -182,24 +201,29 @@ void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint&
                             const RenderIdentity& identity, const wavefront::SampleRange& samples) {
     const std::string file = path.string();
     if (checkpoint.identity.sceneHash != identity.sceneHash)
-        throw InputError(fmt::format("{}: from another scene (scene hash {}, this scene's {})", file,
-                                     checkpoint.identity.sceneHash, identity.sceneHash));
+        throw InputError(fmt::format("{}: from another scene (scene hash {}, this scene's {})",
+                                     file, checkpoint.identity.sceneHash, identity.sceneHash));
     if (!isSettingsRecord(checkpoint.identity.settings))
-        throw InputError(fmt::format("{}: written by an older vkpath build (its settings are not JSON): render again "
-                                     "without --resume",
-                                     file));
-    const auto [theirs, ours] = firstSettingDifference(checkpoint.identity.settings, identity.settings);
+        throw InputError(fmt::format(
+            "{}: written by an older vkpath build (its settings are not JSON): render again "
+            "without --resume",
+            file));
+    const auto [theirs, ours] =
+        firstSettingDifference(checkpoint.identity.settings, identity.settings);
     if (!theirs.empty())
-        throw InputError(fmt::format("{}: other settings: {} in the checkpoint, {} here", file, theirs, ours));
+        throw InputError(
+            fmt::format("{}: other settings: {} in the checkpoint, {} here", file, theirs, ours));
     if (checkpoint.samples.first != samples.first)
-        throw InputError(fmt::format("{}: samples from {} on; this render starts at sample {}", file,
-                                     checkpoint.samples.first, samples.first));
+        throw InputError(fmt::format("{}: samples from {} on; this render starts at sample {}",
+                                     file, checkpoint.samples.first, samples.first));
 }
 
 vk::VulkanError withLastCheckpoint(const vk::VulkanError& error, const std::filesystem::path& path,
                                    uint32_t samplesDone) {
-    return vk::VulkanError(error.result(), fmt::format("{}; the last checkpoint, {} spp, is in {}: resume with --resume {}",
-                                                       error.what(), samplesDone, path.string(), path.string()));
+    return vk::VulkanError(
+        error.result(),
+        fmt::format("{}; the last checkpoint, {} spp, is in {}: resume with --resume {}",
+                    error.what(), samplesDone, path.string(), path.string()));
 }
 
 }  // namespace vkpath::app

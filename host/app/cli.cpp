@@ -1,13 +1,12 @@
 #include "app/cli.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-
-#include <unistd.h>
 #include <optional>
 #include <string>
 
@@ -29,7 +28,8 @@ void prepareHeadlessEnvironment() {
     if (std::getenv("XDG_RUNTIME_DIR")) return;
     std::string dir = fmt::format("/tmp/vkpath-runtime-{}", static_cast<long>(getuid()));
     std::filesystem::create_directories(dir);
-    std::filesystem::permissions(dir, std::filesystem::perms::owner_all, std::filesystem::perm_options::replace);
+    std::filesystem::permissions(dir, std::filesystem::perms::owner_all,
+                                 std::filesystem::perm_options::replace);
     setenv("XDG_RUNTIME_DIR", dir.c_str(), 0);
 }
 

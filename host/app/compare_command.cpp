@@ -1,12 +1,12 @@
 // `vkpath compare A.exr B.exr`: how far image A is from reference B; with
 // --ztest, whether two renders with different seeds estimate the same image.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "app/commands.h"
@@ -20,26 +20,34 @@ namespace vkpath::app {
 namespace {
 
 nlohmann::json channelJson(const image::ChannelMetrics& m) {
-    return {{"rmse", m.rmse},         {"relMse", m.relMse}, {"mae", m.mae}, {"maxError", m.maxError},
-            {"maxAt", {m.maxX, m.maxY}}, {"psnr", std::isinf(m.psnr) ? nlohmann::json("inf") : nlohmann::json(m.psnr)}};
+    return {{"rmse", m.rmse},
+            {"relMse", m.relMse},
+            {"mae", m.mae},
+            {"maxError", m.maxError},
+            {"maxAt", {m.maxX, m.maxY}},
+            {"psnr", std::isinf(m.psnr) ? nlohmann::json("inf") : nlohmann::json(m.psnr)}};
 }
 
 void printChannel(const char* name, const image::ChannelMetrics& m) {
-    std::printf("%-8s %12.6g %12.6g %12.6g %12.6g  (%u,%u) %9.3f\n", name, m.rmse, m.relMse, m.mae, m.maxError,
-                m.maxX, m.maxY, m.psnr);
+    std::printf("%-8s %12.6g %12.6g %12.6g %12.6g  (%u,%u) %9.3f\n", name, m.rmse, m.relMse, m.mae,
+                m.maxError, m.maxX, m.maxY, m.psnr);
 }
 
 // The variance AOV of `render`: `named` if given, else the file
 // `vkpath render --aov variance` writes beside it.
 image::Image readVariance(const std::string& render, const std::string& named, const char* flag) {
-    const std::filesystem::path path = named.empty() ? image::aovPath(render, "variance") : std::filesystem::path(named);
+    const std::filesystem::path path =
+        named.empty() ? image::aovPath(render, "variance") : std::filesystem::path(named);
     if (!std::filesystem::is_regular_file(path))
-        throw InputError(fmt::format("{}: no variance image (render with --aov variance, or name it with {})",
-                                     path.string(), flag));
+        throw InputError(
+            fmt::format("{}: no variance image (render with --aov variance, or name it with {})",
+                        path.string(), flag));
     return image::readImage(path);
 }
 
-std::string formatZ(double z) { return std::isinf(z) ? std::string("inf") : fmt::format("{:.3f}", z); }
+std::string formatZ(double z) {
+    return std::isinf(z) ? std::string("inf") : fmt::format("{:.3f}", z);
+}
 
 // Per-block two-sample z-tests with a Sidak correction; exit code 1 when a
 // block rejects "A and B estimate the same image".
@@ -52,22 +60,25 @@ int runZTest(const std::string& pathA, const std::string& pathB, const std::stri
     const image::BlockComparison c = image::compareBlocks(a, va, b, vb, blockSize, alpha);
     const bool same = c.rejected == 0;
     if (json) {
-        const nlohmann::json out = {{"blocks", c.blocks},
-                                    {"blockSize", blockSize},
-                                    {"alpha", c.alpha},
-                                    {"critical", c.critical},
-                                    {"rejected", c.rejected},
-                                    {"worstZ", std::isinf(c.worstZ) ? nlohmann::json("inf") : nlohmann::json(c.worstZ)},
-                                    {"worstBlock", {c.worstX, c.worstY}},
-                                    {"same", same}};
+        const nlohmann::json out = {
+            {"blocks", c.blocks},
+            {"blockSize", blockSize},
+            {"alpha", c.alpha},
+            {"critical", c.critical},
+            {"rejected", c.rejected},
+            {"worstZ", std::isinf(c.worstZ) ? nlohmann::json("inf") : nlohmann::json(c.worstZ)},
+            {"worstBlock", {c.worstX, c.worstY}},
+            {"same", same}};
         std::printf("%s\n", out.dump(2).c_str());
     } else {
         std::printf("blocks: %d of %ux%u pixels\n", c.blocks, blockSize, blockSize);
         std::printf("rejected blocks: %d\n", c.rejected);
-        std::printf("worst |z|: %s (block at %u,%u)\n", formatZ(c.worstZ).c_str(), c.worstX, c.worstY);
-        std::printf("critical |z|: %.3f (alpha %g over all blocks, Sidak-corrected)\n", c.critical, c.alpha);
+        std::printf("worst |z|: %s (block at %u,%u)\n", formatZ(c.worstZ).c_str(), c.worstX,
+                    c.worstY);
+        std::printf("critical |z|: %.3f (alpha %g over all blocks, Sidak-corrected)\n", c.critical,
+                    c.alpha);
         std::printf("%s\n", same ? "same: no block rejects that A and B estimate the same image"
-                                  : "different: A and B do not estimate the same image");
+                                 : "different: A and B do not estimate the same image");
     }
     return same ? 0 : 1;
 }
@@ -86,22 +97,30 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
     };
     auto o = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("compare", "Measure how far image A is from reference image B");
-    cmd->add_option("A", o->a, "Image to judge (EXR, HDR, ...)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("A", o->a, "Image to judge (EXR, HDR, ...)")
+        ->required()
+        ->check(CLI::ExistingFile);
     cmd->add_option("B", o->b, "Reference image")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--heatmap", o->heatmap, "Write a false-colour PNG of the per-pixel relative error");
+    cmd->add_option("--heatmap", o->heatmap,
+                    "Write a false-colour PNG of the per-pixel relative error");
     cmd->add_flag("--json", o->json, "Print JSON");
-    cmd->add_option("--max-relmse", o->maxRelMse, "Exit code 1 if the overall relative MSE exceeds this")
+    cmd->add_option("--max-relmse", o->maxRelMse,
+                    "Exit code 1 if the overall relative MSE exceeds this")
         ->check(realAtLeast<double>(0));
     cmd->add_option("--max-rmse", o->maxRmse, "Exit code 1 if the overall RMSE exceeds this")
         ->check(realAtLeast<double>(0));
-    cmd->add_option("--max-mae", o->maxMae, "Exit code 1 if the overall mean absolute error exceeds this")
+    cmd->add_option("--max-mae", o->maxMae,
+                    "Exit code 1 if the overall mean absolute error exceeds this")
         ->check(realAtLeast<double>(0));
-    auto* ztest = cmd->add_flag("--ztest", o->ztest,
-                                "A and B are renders with different seeds: test per block whether they estimate the "
-                                "same image (z-tests from the variance AOVs, Sidak-corrected); exit code 1 if not");
-    cmd->add_option("--variance-a", o->varianceA, "Variance AOV of A (default: A.variance.exr beside A)")
+    auto* ztest = cmd->add_flag(
+        "--ztest", o->ztest,
+        "A and B are renders with different seeds: test per block whether they estimate the "
+        "same image (z-tests from the variance AOVs, Sidak-corrected); exit code 1 if not");
+    cmd->add_option("--variance-a", o->varianceA,
+                    "Variance AOV of A (default: A.variance.exr beside A)")
         ->needs(ztest);
-    cmd->add_option("--variance-b", o->varianceB, "Variance AOV of B (default: B.variance.exr beside B)")
+    cmd->add_option("--variance-b", o->varianceB,
+                    "Variance AOV of B (default: B.variance.exr beside B)")
         ->needs(ztest);
     cmd->add_option("--alpha", o->alpha, "--ztest: false-alarm rate over all blocks")
         ->check(realIn<double>(1e-12, 0.5))
@@ -115,7 +134,9 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
         ztest->excludes(cmd->get_option(bound));
     cmd->callback([&commands, o] {
         commands.run = [o] {
-            if (o->ztest) return runZTest(o->a, o->b, o->varianceA, o->varianceB, o->alpha, o->blockSize, o->json);
+            if (o->ztest)
+                return runZTest(o->a, o->b, o->varianceA, o->varianceB, o->alpha, o->blockSize,
+                                o->json);
             const image::Image a = image::readImage(o->a);
             const image::Image b = image::readImage(o->b);
             const image::ImageMetrics m = image::compareImages(a, b);
@@ -155,17 +176,19 @@ void addCompareCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
                                       {"exceeded", exceeded}};
                 std::printf("%s\n", out.dump(2).c_str());
             } else {
-                std::printf("%-8s %12s %12s %12s %12s  %s %9s\n", "channel", "RMSE", "relMSE", "MAE", "max",
-                            "at", "PSNR");
+                std::printf("%-8s %12s %12s %12s %12s  %s %9s\n", "channel", "RMSE", "relMSE",
+                            "MAE", "max", "at", "PSNR");
                 printChannel("R", m.channels[0]);
                 printChannel("G", m.channels[1]);
                 printChannel("B", m.channels[2]);
                 printChannel("overall", m.overall);
-                std::printf("relMSE without the %g%% of pixels with the largest error (fireflies): %.6g\n",
-                            100 * image::TRIMMED_FRACTION, m.overall.relMseTrimmed);
-                std::printf("non-finite pixels: %llu in A, %llu in B\n", (unsigned long long)m.nonFiniteA,
-                            (unsigned long long)m.nonFiniteB);
-                for (const auto& name : exceeded) std::printf("bound exceeded: %s\n", name.get<std::string>().c_str());
+                std::printf(
+                    "relMSE without the %g%% of pixels with the largest error (fireflies): %.6g\n",
+                    100 * image::TRIMMED_FRACTION, m.overall.relMseTrimmed);
+                std::printf("non-finite pixels: %llu in A, %llu in B\n",
+                            (unsigned long long)m.nonFiniteA, (unsigned long long)m.nonFiniteB);
+                for (const auto& name : exceeded)
+                    std::printf("bound exceeded: %s\n", name.get<std::string>().c_str());
             }
             return code;
         };

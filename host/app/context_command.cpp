@@ -14,7 +14,8 @@ int withContext(const GlobalOptions& global, const std::function<int(vk::Context
     vk::Context context(options);
     const int code = body(context);
     if (context.validationMessageCount() > 0) {
-        std::fprintf(stderr, "vkpath: %u Vulkan validation message(s)\n", context.validationMessageCount());
+        std::fprintf(stderr, "vkpath: %u Vulkan validation message(s)\n",
+                     context.validationMessageCount());
         return code == 0 ? 1 : code;
     }
     return code;

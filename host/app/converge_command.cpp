@@ -4,14 +4,14 @@
 // last), its error at each checkpoint against a reference or, without one,
 // estimated from a second render with another seed; a CSV, a log-log plot
 // and the time each configuration needs to reach a given error.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <glm/glm.hpp>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <glm/glm.hpp>
 #include <memory>
 #include <optional>
 
@@ -41,7 +41,6 @@ struct ConvergeOptions : RenderOptions {
     std::string sweep;
     std::string metric = "relmse";  // what the tables and the plot use: relmse or trimmed-relmse
 };
-
 
 // The relMSE levels of the time-to-error table.
 constexpr double TARGETS[] = {1e-1, 1e-2, 1e-3};
@@ -79,10 +78,12 @@ class Progressive {
 
     void advanceTo(uint32_t spp) {
         const auto start = Clock::now();
-        const wavefront::RenderResult result = m_renderer->render(wavefront::SampleRange{m_samples, spp - m_samples});
+        const wavefront::RenderResult result =
+            m_renderer->render(wavefront::SampleRange{m_samples, spp - m_samples});
         m_wallSeconds += std::chrono::duration<double>(Clock::now() - start).count();
         for (const auto& [stage, ms] : result.stageMilliseconds) m_deviceSeconds += ms * 1e-3;
-        for (size_t i = 0; i < m_sum.size(); ++i) m_sum[i] += glm::dvec3(result.image.pixels[i]) * double(result.samplesPerPixel);
+        for (size_t i = 0; i < m_sum.size(); ++i)
+            m_sum[i] += glm::dvec3(result.image.pixels[i]) * double(result.samplesPerPixel);
         m_samples += result.samplesPerPixel;
         m_width = result.image.width;
         m_height = result.image.height;
@@ -90,7 +91,8 @@ class Progressive {
 
     image::Image mean() const {
         image::Image image(m_width, m_height);
-        for (size_t i = 0; i < m_sum.size(); ++i) image.pixels[i] = glm::vec3(m_sum[i] / double(m_samples));
+        for (size_t i = 0; i < m_sum.size(); ++i)
+            image.pixels[i] = glm::vec3(m_sum[i] / double(m_samples));
         return image;
     }
     double wallSeconds() const { return m_wallSeconds; }
@@ -109,8 +111,10 @@ class Progressive {
 // not counted (it only measures the first). `gpu`: record device times, and
 // warm up before the first configuration.
 template <typename Renderer, typename Make>
-std::vector<Checkpoint> measure(const Make& make, const Configuration& config, const std::vector<uint32_t>& spp,
-                                const std::optional<image::Image>& reference, bool gpu, bool first) {
+std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
+                                const std::vector<uint32_t>& spp,
+                                const std::optional<image::Image>& reference, bool gpu,
+                                bool first) {
     const uint32_t pixels = config.settings.width * config.settings.height;
     Progressive<Renderer> a(make(config.settings), pixels);
     if (gpu && first) a.warmUp();
@@ -137,8 +141,8 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config, c
         c.relMse = error.relMse;
         c.rmse = error.rmse;
         c.relMseTrimmed = error.relMseTrimmed;
-        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g (trimmed %.4g)\n", config.label.c_str(), n, c.wallSeconds,
-                     c.relMse, c.relMseTrimmed);
+        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g (trimmed %.4g)\n",
+                     config.label.c_str(), n, c.wallSeconds, c.relMse, c.relMseTrimmed);
         curve.push_back(c);
     }
     return curve;
@@ -148,7 +152,8 @@ void ensureParent(const std::filesystem::path& path) {
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
 }
 
-void writeCsv(const std::filesystem::path& path, const std::vector<Configuration>& configs, const std::string& errorSource) {
+void writeCsv(const std::filesystem::path& path, const std::vector<Configuration>& configs,
+              const std::string& errorSource) {
     ensureParent(path);
     const std::filesystem::path temporary = path.string() + ".tmp";
     {
@@ -156,8 +161,9 @@ void writeCsv(const std::filesystem::path& path, const std::vector<Configuration
         out << "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error\n";
         for (const Configuration& config : configs)
             for (const Checkpoint& c : config.curve)
-                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{:.6g},{}\n", config.knob, config.value, c.spp,
-                                   c.wallSeconds, c.deviceSeconds ? fmt::format("{:.6f}", *c.deviceSeconds) : "",
+                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{:.6g},{}\n", config.knob,
+                                   config.value, c.spp, c.wallSeconds,
+                                   c.deviceSeconds ? fmt::format("{:.6f}", *c.deviceSeconds) : "",
                                    c.relMse, c.rmse, c.relMseTrimmed, errorSource);
         if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
     }
@@ -167,7 +173,9 @@ void writeCsv(const std::filesystem::path& path, const std::vector<Configuration
 void printTables(const std::vector<Configuration>& configs, const char* metric) {
     size_t width = std::string("configuration").size();
     for (const Configuration& c : configs) width = std::max(width, c.label.size());
-    std::printf("time to reach %s (wall seconds, interpolated on log-log axes between checkpoints)\n", metric);
+    std::printf(
+        "time to reach %s (wall seconds, interpolated on log-log axes between checkpoints)\n",
+        metric);
     std::printf("%-*s", int(width), "configuration");
     for (double target : TARGETS) std::printf("  %12s", fmt::format("{:g}", target).c_str());
     std::printf("\n");
@@ -175,8 +183,9 @@ void printTables(const std::vector<Configuration>& configs, const char* metric) 
         std::printf("%-*s", int(width), c.label.c_str());
         for (double target : TARGETS) {
             const auto t = timeToRelMse(c.curve, target);
-            const std::string cell = !t ? "not reached"
-                                        : fmt::format("{}{:.3g} s", c.curve.front().relMse <= target ? "<= " : "", *t);
+            const std::string cell =
+                !t ? "not reached"
+                   : fmt::format("{}{:.3g} s", c.curve.front().relMse <= target ? "<= " : "", *t);
             std::printf("  %12s", cell.c_str());
         }
         std::printf("\n");
@@ -185,12 +194,14 @@ void printTables(const std::vector<Configuration>& configs, const char* metric) 
     std::printf("\nefficiency at the last checkpoint: 1 / (wall seconds x %s)\n", metric);
     double best = 0;
     for (const Configuration& c : configs) best = std::max(best, efficiency(c.curve));
-    std::printf("%-*s  %6s  %10s  %10s  %12s\n", int(width), "configuration", "spp", "wall s", "relMSE", "efficiency");
+    std::printf("%-*s  %6s  %10s  %10s  %12s\n", int(width), "configuration", "spp", "wall s",
+                "relMSE", "efficiency");
     for (const Configuration& c : configs) {
         const Checkpoint& last = c.curve.back();
         const double e = efficiency(c.curve);
-        std::printf("%-*s  %6u  %10.3f  %10.4g  %12.4g%s\n", int(width), c.label.c_str(), last.spp, last.wallSeconds,
-                    last.relMse, e, configs.size() > 1 && e == best ? "  <- best" : "");
+        std::printf("%-*s  %6u  %10.3f  %10.4g  %12.4g%s\n", int(width), c.label.c_str(), last.spp,
+                    last.wallSeconds, last.relMse, e,
+                    configs.size() > 1 && e == best ? "  <- best" : "");
     }
 }
 
@@ -204,11 +215,13 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         const Sweep sweep = parseSweep(o.sweep);
         if (sweep.knob->biased && o.reference.empty())
             std::fprintf(stderr,
-                         "vkpath: warning: --sweep %s without --reference: the two-seed estimate measures noise only, "
+                         "vkpath: warning: --sweep %s without --reference: the two-seed estimate "
+                         "measures noise only, "
                          "not the bias of %s; give a deep reference without it to see it\n",
                          sweep.knob->name, sweep.knob->name);
         for (const std::string& value : sweep.values) {
-            Configuration c{sweep.knob->name, value, fmt::format("{}={}", sweep.knob->name, value), base, {}};
+            Configuration c{
+                sweep.knob->name, value, fmt::format("{}={}", sweep.knob->name, value), base, {}};
             sweep.knob->apply(c.settings, value);
             configs.push_back(c);
         }
@@ -217,8 +230,9 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
     if (!o.reference.empty()) {
         reference = image::readImage(o.reference);
         if (reference->width != base.width || reference->height != base.height)
-            throw InputError(fmt::format("{}: the reference is {}x{}, the render {}x{} (-d)", o.reference,
-                                         reference->width, reference->height, base.width, base.height));
+            throw InputError(fmt::format("{}: the reference is {}x{}, the render {}x{} (-d)",
+                                         o.reference, reference->width, reference->height,
+                                         base.width, base.height));
     }
     const scene::Scene scene = loadRenderScene(o);
 
@@ -229,9 +243,10 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         writeCsv(o.csv, configs, reference ? "reference" : "two-seed estimate");
         const std::vector<Configuration> shown = tabulated(configs, trimmed);
         plot::Chart chart;
-        chart.title = fmt::format("{} {}x{} on {}, error against {}", std::filesystem::path(o.scene).filename().string(),
-                                  base.width, base.height, o.device,
-                                  reference ? std::filesystem::path(o.reference).filename().string() : "a second seed");
+        chart.title = fmt::format(
+            "{} {}x{} on {}, error against {}", std::filesystem::path(o.scene).filename().string(),
+            base.width, base.height, o.device,
+            reference ? std::filesystem::path(o.reference).filename().string() : "a second seed");
         chart.xLabel = "wall time (s)";
         chart.yLabel = metric;
         chart.scoreLabel = trimmed ? "efficiency 1/(s*trimmed relMSE)" : "efficiency 1/(s*relMSE)";
@@ -252,9 +267,12 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
     };
 
     if (o.device == "cpu") {
-        auto make = [&](const wavefront::RenderSettings& s) { return std::make_unique<reference::ReferenceRenderer>(scene, s); };
+        auto make = [&](const wavefront::RenderSettings& s) {
+            return std::make_unique<reference::ReferenceRenderer>(scene, s);
+        };
         return run([&](const Configuration& c) {
-            return measure<reference::ReferenceRenderer>(make, c, spp, reference, false, &c == &configs.front());
+            return measure<reference::ReferenceRenderer>(make, c, spp, reference, false,
+                                                         &c == &configs.front());
         });
     }
     return withContext(global, [&](vk::Context& context) {
@@ -262,7 +280,8 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
             return std::make_unique<wavefront::GpuRenderer>(context, scene, s);
         };
         return run([&](const Configuration& c) {
-            return measure<wavefront::GpuRenderer>(make, c, spp, reference, true, &c == &configs.front());
+            return measure<wavefront::GpuRenderer>(make, c, spp, reference, true,
+                                                   &c == &configs.front());
         });
     });
 }
@@ -271,26 +290,34 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
 
 void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
     auto o = std::make_shared<ConvergeOptions>();
-    auto* cmd = app.add_subcommand("converge", "Error against time: a progressive render measured at each sample count");
+    auto* cmd = app.add_subcommand(
+        "converge", "Error against time: a progressive render measured at each sample count");
     addRenderOptions(*cmd, *o);
     cmd->add_option("--spp", o->spp, "Sample counts to measure at, increasing: 1,2,4,...")
         ->check(parsedBy("N1,N2,...", [](const std::string& text) { parseSppList(text); }))
         ->capture_default_str();
     cmd->add_option("--reference", o->reference,
-                    "Reference image (EXR) of the same size; without one the error is estimated from a second seed")
+                    "Reference image (EXR) of the same size; without one the error is estimated "
+                    "from a second seed")
         ->check(CLI::ExistingFile);
     std::string knobNames;
-    for (const Knob& k : knobs()) knobNames += (knobNames.empty() ? "" : ", ") + std::string(k.name);
+    for (const Knob& k : knobs())
+        knobNames += (knobNames.empty() ? "" : ", ") + std::string(k.name);
     cmd->add_option("--sweep", o->sweep, "KNOB=v1,v2,...: one curve per value; knobs: " + knobNames)
         ->check(parsedBy("KNOB=v1,v2,...", [](const std::string& text) { parseSweep(text); }));
-    cmd->add_option("--csv", o->csv, "Measurements, one row per configuration and sample count")->capture_default_str();
-    cmd->add_option("--plot", o->plot, "Log-log plot of relMSE against wall time (PNG)")->capture_default_str();
+    cmd->add_option("--csv", o->csv, "Measurements, one row per configuration and sample count")
+        ->capture_default_str();
+    cmd->add_option("--plot", o->plot, "Log-log plot of relMSE against wall time (PNG)")
+        ->capture_default_str();
     cmd->add_option("--metric", o->metric,
-                    "The error of the tables and the plot: relmse, or trimmed-relmse (without the 0.1% of pixels with "
+                    "The error of the tables and the plot: relmse, or trimmed-relmse (without the "
+                    "0.1% of pixels with "
                     "the largest error: robust to fireflies; the CSV has both)")
         ->check(CLI::IsMember({"relmse", "trimmed-relmse"}))
         ->capture_default_str();
-    cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runConverge(global, *o); }; });
+    cmd->callback([&global, &commands, o] {
+        commands.run = [&global, o] { return runConverge(global, *o); };
+    });
 }
 
 }  // namespace vkpath::app

@@ -39,8 +39,8 @@ Sweep parseSweep(const std::string& text);
 // The error and cost of a render at one sample count.
 struct Checkpoint {
     uint32_t spp = 0;
-    double wallSeconds = 0;                  // rendering so far, wall clock
-    std::optional<double> deviceSeconds;     // GPU: summed stage timestamps; none on the CPU
+    double wallSeconds = 0;               // rendering so far, wall clock
+    std::optional<double> deviceSeconds;  // GPU: summed stage timestamps; none on the CPU
     double relMse = 0;
     double rmse = 0;
     double relMseTrimmed = 0;  // image::ChannelMetrics::relMseTrimmed

@@ -2,9 +2,9 @@
 // would render it with those flags, written as a Mitsuba 3 scene
 // (scene/mitsuba_export.h), to be rendered by an independent renderer and
 // compared with `vkpath compare`.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 
 #include "app/commands.h"
@@ -34,15 +34,19 @@ int runExport(const ExportOptions& o) {
 
     std::vector<std::string> warnings = result.warnings;
     if (settings.lightSamples != 1)
-        warnings.push_back(fmt::format("-l {}: Mitsuba's path tracer takes one light sample per vertex (the same "
-                                       "image in expectation, with other noise)",
-                                       settings.lightSamples));
+        warnings.push_back(
+            fmt::format("-l {}: Mitsuba's path tracer takes one light sample per vertex (the same "
+                        "image in expectation, with other noise)",
+                        settings.lightSamples));
     if (settings.clampRadiance > 0)
-        warnings.push_back("--clamp: Mitsuba's path tracer does not clamp; the exported scene renders unclamped");
+        warnings.push_back(
+            "--clamp: Mitsuba's path tracer does not clamp; the exported scene renders unclamped");
     if (settings.regularize > 0)
-        warnings.push_back("--regularize: Mitsuba's path tracer does not regularise; the exported scene renders "
-                           "unregularised");
-    for (const std::string& warning : warnings) std::fprintf(stderr, "vkpath: warning: %s\n", warning.c_str());
+        warnings.push_back(
+            "--regularize: Mitsuba's path tracer does not regularise; the exported scene renders "
+            "unregularised");
+    for (const std::string& warning : warnings)
+        std::fprintf(stderr, "vkpath: warning: %s\n", warning.c_str());
     std::printf("%s\n", result.xml.string().c_str());
     return 0;
 }
@@ -51,9 +55,10 @@ int runExport(const ExportOptions& o) {
 
 void addExportMitsubaCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
     auto o = std::make_shared<ExportOptions>();
-    auto* cmd = app.add_subcommand("export-mitsuba",
-                                   "Write the scene, as render would see it with the same flags, as a Mitsuba 3 "
-                                   "scene (OUT_DIR/scene.xml, PLY meshes)");
+    auto* cmd = app.add_subcommand(
+        "export-mitsuba",
+        "Write the scene, as render would see it with the same flags, as a Mitsuba 3 "
+        "scene (OUT_DIR/scene.xml, PLY meshes)");
     addRenderOptions(*cmd, *o);
     cmd->add_option("out_dir", o->outDir, "Output folder")->required();
     cmd->add_option("-s,--spp", o->spp, "Samples per pixel of Mitsuba's sampler")

@@ -20,8 +20,10 @@ FilmSize parseFilmSize(const std::string& text) {
         ok = e1 == std::errc() && p1 == begin + x && e2 == std::errc() && p2 == end;
     }
     constexpr uint32_t MAX_SIDE = 16384;
-    if (!ok || size.width == 0 || size.height == 0 || size.width > MAX_SIDE || size.height > MAX_SIDE)
-        throw InputError(fmt::format("film size '{}' is not WxH with sides from 1 to {}", text, MAX_SIDE));
+    if (!ok || size.width == 0 || size.height == 0 || size.width > MAX_SIDE ||
+        size.height > MAX_SIDE)
+        throw InputError(
+            fmt::format("film size '{}' is not WxH with sides from 1 to {}", text, MAX_SIDE));
     return size;
 }
 

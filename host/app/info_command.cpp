@@ -1,9 +1,9 @@
 // `vkpath info`: the devices, the chosen one, and the limits that matter.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "vk/context.h"
@@ -44,7 +44,8 @@ void printDevice(const vk::DeviceInfo& d) {
     std::printf("  max workgroup     %u x %u x %u, %u invocations\n", d.maxWorkgroupSize[0],
                 d.maxWorkgroupSize[1], d.maxWorkgroupSize[2], d.maxWorkgroupInvocations);
     std::printf("  max storage range %llu bytes (%.0f MiB)\n",
-                static_cast<unsigned long long>(d.maxStorageBufferRange), d.maxStorageBufferRange / 1048576.0);
+                static_cast<unsigned long long>(d.maxStorageBufferRange),
+                d.maxStorageBufferRange / 1048576.0);
     std::printf("  subgroup size     %u\n", d.subgroupSize);
     std::printf("  float64 / int64   %s / %s\n", yesNo(d.shaderFloat64), yesNo(d.shaderInt64));
     std::printf("  timestamps        %s, period %g ns\n", yesNo(d.timestamps), d.timestampPeriodNs);
@@ -56,7 +57,8 @@ void printDevice(const vk::DeviceInfo& d) {
 }  // namespace
 
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
-    auto* cmd = app.add_subcommand("info", "Print the Vulkan devices, the chosen one and its limits");
+    auto* cmd =
+        app.add_subcommand("info", "Print the Vulkan devices, the chosen one and its limits");
     auto json = std::make_shared<bool>(false);
     cmd->add_flag("--json", *json, "Print JSON instead of text");
     cmd->callback([&global, &commands, json] {
@@ -74,11 +76,13 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& comman
                     return 0;
                 }
                 std::printf("vkpath %s\n", VKPATH_VERSION);
-                std::printf("device %u: %s (%s)  [chosen]\n", chosen.index, chosen.name.c_str(), chosen.type.c_str());
+                std::printf("device %u: %s (%s)  [chosen]\n", chosen.index, chosen.name.c_str(),
+                            chosen.type.c_str());
                 printDevice(chosen);
                 for (const auto& d : devices)
                     if (d.index != chosen.index)
-                        std::printf("device %u: %s (%s)\n", d.index, d.name.c_str(), d.type.c_str());
+                        std::printf("device %u: %s (%s)\n", d.index, d.name.c_str(),
+                                    d.type.c_str());
                 return 0;
             });
         };

@@ -5,9 +5,9 @@
 // of disjoint ranges are exactly the samples one render of their union
 // draws; the merged mean differs from that render's only by the rounding of
 // the parts' float means (tests/cli/merge_test.cpp bounds it).
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -40,11 +40,14 @@ struct Part {
     image::Image varianceOfMean;  // with --aov variance
 };
 
-uint32_t metadataCount(const std::string& path, const std::map<std::string, std::string>& m, const char* key) {
+uint32_t metadataCount(const std::string& path, const std::map<std::string, std::string>& m,
+                       const char* key) {
     const auto it = m.find(key);
-    if (it == m.end() || it->second.empty() || it->second.find_first_not_of("0123456789") != std::string::npos ||
-        it->second.size() > 10 || std::stoull(it->second) > UINT32_MAX)
-        throw InputError(fmt::format("{}: no {} in its header: not a part written by vkpath render", path, key));
+    if (it == m.end() || it->second.empty() ||
+        it->second.find_first_not_of("0123456789") != std::string::npos || it->second.size() > 10 ||
+        std::stoull(it->second) > UINT32_MAX)
+        throw InputError(
+            fmt::format("{}: no {} in its header: not a part written by vkpath render", path, key));
     return uint32_t(std::stoull(it->second));
 }
 
@@ -62,11 +65,13 @@ int runMerge(const MergeOptions& o) {
         if (p.count == 0) throw InputError(fmt::format("{}: a part of 0 samples", path));
         for (const char* key : IDENTITY_KEYS)
             if (!p.metadata.count(key))
-                throw InputError(fmt::format("{}: no {} in its header: not a part written by vkpath render", path, key));
+                throw InputError(fmt::format(
+                    "{}: no {} in its header: not a part written by vkpath render", path, key));
         if (!isSettingsRecord(p.metadata.at("vkpath:settings")))
-            throw InputError(fmt::format("{}: written by an older vkpath build (its vkpath:settings are not JSON): "
-                                         "render the part again",
-                                         path));
+            throw InputError(fmt::format(
+                "{}: written by an older vkpath build (its vkpath:settings are not JSON): "
+                "render the part again",
+                path));
         p.mean = image::readImage(path);
         if (!o.aovs.empty()) p.varianceOfMean = image::readImage(image::aovPath(path, "variance"));
         parts.push_back(std::move(p));
@@ -74,31 +79,37 @@ int runMerge(const MergeOptions& o) {
     const Part& a = parts.front();
     for (const Part& p : parts) {
         if (p.metadata.at("vkpath:sceneHash") != a.metadata.at("vkpath:sceneHash"))
-            throw InputError(fmt::format("{}: rendered from another scene or environment file than {} (hash {} "
-                                         "against {})",
-                                         p.path, a.path, p.metadata.at("vkpath:sceneHash"),
-                                         a.metadata.at("vkpath:sceneHash")));
-        const auto [theirs, ours] =
-            firstSettingDifference(p.metadata.at("vkpath:settings"), a.metadata.at("vkpath:settings"));
-        if (!theirs.empty())
             throw InputError(
-                fmt::format("{}: rendered with other settings than {}: {} against {}", p.path, a.path, theirs, ours));
+                fmt::format("{}: rendered from another scene or environment file than {} (hash {} "
+                            "against {})",
+                            p.path, a.path, p.metadata.at("vkpath:sceneHash"),
+                            a.metadata.at("vkpath:sceneHash")));
+        const auto [theirs, ours] = firstSettingDifference(p.metadata.at("vkpath:settings"),
+                                                           a.metadata.at("vkpath:settings"));
+        if (!theirs.empty())
+            throw InputError(fmt::format("{}: rendered with other settings than {}: {} against {}",
+                                         p.path, a.path, theirs, ours));
         if (p.mean.width != a.mean.width || p.mean.height != a.mean.height ||
-            (!o.aovs.empty() && (p.varianceOfMean.width != a.mean.width || p.varianceOfMean.height != a.mean.height)))
-            throw InputError(fmt::format("{}: {}x{} pixels where {} has {}x{}", p.path, p.mean.width, p.mean.height,
-                                         a.path, a.mean.width, a.mean.height));
+            (!o.aovs.empty() &&
+             (p.varianceOfMean.width != a.mean.width || p.varianceOfMean.height != a.mean.height)))
+            throw InputError(fmt::format("{}: {}x{} pixels where {} has {}x{}", p.path,
+                                         p.mean.width, p.mean.height, a.path, a.mean.width,
+                                         a.mean.height));
     }
-    std::sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.first < y.first; });
+    std::sort(parts.begin(), parts.end(),
+              [](const Part& x, const Part& y) { return x.first < y.first; });
     for (size_t i = 1; i < parts.size(); ++i) {
         const uint64_t end = uint64_t(parts[i - 1].first) + parts[i - 1].count;
         if (parts[i].first < end)
-            throw InputError(fmt::format("{}: samples {}..{} overlap {}'s {}..{}", parts[i].path, parts[i].first,
-                                         uint64_t(parts[i].first) + parts[i].count - 1, parts[i - 1].path,
-                                         parts[i - 1].first, end - 1));
+            throw InputError(fmt::format("{}: samples {}..{} overlap {}'s {}..{}", parts[i].path,
+                                         parts[i].first,
+                                         uint64_t(parts[i].first) + parts[i].count - 1,
+                                         parts[i - 1].path, parts[i - 1].first, end - 1));
         if (parts[i].first > end && !o.allowGaps)
-            throw InputError(fmt::format("{}: samples {}..{} are missing between {} and {} (--allow-gaps to merge "
-                                         "anyway)",
-                                         parts[i].path, end, parts[i].first - 1, parts[i - 1].path, parts[i].path));
+            throw InputError(fmt::format(
+                "{}: samples {}..{} are missing between {} and {} (--allow-gaps to merge "
+                "anyway)",
+                parts[i].path, end, parts[i].first - 1, parts[i - 1].path, parts[i].path));
     }
 
     // ---- the merged mean and variance of the mean, in double ------------------------
@@ -114,12 +125,14 @@ int runMerge(const MergeOptions& o) {
             for (const Part& p : parts) {
                 const double n = p.count, m = p.mean.pixels[i][c];
                 sum += n * m;
-                if (!o.aovs.empty()) sumSquares += n * (double(p.varianceOfMean.pixels[i][c]) * (n - 1) + m * m);
+                if (!o.aovs.empty())
+                    sumSquares += n * (double(p.varianceOfMean.pixels[i][c]) * (n - 1) + m * m);
             }
             const double n = double(total), m = sum / n;
             mean.pixels[i][c] = float(m);
             if (!o.aovs.empty() && total > 1)
-                varianceOfMean.pixels[i][c] = float(std::max(0.0, (sumSquares - n * m * m) / (n - 1)) / n);
+                varianceOfMean.pixels[i][c] =
+                    float(std::max(0.0, (sumSquares - n * m * m) / (n - 1)) / n);
         }
 
     image::Metadata metadata;
@@ -141,7 +154,8 @@ int runMerge(const MergeOptions& o) {
         image::writeExr(path, varianceOfMean, metadata);
         std::printf("%s\n", path.string().c_str());
     }
-    std::fprintf(stderr, "merged %zu parts: samples %u..%llu, %llu spp\n", parts.size(), parts.front().first,
+    std::fprintf(stderr, "merged %zu parts: samples %u..%llu, %llu spp\n", parts.size(),
+                 parts.front().first,
                  (unsigned long long)(uint64_t(parts.back().first) + parts.back().count - 1),
                  (unsigned long long)total);
     return 0;
@@ -151,13 +165,15 @@ int runMerge(const MergeOptions& o) {
 
 void addMergeCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
     auto o = std::make_shared<MergeOptions>();
-    auto* cmd = app.add_subcommand(
-        "merge", "Merge the parts of one render (vkpath render --samples FIRST:COUNT), weighted by their sample counts");
+    auto* cmd = app.add_subcommand("merge",
+                                   "Merge the parts of one render (vkpath render --samples "
+                                   "FIRST:COUNT), weighted by their sample counts");
     cmd->add_option("parts", o->parts, "The parts' EXRs")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", o->output, "The merged EXR")->required();
     cmd->add_option("--aov", o->aovs, "Also merge the parts' AOVs beside them: variance")
         ->check(CLI::IsMember({"variance"}));
-    cmd->add_flag("--allow-gaps", o->allowGaps, "Merge parts whose sample ranges leave gaps between them");
+    cmd->add_flag("--allow-gaps", o->allowGaps,
+                  "Merge parts whose sample ranges leave gaps between them");
     cmd->callback([&commands, o] { commands.run = [o] { return runMerge(*o); }; });
 }
 

@@ -1,11 +1,10 @@
 // `vkpath render SCENE`: the wavefront path tracer (or, with --device cpu, the
 // CPU reference running the same math), start to EXR.
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
-
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -20,8 +19,8 @@
 #include "app/commands.h"
 #include "app/film_size.h"
 #include "app/render_options.h"
-#include "app/validators.h"
 #include "app/stop_signal.h"
+#include "app/validators.h"
 #include "image/image.h"
 #include "image/statistics.h"
 #include "input_error.h"
@@ -38,14 +37,14 @@ struct RenderCommandOptions : RenderOptions {
     std::string output = "out/render.exr";
     std::string png;
     std::optional<uint32_t> spp;  // unset: 16, or with --time-budget as many as the budget allows
-    std::string samples;          // --samples FIRST:COUNT (instead of -s): that range of sample indices
+    std::string samples;  // --samples FIRST:COUNT (instead of -s): that range of sample indices
     std::optional<double> timeBudget;
     float exposure = 0.0f;
     std::vector<std::string> aovs;
     bool timings = false;
     std::string checkpoint;  // --checkpoint FILE
     double checkpointEvery = 300;
-    std::string resume;      // --resume FILE
+    std::string resume;  // --resume FILE
 };
 
 // Before any rendering: `path`'s folder exists (made if need be) and a file
@@ -54,27 +53,33 @@ void checkWritable(const std::string& flag, const std::filesystem::path& path) {
     const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
     std::error_code ec;
     std::filesystem::create_directories(folder, ec);
-    if (ec) throw InputError(fmt::format("{} {}: cannot create the folder {}: {}", flag, path.string(), folder.string(), ec.message()));
+    if (ec)
+        throw InputError(fmt::format("{} {}: cannot create the folder {}: {}", flag, path.string(),
+                                     folder.string(), ec.message()));
     if (std::filesystem::is_directory(path, ec))
         throw InputError(fmt::format("{} {}: is a folder", flag, path.string()));
     const auto probe = folder / fmt::format(".vkpath-write-test-{}", static_cast<long>(getpid()));
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0)
-        throw InputError(fmt::format("{} {}: cannot write in {}: {}", flag, path.string(), folder.string(), std::strerror(errno)));
+        throw InputError(fmt::format("{} {}: cannot write in {}: {}", flag, path.string(),
+                                     folder.string(), std::strerror(errno)));
     ::close(fd);
     ::unlink(probe.c_str());
 }
 
 // With a time budget the bar measures time, unless the sample count runs out first.
-void printProgress(const wavefront::RenderProgress& p, uint64_t pixels, std::optional<double> timeBudget) {
+void printProgress(const wavefront::RenderProgress& p, uint64_t pixels,
+                   std::optional<double> timeBudget) {
     double fraction = p.samplesTotal ? double(p.samplesDone) / p.samplesTotal : 1.0;
-    if (timeBudget && *timeBudget > 0) fraction = std::min(1.0, std::max(fraction, p.seconds / *timeBudget));
+    if (timeBudget && *timeBudget > 0)
+        fraction = std::min(1.0, std::max(fraction, p.seconds / *timeBudget));
     const int width = 30;
     const int filled = int(fraction * width);
     const double mpaths = p.seconds > 0 ? double(p.samplesDone) * pixels / p.seconds * 1e-6 : 0.0;
     const double eta = fraction > 0 ? p.seconds * (1 - fraction) / fraction : 0.0;
     std::fprintf(stderr, "\r[%.*s%*s] %u/%u spp  %.2f Mpaths/s  ETA %.1f s ", filled,
-                 "##############################", width - filled, "", p.samplesDone, p.samplesTotal, mpaths, eta);
+                 "##############################", width - filled, "", p.samplesDone,
+                 p.samplesTotal, mpaths, eta);
 }
 
 // Either renderer, with a progress bar when stderr is a terminal. Also
@@ -82,7 +87,8 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels, std::opt
 // lavapipe's included), which on a shared machine varies far less than the
 // wall clock.
 template <typename Renderer>
-wavefront::RenderResult renderWithProgress(Renderer& renderer, const wavefront::SampleRange& samples,
+wavefront::RenderResult renderWithProgress(Renderer& renderer,
+                                           const wavefront::SampleRange& samples,
                                            const FilmSize& film, std::optional<double> timeBudget,
                                            wavefront::RenderControl control, double& cpuSeconds) {
     const bool terminal = isatty(STDERR_FILENO);
@@ -108,22 +114,25 @@ wavefront::SampleRange parseSampleRange(const std::string& text) {
     const size_t colon = text.find(':');
     uint64_t first = 0, count = 0;
     auto number = [&](const std::string& digits, uint64_t& value) {
-        if (digits.empty() || digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos)
+        if (digits.empty() || digits.size() > 10 ||
+            digits.find_first_not_of("0123456789") != std::string::npos)
             return false;
         value = std::stoull(digits);
         return value <= UINT32_MAX;
     };
-    if (colon == std::string::npos || !number(text.substr(0, colon), first) || !number(text.substr(colon + 1), count) ||
-        count == 0)
-        throw InputError(fmt::format("'{}' is not FIRST:COUNT, two whole numbers, COUNT at least 1", text));
+    if (colon == std::string::npos || !number(text.substr(0, colon), first) ||
+        !number(text.substr(colon + 1), count) || count == 0)
+        throw InputError(
+            fmt::format("'{}' is not FIRST:COUNT, two whole numbers, COUNT at least 1", text));
     if (first + count > (uint64_t(1) << 32))
         throw InputError(fmt::format("'{}': sample indices beyond 2^32 - 1", text));
     return {uint32_t(first), uint32_t(count)};
 }
 
 // The EXR (with metadata), the AOVs beside it and the PNG preview.
-void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity, const wavefront::SampleRange& samples,
-                  const wavefront::RenderResult& result, const std::string& device) {
+void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
+                  const wavefront::SampleRange& samples, const wavefront::RenderResult& result,
+                  const std::string& device) {
     const std::filesystem::path output(o.output);
     const image::Metadata metadata = {
         {"vkpath:version", VKPATH_VERSION},
@@ -142,8 +151,10 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
         {"vkpath:fireflySamples", std::to_string(result.fireflySamples)},
         {"vkpath:rejectedLightSamples", std::to_string(result.rejectedLightSamples)},
         {"vkpath:clamp", o.clamp > 0 ? fmt::format("{}", o.clamp) : std::string("off")},
-        {"vkpath:regularize", o.regularize > 0 ? fmt::format("{}", o.regularize) : std::string("off")},
-        {"vkpath:guideSpheres", o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
+        {"vkpath:regularize",
+         o.regularize > 0 ? fmt::format("{}", o.regularize) : std::string("off")},
+        {"vkpath:guideSpheres",
+         o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
         {"vkpath:scene", o.scene}};
     image::writeExr(output, result.image, metadata);
     std::printf("%s\n", output.string().c_str());
@@ -158,32 +169,42 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     }
 }
 
-// `deviceMs`: the GPU's summed stage times (none on the CPU, whose waves are passes over the image).
-void printSummary(const FilmSize& film, const wavefront::RenderResult& result, std::optional<double> deviceMs,
-                  double cpuSeconds, const std::string& device, bool clamped) {
+// `deviceMs`: the GPU's summed stage times (none on the CPU, whose waves are passes over the
+// image).
+void printSummary(const FilmSize& film, const wavefront::RenderResult& result,
+                  std::optional<double> deviceMs, double cpuSeconds, const std::string& device,
+                  bool clamped) {
     const double mpaths = result.seconds > 0 ? result.paths / result.seconds * 1e-6 : 0;
     const double mpathsPerCpuSecond = cpuSeconds > 0 ? result.paths / cpuSeconds * 1e-6 : 0;
     const double mrays = result.seconds > 0 ? result.rays.total() / result.seconds * 1e-6 : 0;
-    const std::string deviceTime = deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
-    std::fprintf(stderr,
-                 "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %.3f Mrays/s "
-                 "(%llu closest-hit, %llu shadow), %u %s of %u paths, %llu NaN/Inf samples dropped, %llu fireflies%s, "
-                 "%llu light samples of pdf 0 skipped, on %s\n",
-                 film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
-                 mpathsPerCpuSecond, mrays, (unsigned long long)result.rays.closest,
-                 (unsigned long long)result.rays.shadow, result.waves, deviceMs ? "waves" : "passes", result.pathsInFlight,
-                 (unsigned long long)result.nonFiniteSamples, (unsigned long long)result.fireflySamples,
-                 clamped ? " (clamped)" : "", (unsigned long long)result.rejectedLightSamples, device.c_str());
+    const std::string deviceTime =
+        deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
+    std::fprintf(
+        stderr,
+        "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %.3f Mrays/s "
+        "(%llu closest-hit, %llu shadow), %u %s of %u paths, %llu NaN/Inf samples dropped, %llu "
+        "fireflies%s, "
+        "%llu light samples of pdf 0 skipped, on %s\n",
+        film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
+        mpathsPerCpuSecond, mrays, (unsigned long long)result.rays.closest,
+        (unsigned long long)result.rays.shadow, result.waves, deviceMs ? "waves" : "passes",
+        result.pathsInFlight, (unsigned long long)result.nonFiniteSamples,
+        (unsigned long long)result.fireflySamples, clamped ? " (clamped)" : "",
+        (unsigned long long)result.rejectedLightSamples, device.c_str());
 }
 
 // The checkpoint to resume, read and matched against this render; nullopt without --resume.
-std::optional<Checkpoint> resumeCheckpoint(const RenderCommandOptions& o, const RenderIdentity& identity,
-                                           const wavefront::SampleRange& samples, const FilmSize& film) {
+std::optional<Checkpoint> resumeCheckpoint(const RenderCommandOptions& o,
+                                           const RenderIdentity& identity,
+                                           const wavefront::SampleRange& samples,
+                                           const FilmSize& film) {
     if (o.resume.empty()) return std::nullopt;
     Checkpoint checkpoint = readCheckpoint(o.resume);
     checkCheckpointMatches(o.resume, checkpoint, identity, samples);
-    wavefront::checkResumable(checkpoint.state, o.device == "cpu" ? wavefront::CPU_FILM_FORMAT : wavefront::GPU_FILM_FORMAT,
-                              film.width, film.height, samples, o.resume);
+    wavefront::checkResumable(
+        checkpoint.state,
+        o.device == "cpu" ? wavefront::CPU_FILM_FORMAT : wavefront::GPU_FILM_FORMAT, film.width,
+        film.height, samples, o.resume);
     return checkpoint;
 }
 
@@ -197,8 +218,10 @@ struct SavedCheckpoint {
 // Checkpoints while rendering (a failure there is a warning: the render goes
 // on, the file keeps its last good state) and at the end (a failure is an
 // error); each one written becomes `saved`.
-wavefront::RenderControl renderControl(const RenderCommandOptions& o, const RenderIdentity& identity,
-                                       const wavefront::SampleRange& samples, const std::optional<Checkpoint>& resume,
+wavefront::RenderControl renderControl(const RenderCommandOptions& o,
+                                       const RenderIdentity& identity,
+                                       const wavefront::SampleRange& samples,
+                                       const std::optional<Checkpoint>& resume,
                                        std::optional<SavedCheckpoint>& saved) {
     wavefront::RenderControl control;
     control.stopRequested = [] { return StopOnSignal::requested() != 0; };
@@ -223,8 +246,9 @@ wavefront::RenderControl renderControl(const RenderCommandOptions& o, const Rend
 
 // Writes what a render made and says how it went; the exit code: 0, or
 // 128 + the signal that stopped it.
-int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity, const wavefront::SampleRange& samples,
-                 const FilmSize& film, const wavefront::RenderResult& result, std::optional<double> deviceMs,
+int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity,
+                 const wavefront::SampleRange& samples, const FilmSize& film,
+                 const wavefront::RenderResult& result, std::optional<double> deviceMs,
                  double cpuSeconds, const std::string& device) {
     const int signal = result.stopped ? StopOnSignal::requested() : 0;
     if (result.samplesPerPixel == 0) {
@@ -234,8 +258,11 @@ int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity, 
     writeOutputs(o, identity, samples, result, device);
     printSummary(film, result, deviceMs, cpuSeconds, device, o.clamp > 0);
     if (signal) {
-        std::fprintf(stderr, "vkpath: stopped by signal %d at %u of %u spp%s\n", signal, result.samplesPerPixel,
-                     samples.count, o.checkpoint.empty() ? "" : fmt::format("; resume with --resume {}", o.checkpoint).c_str());
+        std::fprintf(stderr, "vkpath: stopped by signal %d at %u of %u spp%s\n", signal,
+                     result.samplesPerPixel, samples.count,
+                     o.checkpoint.empty()
+                         ? ""
+                         : fmt::format("; resume with --resume {}", o.checkpoint).c_str());
         return 128 + signal;
     }
     return 0;
@@ -268,33 +295,40 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
-        const auto result = renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
+        const auto result =
+            renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
         return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device);
     }
     return withContext(global, [&](vk::Context& context) {
         wavefront::GpuRenderer renderer(context, scene, settings);
-        std::fprintf(stderr, "%s\n", wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
+        std::fprintf(stderr, "%s\n",
+                     wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         double cpuSeconds = 0;
         // A device lost (or out of memory) mid-render ends it with one line
         // that says which checkpoint survives it.
         const auto result = [&] {
             try {
-                return renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
+                return renderWithProgress(renderer, samples, film, o.timeBudget, control,
+                                          cpuSeconds);
             } catch (const vk::VulkanError& e) {
                 if (!saved) throw;
                 throw withLastCheckpoint(e, saved->path, saved->samplesDone);
             }
         }();
         if (result.cappedWavePaths)
-            std::fprintf(stderr, "vkpath: waves capped at %g ms: %u paths per wave at the end (of %u in flight)\n",
-                         *settings.maxWaveMilliseconds, result.cappedWavePaths, result.pathsInFlight);
+            std::fprintf(
+                stderr,
+                "vkpath: waves capped at %g ms: %u paths per wave at the end (of %u in flight)\n",
+                *settings.maxWaveMilliseconds, result.cappedWavePaths, result.pathsInFlight);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
-        const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds, context.info().name);
+        const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds,
+                                      context.info().name);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
-                std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms, deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
+                std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms,
+                             deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
         }
         return code;
     });
@@ -304,39 +338,50 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
 
 void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
     auto o = std::make_shared<RenderCommandOptions>();
-    auto* cmd = app.add_subcommand("render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
+    auto* cmd = app.add_subcommand(
+        "render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
     addRenderOptions(*cmd, *o);
-    cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")->capture_default_str();
-    auto* spp = cmd->add_option("-s,--spp", o->spp,
-                                "Samples per pixel (default 16; with --time-budget, as many as it allows)")
-                    ->check(CLI::Range(1u, UINT32_MAX));
+    cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")
+        ->capture_default_str();
+    auto* spp =
+        cmd->add_option("-s,--spp", o->spp,
+                        "Samples per pixel (default 16; with --time-budget, as many as it allows)")
+            ->check(CLI::Range(1u, UINT32_MAX));
     cmd->add_option("--samples", o->samples,
-                    "FIRST:COUNT: render sample indices FIRST to FIRST + COUNT - 1 of every pixel (instead of -s), a "
+                    "FIRST:COUNT: render sample indices FIRST to FIRST + COUNT - 1 of every pixel "
+                    "(instead of -s), a "
                     "part for `vkpath merge`")
         ->check(parsedBy("FIRST:COUNT", [](const std::string& text) { parseSampleRange(text); }))
         ->excludes(spp);
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
-    cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")->check(finiteReal<float>())->capture_default_str();
+    cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")
+        ->check(finiteReal<float>())
+        ->capture_default_str();
     cmd->add_option("--time-budget", o->timeBudget,
-                    "Render whole waves until this many seconds are spent (up to -s samples if given); the EXR and "
+                    "Render whole waves until this many seconds are spent (up to -s samples if "
+                    "given); the EXR and "
                     "the summary give the spp reached")
         ->check(realAbove<double>(0, false));
-    cmd->add_option("--aov", o->aovs, "Extra outputs beside the EXR: variance (of each pixel's mean)")
+    cmd->add_option("--aov", o->aovs,
+                    "Extra outputs beside the EXR: variance (of each pixel's mean)")
         ->check(CLI::IsMember({"variance"}));
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
-    auto* checkpoint = cmd->add_option("--checkpoint", o->checkpoint,
-                    "Keep the running film in this file (written atomically at whole samples, every "
-                    "--checkpoint-every seconds, on a stop and at the end), for --resume");
+    auto* checkpoint = cmd->add_option(
+        "--checkpoint", o->checkpoint,
+        "Keep the running film in this file (written atomically at whole samples, every "
+        "--checkpoint-every seconds, on a stop and at the end), for --resume");
     cmd->add_option("--checkpoint-every", o->checkpointEvery,
                     "Seconds of rendering between checkpoints (0: after every whole sample)")
         ->check(realAtLeast<double>(0))
         ->capture_default_str()
         ->needs(checkpoint);
-    cmd->add_option("--resume", o->resume,
-                    "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "
-                    "the image equals the uninterrupted render's bit for bit")
+    cmd->add_option(
+           "--resume", o->resume,
+           "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "
+           "the image equals the uninterrupted render's bit for bit")
         ->check(CLI::ExistingFile);
-    cmd->callback([&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
+    cmd->callback(
+        [&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
 }
 
 }  // namespace vkpath::app

@@ -1,12 +1,12 @@
 #include "app/render_options.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "app/fnv1a.h"
 #include "app/validators.h"
@@ -22,73 +22,99 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     // first sample and buys nothing: after 1024 bounces of albedo 0.99 a path
     // keeps 3e-5 of its weight, and 1024 light samples per vertex are 1024
     // shadow rays each.
-    cmd.add_option("scene", o.scene, "Scene file (.gltf, .glb, .dae)")->required()->check(CLI::ExistingFile);
-    cmd.add_option("-m,--max-depth", o.maxDepth, "Maximum bounces (0: emitters seen directly only, 1: direct lighting)")
+    cmd.add_option("scene", o.scene, "Scene file (.gltf, .glb, .dae)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd.add_option("-m,--max-depth", o.maxDepth,
+                   "Maximum bounces (0: emitters seen directly only, 1: direct lighting)")
         ->check(CLI::Range(0u, MAX_DEPTH))
         ->capture_default_str();
-    cmd.add_option("-d,--size", o.size, "Film size WxH")->check(filmSizeValidator())->capture_default_str();
+    cmd.add_option("-d,--size", o.size, "Film size WxH")
+        ->check(filmSizeValidator())
+        ->capture_default_str();
     cmd.add_option("-l,--light-samples", o.lightSamples, "Light samples per diffuse vertex")
         ->check(CLI::Range(0u, MAX_LIGHT_SAMPLES))
         ->capture_default_str();
-    cmd.add_option("--rr-depth", o.rouletteDepth, "Russian roulette from this bounce on (unbiased at any depth)")
+    cmd.add_option("--rr-depth", o.rouletteDepth,
+                   "Russian roulette from this bounce on (unbiased at any depth)")
         ->capture_default_str();
     cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
     cmd.add_option("--sampler", o.sampler,
-                   "independent: hashed random numbers; sobol: Owen-scrambled Sobol' points, stratified per pair of "
+                   "independent: hashed random numbers; sobol: Owen-scrambled Sobol' points, "
+                   "stratified per pair of "
                    "dimensions (lower error at equal spp, best at powers of two)")
         ->check(CLI::IsMember({"independent", "sobol"}))
         ->capture_default_str();
-    cmd.add_option("--clamp", o.clamp,
-                   "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
+    cmd.add_option(
+           "--clamp", o.clamp,
+           "Clamp each path sample's largest component to this (biased: removes energy; 0: off)")
         ->check(realAtLeast<float>(0))
         ->capture_default_str();
     cmd.add_option("--regularize", o.regularize,
-                   "Path regularisation: after a path's first non-delta bounce, widen mirror, glass and smooth "
-                   "microfacet lobes to at least this GGX alpha, in (0, 1] (biased: blurs caustics, removes their "
+                   "Path regularisation: after a path's first non-delta bounce, widen mirror, "
+                   "glass and smooth "
+                   "microfacet lobes to at least this GGX alpha, in (0, 1] (biased: blurs "
+                   "caustics, removes their "
                    "fireflies; 0: off)")
         ->check(realIn<float>(0, 1))
         ->capture_default_str();
     cmd.add_option("--guide-spheres", o.guideSpheres,
-                   "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass spheres it sees, in "
-                   "[0, 1), in scenes with emissive surfaces and no environment map (unbiased: finds caustics "
+                   "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass "
+                   "spheres it sees, in "
+                   "[0, 1), in scenes with emissive surfaces and no environment map (unbiased: "
+                   "finds caustics "
                    "sooner; 0: off)")
-        ->check(realIn<float>(0, 1, true))  // at 1 no cosine sample is left: light outside the cones would be lost
+        ->check(realIn<float>(
+            0, 1, true))  // at 1 no cosine sample is left: light outside the cones would be lost
         ->capture_default_str();
-    cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular")->check(CLI::ExistingFile);
-    cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")->expected(3)->delimiter(',');
-    cmd.add_option("--env-strength", o.environmentStrength, "Environment multiplier (default: the scene's, or 1)")
+    cmd.add_option("-e,--env", o.environment, "Environment map (.exr, .hdr), equirectangular")
+        ->check(CLI::ExistingFile);
+    cmd.add_option("--env-color", o.environmentColor, "Constant environment radiance R G B")
+        ->expected(3)
+        ->delimiter(',');
+    cmd.add_option("--env-strength", o.environmentStrength,
+                   "Environment multiplier (default: the scene's, or 1)")
         ->check(realAtLeast<float>(0));
     cmd.add_option("--env-rotate", o.environmentRotation,
                    "Environment rotation about +Y, degrees (default: the scene's, or 0)")
         ->check(finiteReal<float>());
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
-    cmd.add_option("--workgroup-size", o.workgroupSize, "Threads per workgroup of the stage kernels")
+    cmd.add_option("--workgroup-size", o.workgroupSize,
+                   "Threads per workgroup of the stage kernels")
         ->capture_default_str();
     cmd.add_option("--megakernel-paths", o.megakernelPaths,
-                   "--kernel megakernel: paths each invocation traces one after another (path regeneration; 1: one)")
+                   "--kernel megakernel: paths each invocation traces one after another (path "
+                   "regeneration; 1: one)")
         ->check(CLI::Range(1u, UINT32_MAX))
         ->capture_default_str();
     cmd.add_option("--paths-in-flight", o.pathsInFlight,
-                   "Upper bound on the paths of one wave (default: 16777216 on a discrete GPU, 1048576 on others)");
+                   "Upper bound on the paths of one wave (default: 16777216 on a discrete GPU, "
+                   "1048576 on others)");
     cmd.add_option("--max-wave-ms", o.maxWaveMs,
-                   "GPU: size the waves to take at most this many milliseconds each, for drivers whose watchdog "
+                   "GPU: size the waves to take at most this many milliseconds each, for drivers "
+                   "whose watchdog "
                    "ends long submissions (the image is the same)")
         ->check(realAbove<double>(0));
     cmd.add_option("--max-device-memory", o.maxDeviceMemoryMiB,
-                   "GPU: MiB of device memory the scene, film and paths in flight may take, for a device shared "
+                   "GPU: MiB of device memory the scene, film and paths in flight may take, for a "
+                   "device shared "
                    "with other work (fewer paths in flight; the image is the same)")
         ->check(realAbove<double>(0));
     cmd.add_option("--kernel", o.kernel,
-                   "GPU kernel form: wavefront (stages with queues between them) or megakernel (one invocation per "
+                   "GPU kernel form: wavefront (stages with queues between them) or megakernel "
+                   "(one invocation per "
                    "path); default: the faster on the device's type")
         ->check(CLI::IsMember({"wavefront", "megakernel"}));
     cmd.add_flag("--no-specialize", o.noSpecialize,
-                 "The general kernels (GPU) or the general build of the CPU reference, not code specialised to "
+                 "The general kernels (GPU) or the general build of the CPU reference, not code "
+                 "specialised to "
                  "the scene's features (same image, slower)");
-    cmd.add_option("--device", o.device, "gpu: the Vulkan renderer; cpu: the CPU reference (same math)")
+    cmd.add_option("--device", o.device,
+                   "gpu: the Vulkan renderer; cpu: the CPU reference (same math)")
         ->check(CLI::IsMember({"gpu", "cpu"}))
         ->capture_default_str();
-    cmd.add_option("-t,--threads", o.threads, "--device cpu: worker threads (default: every hardware thread)");
+    cmd.add_option("-t,--threads", o.threads,
+                   "--device cpu: worker threads (default: every hardware thread)");
 }
 
 namespace {
@@ -109,7 +135,9 @@ namespace {
 
 // A float as the double of its shortest decimal form (0.1f as 0.1), so the
 // JSON reads as the flag was written and still gives the float back exactly.
-double shortest(float v) { return std::stod(fmt::format("{}", v)); }
+double shortest(float v) {
+    return std::stod(fmt::format("{}", v));
+}
 
 // The settings record, or null for text that is not a JSON object (an older
 // build's "key=value" words).
@@ -127,14 +155,16 @@ std::string keyValue(const std::string& key, const nlohmann::ordered_json& value
 
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
     uint64_t hash = hashFile(o.scene, FNV1A_OFFSET);
-    for (const std::filesystem::path& file : scene.referencedFiles) hash = hashFile(file.string(), hash);
+    for (const std::filesystem::path& file : scene.referencedFiles)
+        hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
     auto optional = [](const std::optional<float>& v) {
         return v ? nlohmann::ordered_json(shortest(*v)) : nlohmann::ordered_json("scene");
     };
     nlohmann::ordered_json color = "none";
     if (!o.environmentColor.empty())
-        color = {shortest(o.environmentColor[0]), shortest(o.environmentColor[1]), shortest(o.environmentColor[2])};
+        color = {shortest(o.environmentColor[0]), shortest(o.environmentColor[1]),
+                 shortest(o.environmentColor[2])};
     nlohmann::ordered_json settings;
     settings["size"] = o.size;
     settings["max-depth"] = o.maxDepth;
@@ -151,14 +181,19 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
     settings["env-rotate"] = optional(o.environmentRotation);
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
     settings["estimator"] = VKP_ESTIMATOR_VERSION;
-    return {fmt::format("{:016x}", hash), settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
+    return {fmt::format("{:016x}", hash),
+            settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
 }
 
-bool isSettingsRecord(const std::string& settings) { return !parseSettings(settings).is_null(); }
+bool isSettingsRecord(const std::string& settings) {
+    return !parseSettings(settings).is_null();
+}
 
-std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y) {
+std::pair<std::string, std::string> firstSettingDifference(const std::string& x,
+                                                           const std::string& y) {
     const nlohmann::ordered_json a = parseSettings(x), b = parseSettings(y);
-    if (a.is_null() || b.is_null()) return x == y ? std::pair<std::string, std::string>() : std::pair(x, y);
+    if (a.is_null() || b.is_null())
+        return x == y ? std::pair<std::string, std::string>() : std::pair(x, y);
     // In y's order, then the keys only x has.
     for (const auto& [key, value] : b.items()) {
         if (!a.contains(key)) return {"nothing", keyValue(key, value)};
@@ -176,11 +211,14 @@ scene::Scene loadRenderScene(const RenderOptions& o) {
     if (!o.environment.empty() || !o.environmentColor.empty()) {
         scene::Environment env;
         if (!o.environment.empty()) env.map = scene::loadEnvironmentMap(o.environment);
-        if (!o.environmentColor.empty()) env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
+        if (!o.environmentColor.empty())
+            env.color = {o.environmentColor[0], o.environmentColor[1], o.environmentColor[2]};
         scene.environment = env;
     }
-    if (o.environmentStrength && scene.environment) scene.environment->strength = *o.environmentStrength;
-    if (o.environmentRotation && scene.environment) scene.environment->rotationDegrees = *o.environmentRotation;
+    if (o.environmentStrength && scene.environment)
+        scene.environment->strength = *o.environmentStrength;
+    if (o.environmentRotation && scene.environment)
+        scene.environment->rotationDegrees = *o.environmentRotation;
     return scene;
 }
 
@@ -199,7 +237,9 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.rouletteDepth = o.rouletteDepth;
     settings.seed = o.seed;
     const auto sampler = wavefront::parseSampler(o.sampler);
-    if (!sampler) throw InputError(fmt::format("--sampler: '{}' is neither independent nor sobol", o.sampler));
+    if (!sampler)
+        throw InputError(
+            fmt::format("--sampler: '{}' is neither independent nor sobol", o.sampler));
     settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
     settings.regularize = o.regularize;
@@ -214,7 +254,8 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.maxWaveMilliseconds = o.maxWaveMs;
     if (o.maxDeviceMemoryMiB) {
         // 10^12 MiB (an exabyte) bounds no device, and keeps the bytes in 64 bits.
-        settings.maxDeviceMemoryBytes = uint64_t(std::min(*o.maxDeviceMemoryMiB, 1e12) * 1024 * 1024);
+        settings.maxDeviceMemoryBytes =
+            uint64_t(std::min(*o.maxDeviceMemoryMiB, 1e12) * 1024 * 1024);
     }
     settings.threads = o.threads.value_or(0);
     return settings;

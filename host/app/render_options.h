@@ -31,7 +31,8 @@ struct RenderOptions {
     uint32_t lightSamples = 1;
     uint32_t rouletteDepth = wavefront::RenderSettings{}.rouletteDepth;
     uint32_t seed = 0;
-    std::string sampler = "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
+    std::string sampler =
+        "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
     float clamp = 0;
     float regularize = 0;  // path regularisation's least GGX alpha; 0: off
     float guideSpheres = wavefront::RenderSettings{}.guideFraction;  // --guide-spheres
@@ -42,12 +43,12 @@ struct RenderOptions {
     std::string camera;
     uint32_t workgroupSize = 64;
     uint32_t megakernelPaths = wavefront::RenderSettings{}.megakernelPathsPerInvocation;
-    std::optional<uint32_t> pathsInFlight;   // unset: by the device's type
+    std::optional<uint32_t> pathsInFlight;     // unset: by the device's type
     std::optional<double> maxWaveMs;           // GPU: RenderSettings::maxWaveMilliseconds
     std::optional<double> maxDeviceMemoryMiB;  // GPU: RenderSettings::maxDeviceMemoryBytes, in MiB
-    std::string kernel;              // wavefront::parseKernelForm's names; empty: the device's default
-    bool noSpecialize = false;       // general kernels instead of ones specialised to the scene
-    std::string device = "gpu";      // gpu: the Vulkan renderer; cpu: the reference
+    std::string kernel;          // wavefront::parseKernelForm's names; empty: the device's default
+    bool noSpecialize = false;   // general kernels instead of ones specialised to the scene
+    std::string device = "gpu";  // gpu: the Vulkan renderer; cpu: the reference
     std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
 };
 
@@ -81,7 +82,8 @@ bool isSettingsRecord(const std::string& settings);
 // ("key=x's value", "key=y's value"), "nothing" on the side that lacks the
 // key (one an older build did not write); two empty strings when they are
 // the same. Where either is not a settings record, the two whole strings.
-std::pair<std::string, std::string> firstSettingDifference(const std::string& x, const std::string& y);
+std::pair<std::string, std::string> firstSettingDifference(const std::string& x,
+                                                           const std::string& y);
 
 // The settings for `samplesPerPixel` samples of the film `o.size`. Each
 // flag's value is checked where it is parsed (addRenderOptions' validators:

@@ -1,12 +1,12 @@
 // `vkpath scene-info FILE [--json]`: what a scene file becomes after import:
 // counts, materials by kind, emitters, lights, the framed camera, bounds and
 // the feature summary the kernels are specialised to. Needs no Vulkan device.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -24,7 +24,7 @@ namespace {
 struct SceneCounts {
     size_t byKind[VKP_MATERIAL_KIND_COUNT] = {};  // materials by kind (scene::MATERIAL_KINDS order)
     size_t emissive = 0;
-    size_t texels = 0;                                        // of all decoded images
+    size_t texels = 0;  // of all decoded images
     size_t emissiveMeshes = 0, emissiveSpheres = 0, emissiveTriangles = 0;
     bool hasBounds = false;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // meshes and spheres, world space
@@ -47,8 +47,10 @@ KernelPlan planKernels(const scene::Scene& s) {
     plan.features = wavefront::renderFeatures(tables, info);
     plan.sceneBytes = wavefront::deviceBytes(tables);
     const uint32_t shadowRays = wavefront::shadowRaysPerVertex(plan.features, info.lightSamples);
-    plan.wavefrontPathBytes = wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, shadowRays);
-    plan.megakernelPathBytes = wavefront::pathStateBytes(wavefront::KernelForm::Megakernel, shadowRays);
+    plan.wavefrontPathBytes =
+        wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, shadowRays);
+    plan.megakernelPathBytes =
+        wavefront::pathStateBytes(wavefront::KernelForm::Megakernel, shadowRays);
     return plan;
 }
 
@@ -93,20 +95,23 @@ std::vector<std::pair<const char*, bool>> featureList(const scene::FeatureSummar
 #define VKP_KIND_FEATURE(id, NAME, Type, key, label, feature, flags, regularized) {#key, f.key},
             VKP_MATERIAL_KINDS(VKP_KIND_FEATURE)
 #undef VKP_KIND_FEATURE
-            {"emissiveSurfaces", f.emissiveSurfaces},
+                {"emissiveSurfaces", f.emissiveSurfaces},
             {"pointLights", f.pointLights},
             {"spotLights", f.spotLights},
             {"directionalLights", f.directionalLights},
             {"environment", f.environment}};
 }
 
-nlohmann::json vecJson(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+nlohmann::json vecJson(const glm::vec3& v) {
+    return {v.x, v.y, v.z};
+}
 
 std::string vecText(const glm::vec3& v) {
     return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
 }
 
-nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const SceneCounts& c, const KernelPlan& k) {
+nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const SceneCounts& c,
+                         const KernelPlan& k) {
     nlohmann::json features = nlohmann::json::object();
     for (const auto& [name, value] : featureList(s.features())) features[name] = value;
     nlohmann::json materials = {{"total", s.materials.size()}};
@@ -135,10 +140,11 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
           {"up", vecJson(s.camera.up)},
           {"xfovDegrees", s.camera.xfovDegrees},
           {"aspect", s.camera.aspect}}},
-        {"bounds", c.hasBounds ? nlohmann::json{{"min", vecJson(c.boundsMin)},
-                                                {"max", vecJson(c.boundsMax)}}
-                               : nlohmann::json(nullptr)},
-        {"textures", {{"images", s.images.size()}, {"textures", s.textures.size()}, {"texels", c.texels}}},
+        {"bounds",
+         c.hasBounds ? nlohmann::json{{"min", vecJson(c.boundsMin)}, {"max", vecJson(c.boundsMax)}}
+                     : nlohmann::json(nullptr)},
+        {"textures",
+         {{"images", s.images.size()}, {"textures", s.textures.size()}, {"texels", c.texels}}},
         {"features", features},
         {"kernelFeatures", wavefront::describeFeatures(k.features)},
         {"deviceBytes",
@@ -149,15 +155,18 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
     };
 }
 
-void printScene(const std::string& file, const scene::Scene& s, const SceneCounts& c, const KernelPlan& k) {
+void printScene(const std::string& file, const scene::Scene& s, const SceneCounts& c,
+                const KernelPlan& k) {
     std::printf("scene       %s\n", file.c_str());
     std::printf("triangles   %zu\n", s.triangleCount());
     std::printf("meshes      %zu\n", s.meshes.size());
     std::printf("spheres     %zu\n", s.spheres.size());
     std::string kinds;
     for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS)
-        kinds += fmt::format("{}{} {}", kinds.empty() ? "" : ", ", kind.label, c.byKind[uint32_t(kind.kind)]);
-    std::printf("materials   %zu (%s; emissive %zu)\n", s.materials.size(), kinds.c_str(), c.emissive);
+        kinds += fmt::format("{}{} {}", kinds.empty() ? "" : ", ", kind.label,
+                             c.byKind[uint32_t(kind.kind)]);
+    std::printf("materials   %zu (%s; emissive %zu)\n", s.materials.size(), kinds.c_str(),
+                c.emissive);
     std::printf("emitters    %zu (meshes %zu, spheres %zu; emissive triangles %zu)\n",
                 c.emissiveMeshes + c.emissiveSpheres, c.emissiveMeshes, c.emissiveSpheres,
                 c.emissiveTriangles);
@@ -173,17 +182,20 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
                     vecText(c.boundsMax).c_str());
     else
         std::printf("bounds      empty\n");
-    std::printf("textures    %zu (%zu images, %zu texels)\n", s.textures.size(), s.images.size(), c.texels);
+    std::printf("textures    %zu (%zu images, %zu texels)\n", s.textures.size(), s.images.size(),
+                c.texels);
     std::string features;
     for (const auto& [name, value] : featureList(s.features()))
         if (value) features += (features.empty() ? "" : " ") + std::string(name);
     std::printf("features    %s\n", features.empty() ? "(none)" : features.c_str());
     std::printf("kernels     specialised to %s (at the default settings)\n",
                 wavefront::describeFeatures(k.features).c_str());
-    std::printf("memory      scene %llu B on the device; per path in flight: wavefront %llu B, megakernel %llu B; "
-                "film %zu B per pixel\n",
-                (unsigned long long)k.sceneBytes, (unsigned long long)k.wavefrontPathBytes,
-                (unsigned long long)k.megakernelPathBytes, sizeof(shared::FilmPixel));
+    std::printf(
+        "memory      scene %llu B on the device; per path in flight: wavefront %llu B, megakernel "
+        "%llu B; "
+        "film %zu B per pixel\n",
+        (unsigned long long)k.sceneBytes, (unsigned long long)k.wavefrontPathBytes,
+        (unsigned long long)k.megakernelPathBytes, sizeof(shared::FilmPixel));
 }
 
 }  // namespace
@@ -195,7 +207,9 @@ void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands
     };
     auto o = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("scene-info", "Import a scene and summarise what it contains");
-    cmd->add_option("FILE", o->file, "Scene file (.gltf, .glb or .dae)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("FILE", o->file, "Scene file (.gltf, .glb or .dae)")
+        ->required()
+        ->check(CLI::ExistingFile);
     cmd->add_flag("--json", o->json, "Print JSON instead of text");
     cmd->callback([&commands, o] {
         commands.run = [o] {

@@ -14,7 +14,8 @@ struct sigaction g_previousInt, g_previousTerm;
 void onSignal(int signal) {
     if (g_signal != 0) _exit(128 + signal);
     g_signal = signal;
-    const char message[] = "\nvkpath: stopping at the next whole sample (signal again to quit at once)\n";
+    const char message[] =
+        "\nvkpath: stopping at the next whole sample (signal again to quit at once)\n";
     [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, message, sizeof(message) - 1);
 }
 
@@ -35,6 +36,8 @@ StopOnSignal::~StopOnSignal() {
     sigaction(SIGTERM, &g_previousTerm, nullptr);
 }
 
-int StopOnSignal::requested() { return g_signal; }
+int StopOnSignal::requested() {
+    return g_signal;
+}
 
 }  // namespace vkpath::app

@@ -23,7 +23,8 @@ std::optional<T> real(const std::string& text) {
     const char* end = text.data() + text.size();
     const auto [stop, error] = std::from_chars(begin, end, value);
     // Out of T's range: std::from_chars leaves `value` alone; it is infinite.
-    if (error == std::errc::result_out_of_range && stop == end) return std::numeric_limits<T>::infinity();
+    if (error == std::errc::result_out_of_range && stop == end)
+        return std::numeric_limits<T>::infinity();
     if (error != std::errc() || stop != end || text.empty()) return std::nullopt;
     return value;
 }
@@ -31,11 +32,13 @@ std::optional<T> real(const std::string& text) {
 // A validator of a real number that `accepts`: `what` ends the message
 // "'TEXT' is not WHAT", `description` follows the type in --help.
 template <typename T>
-CLI::Validator realValidator(std::string what, std::string description, std::function<bool(T)> accepts) {
+CLI::Validator realValidator(std::string what, std::string description,
+                             std::function<bool(T)> accepts) {
     return CLI::Validator(
         [what, accepts](std::string& text) {
             const std::optional<T> value = real<T>(text);
-            return value && accepts(*value) ? std::string() : fmt::format("'{}' is not {}", text, what);
+            return value && accepts(*value) ? std::string()
+                                            : fmt::format("'{}' is not {}", text, what);
         },
         std::move(description));
 }
@@ -45,8 +48,9 @@ CLI::Validator realValidator(std::string what, std::string description, std::fun
 template <typename T>
 CLI::Validator realIn(double low, double high, bool highOpen) {
     const std::string interval = fmt::format("[{}, {}{}", low, high, highOpen ? ")" : "]");
-    return realValidator<T>("a number in " + interval, "in " + interval,
-                            [low, high, highOpen](T v) { return v >= low && (highOpen ? v < high : v <= high); });
+    return realValidator<T>(
+        "a number in " + interval, "in " + interval,
+        [low, high, highOpen](T v) { return v >= low && (highOpen ? v < high : v <= high); });
 }
 
 template <typename T>
@@ -57,8 +61,9 @@ CLI::Validator realAtLeast(double low) {
 
 template <typename T>
 CLI::Validator realAbove(double low, bool finite) {
-    return realValidator<T>(fmt::format("a {}number > {}", finite ? "finite " : "", low),
-                            fmt::format("> {}", low), [low, finite](T v) { return v > low && (!finite || std::isfinite(v)); });
+    return realValidator<T>(
+        fmt::format("a {}number > {}", finite ? "finite " : "", low), fmt::format("> {}", low),
+        [low, finite](T v) { return v > low && (!finite || std::isfinite(v)); });
 }
 
 template <typename T>

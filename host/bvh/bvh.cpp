@@ -8,7 +8,6 @@
 // depth-first order into a vector of its own, and the parent appends it, so
 // the result is the serial build's bit for bit.
 #include "bvh/bvh.h"
-#include "bvh/traversal_nodes.h"
 
 #include <fmt/format.h>
 
@@ -22,6 +21,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "bvh/traversal_nodes.h"
 #include "input_error.h"
 
 namespace vkpath::bvh {
@@ -59,8 +59,8 @@ struct Aabb {
 struct BuildPrimitive {
     Aabb bounds;
     vec3 centroid;
-    uint32_t kind;  // VKP_PRIMITIVE_*
-    uint32_t id;    // shared::BvhPrimitive::id
+    uint32_t kind;    // VKP_PRIMITIVE_*
+    uint32_t id;      // shared::BvhPrimitive::id
     uint32_t source;  // triangle: mesh index; sphere: unused
     uint32_t local;   // triangle: index within the mesh; sphere: index into Scene::spheres
 };
@@ -73,7 +73,9 @@ struct BuildNode {
     uint32_t count = 0;  // 0: interior
 };
 
-uint32_t ceilLog2(size_t n) { return n <= 1 ? 0u : static_cast<uint32_t>(std::bit_width(n - 1)); }
+uint32_t ceilLog2(size_t n) {
+    return n <= 1 ? 0u : static_cast<uint32_t>(std::bit_width(n - 1));
+}
 
 float roundDown(double x) {
     float f = static_cast<float>(x);
@@ -188,7 +190,8 @@ class Builder {
         thread_local std::array<float, MAX_BINS> secondArea;
         thread_local std::array<uint32_t, MAX_BINS> secondCount;
         thread_local std::array<uint32_t, MAX_BINS> usedBins;
-        for (int axis = 0; axis < 3; ++axis) std::fill(bins[axis].begin(), bins[axis].begin() + binCount, Bin{});
+        for (int axis = 0; axis < 3; ++axis)
+            std::fill(bins[axis].begin(), bins[axis].begin() + binCount, Bin{});
         for (uint32_t i = begin; i < end; ++i) {
             const BuildPrimitive& p = m_primitives[i];
             for (int axis = 0; axis < 3; ++axis) {
@@ -244,13 +247,15 @@ class Builder {
         // The depth guard: both children must still fit below maxDepth with
         // halving splits (which preserve depth + ceilLog2(n) <= maxDepth).
         const uint32_t larger = std::max(bestFirstCount, n - bestFirstCount);
-        if (depth + 1 + ceilLog2(larger) > m_options.maxDepth) return medianSplit(begin, end, centroids);
+        if (depth + 1 + ceilLog2(larger) > m_options.maxDepth)
+            return medianSplit(begin, end, centroids);
 
         const float axisLo = lo[bestAxis], axisScale = scale[bestAxis];
         auto* first = m_primitives.data() + begin;
-        auto* middle = std::partition(first, m_primitives.data() + end, [&](const BuildPrimitive& p) {
-            return binOf(p.centroid[bestAxis], axisLo, axisScale) <= bestBin;
-        });
+        auto* middle =
+            std::partition(first, m_primitives.data() + end, [&](const BuildPrimitive& p) {
+                return binOf(p.centroid[bestAxis], axisLo, axisScale) <= bestBin;
+            });
         return begin + static_cast<uint32_t>(middle - first);
     }
 
@@ -258,10 +263,11 @@ class Builder {
     // by (kind, id), which is unique, so the order is fully determined.
     uint32_t medianSplit(uint32_t begin, uint32_t end, const Aabb& centroids) const {
         const vec3 extent = centroids.hi - centroids.lo;
-        const int axis = extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2)
-                                              : (extent.y >= extent.z ? 1 : 2);
+        const int axis =
+            extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
         const uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(m_primitives.data() + begin, m_primitives.data() + mid, m_primitives.data() + end,
+        std::nth_element(m_primitives.data() + begin, m_primitives.data() + mid,
+                         m_primitives.data() + end,
                          [&](const BuildPrimitive& a, const BuildPrimitive& b) {
                              const float ca = a.centroid[axis], cb = b.centroid[axis];
                              if (ca != cb) return ca < cb;
@@ -277,8 +283,8 @@ class Builder {
 
 void validate(const BvhOptions& options) {
     if (options.maxLeafSize < 1 || options.maxLeafSize > VKP_BVH_MAX_LEAF_COUNT)
-        throw std::invalid_argument(
-            fmt::format("BVH: maxLeafSize must be 1 to {}, not {}", VKP_BVH_MAX_LEAF_COUNT, options.maxLeafSize));
+        throw std::invalid_argument(fmt::format("BVH: maxLeafSize must be 1 to {}, not {}",
+                                                VKP_BVH_MAX_LEAF_COUNT, options.maxLeafSize));
     if (options.binCount < 2 || options.binCount > 256)
         throw std::invalid_argument(
             fmt::format("BVH: binCount must be 2 to 256, not {}", options.binCount));
@@ -301,9 +307,11 @@ std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene, BvhStat
             const glm::uvec3 tri = mesh.triangles[t];
             if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() ||
                 tri.z >= mesh.positions.size())
-                throw InputError(fmt::format("mesh '{}': triangle {} has a vertex index beyond its {} vertices",
-                                             mesh.name, t, mesh.positions.size()));
-            const vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+                throw InputError(
+                    fmt::format("mesh '{}': triangle {} has a vertex index beyond its {} vertices",
+                                mesh.name, t, mesh.positions.size()));
+            const vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y],
+                       c = mesh.positions[tri.z];
             if (isDegenerateTriangle(a, b, c)) {
                 ++stats.degenerateTriangles;
                 continue;
@@ -396,7 +404,8 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
     BvhBuild result;
     std::vector<BuildPrimitive> primitives = collectPrimitives(scene, result.stats);
     if (primitives.size() >= std::numeric_limits<uint32_t>::max() - 1)
-        throw std::length_error(fmt::format("BVH: {} primitives, more than 2^32 - 2", primitives.size()));
+        throw std::length_error(
+            fmt::format("BVH: {} primitives, more than 2^32 - 2", primitives.size()));
     if (ceilLog2(primitives.size()) > options.maxDepth)
         throw std::invalid_argument(fmt::format("BVH: {} primitives cannot fit below maxDepth {}",
                                                 primitives.size(), options.maxDepth));
@@ -413,8 +422,10 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
         for (size_t i = 0; i < nodes.size(); ++i) {
             const BuildNode& n = nodes[i];
             BvhNode& out = result.nodes[i];
-            out.boundsMin = vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
-            out.boundsMax = vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
+            out.boundsMin =
+                vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
+            out.boundsMax =
+                vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
             out.offset = n.offset;
             out.count = n.count;
         }
@@ -471,7 +482,8 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
     size_t triangleTotal = 0;
     std::vector<std::pair<uint32_t, uint32_t>> triangleSource;  // global id -> (mesh, triangle)
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
-        for (uint32_t t = 0; t < scene.meshes[m].triangles.size(); ++t) triangleSource.emplace_back(m, t);
+        for (uint32_t t = 0; t < scene.meshes[m].triangles.size(); ++t)
+            triangleSource.emplace_back(m, t);
     triangleTotal = triangleSource.size();
     std::vector<uint8_t> triangleSeen(triangleTotal, 0), sphereSeen(scene.spheres.size(), 0);
     size_t expected = 0;
@@ -480,21 +492,23 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
         const glm::uvec3 tri = mesh.triangles[t];
         const bool valid = tri.x < mesh.positions.size() && tri.y < mesh.positions.size() &&
                            tri.z < mesh.positions.size();
-        if (valid && !isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]))
+        if (valid && !isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y],
+                                           mesh.positions[tri.z]))
             ++expected;
     }
     for (const scene::Sphere& s : scene.spheres)
         if (!isDegenerateSphere(s.center, s.radius)) ++expected;
     if (prims.size() != expected)
-        report(fmt::format("{} primitives in the BVH, the scene has {} non-degenerate ones", prims.size(),
-                           expected));
+        report(fmt::format("{} primitives in the BVH, the scene has {} non-degenerate ones",
+                           prims.size(), expected));
 
     if (nodes.empty()) {
         report("no nodes (an empty BVH has one empty root)");
         return problems;
     }
     if (nodes[0].count == 0 && nodes[0].offset == 0) {
-        if (nodes.size() != 1 || !prims.empty()) report("an empty root with other nodes or primitives");
+        if (nodes.size() != 1 || !prims.empty())
+            report("an empty root with other nodes or primitives");
         return problems;
     }
 
@@ -524,20 +538,26 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
         const Item item = stack.back();
         stack.pop_back();
         if (item.node != visited) {
-            report(fmt::format("node {} reached as the {}th node of a depth-first walk", item.node, visited));
+            report(fmt::format("node {} reached as the {}th node of a depth-first walk", item.node,
+                               visited));
             return problems;
         }
         ++visited;
         const BvhNode& node = nodes[item.node];
-        if (!finiteBox(node)) report(fmt::format("node {}: box is not finite and ordered", item.node));
-        if (item.parent != std::numeric_limits<uint32_t>::max() && !inside(node, nodes[item.parent]))
-            report(fmt::format("node {}: box is not inside its parent {}'s", item.node, item.parent));
+        if (!finiteBox(node))
+            report(fmt::format("node {}: box is not finite and ordered", item.node));
+        if (item.parent != std::numeric_limits<uint32_t>::max() &&
+            !inside(node, nodes[item.parent]))
+            report(
+                fmt::format("node {}: box is not inside its parent {}'s", item.node, item.parent));
         if (node.count == 0) {
             if (item.depth + 1 > VKP_BVH_MAX_DEPTH)
-                report(fmt::format("node {}: interior node at depth {} has children below the limit {}",
-                                   item.node, item.depth, VKP_BVH_MAX_DEPTH));
+                report(fmt::format(
+                    "node {}: interior node at depth {} has children below the limit {}", item.node,
+                    item.depth, VKP_BVH_MAX_DEPTH));
             if (node.offset <= item.node + 1 || node.offset >= nodes.size()) {
-                report(fmt::format("node {}: second child {} out of order or range", item.node, node.offset));
+                report(fmt::format("node {}: second child {} out of order or range", item.node,
+                                   node.offset));
                 return problems;
             }
             stack.push_back({node.offset, item.depth + 1, item.node});
@@ -545,15 +565,18 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
             continue;
         }
         if (item.depth > VKP_BVH_MAX_DEPTH)
-            report(fmt::format("leaf {} at depth {} beyond the limit {}", item.node, item.depth, VKP_BVH_MAX_DEPTH));
+            report(fmt::format("leaf {} at depth {} beyond the limit {}", item.node, item.depth,
+                               VKP_BVH_MAX_DEPTH));
         if (static_cast<uint64_t>(node.offset) + node.count > prims.size()) {
-            report(fmt::format("leaf {}: primitives [{}, {}) beyond the {} primitives", item.node, node.offset,
-                               static_cast<uint64_t>(node.offset) + node.count, prims.size()));
+            report(fmt::format("leaf {}: primitives [{}, {}) beyond the {} primitives", item.node,
+                               node.offset, static_cast<uint64_t>(node.offset) + node.count,
+                               prims.size()));
             continue;
         }
         for (uint32_t i = node.offset; i < node.offset + node.count; ++i) {
             if (primitiveLeaf[i] != std::numeric_limits<uint32_t>::max())
-                report(fmt::format("primitive {} is in leaves {} and {}", i, primitiveLeaf[i], item.node));
+                report(fmt::format("primitive {} is in leaves {} and {}", i, primitiveLeaf[i],
+                                   item.node));
             primitiveLeaf[i] = item.node;
             const BvhPrimitive& p = prims[i];
             glm::vec3 lo, hi;
@@ -564,8 +587,10 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
                 lo = glm::min(glm::min(p.p0, p.p1), p.p2);
                 hi = glm::max(glm::max(p.p0, p.p1), p.p2);
             }
-            if (!glm::all(glm::lessThan(node.boundsMin, lo)) || !glm::all(glm::lessThan(hi, node.boundsMax)))
-                report(fmt::format("primitive {} is not strictly inside leaf {}'s box", i, item.node));
+            if (!glm::all(glm::lessThan(node.boundsMin, lo)) ||
+                !glm::all(glm::lessThan(hi, node.boundsMax)))
+                report(
+                    fmt::format("primitive {} is not strictly inside leaf {}'s box", i, item.node));
         }
     }
     if (visited != nodes.size())

@@ -5,7 +5,8 @@
 //   bvh::BvhBuild build = bvh::buildBvh(scene);               // host arrays + stats
 //   std::vector<std::string> problems = bvh::integrityCheck(build, scene);
 //   bvh::GpuBvh gpu = bvh::uploadBvh(context, build);         // host/bvh/gpu_bvh.h
-//   shared::BvhView view{build.traversalNodes, build.primitives};  // CPU traversal, host/bvh/bvh_view.h
+//   shared::BvhView view{build.traversalNodes, build.primitives};  // CPU traversal,
+//   host/bvh/bvh_view.h
 #pragma once
 
 #include <cstddef>
@@ -44,22 +45,24 @@ struct BvhOptions {
 };
 
 struct BvhStats {
-    size_t triangles = 0;            // in the BVH
-    size_t spheres = 0;              // in the BVH
-    size_t degenerateTriangles = 0;  // left out: zero area or a non-finite vertex (never hit anyway)
-    size_t degenerateSpheres = 0;    // left out: radius <= 0 or non-finite
+    size_t triangles = 0;  // in the BVH
+    size_t spheres = 0;    // in the BVH
+    size_t degenerateTriangles =
+        0;                         // left out: zero area or a non-finite vertex (never hit anyway)
+    size_t degenerateSpheres = 0;  // left out: radius <= 0 or non-finite
     size_t nodes = 0;
     size_t leaves = 0;
-    uint32_t maxDepth = 0;           // of a leaf, root at 0
-    uint32_t largestLeaf = 0;        // primitives in the fullest leaf
-    double sahCost = 0;              // see sahCost()
-    double buildMilliseconds = 0;    // wall clock, scene to flattened arrays
+    uint32_t maxDepth = 0;         // of a leaf, root at 0
+    uint32_t largestLeaf = 0;      // primitives in the fullest leaf
+    double sahCost = 0;            // see sahCost()
+    double buildMilliseconds = 0;  // wall clock, scene to flattened arrays
 };
 
 struct BvhBuild {
     std::vector<shared::BvhNode> nodes;            // depth-first preorder, root at 0
     std::vector<shared::BvhPrimitive> primitives;  // in leaf order
-    std::vector<glm::uvec4> traversalNodes;        // the nodes as traversal reads them (traversal_nodes.h)
+    std::vector<glm::uvec4>
+        traversalNodes;  // the nodes as traversal reads them (traversal_nodes.h)
     BvhStats stats;
 
     size_t nodeBytes() const { return nodes.size() * sizeof(shared::BvhNode); }

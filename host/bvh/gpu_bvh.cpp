@@ -17,7 +17,9 @@ std::string formatBytes(uint64_t bytes) {
     return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
 }
 
-glm::uvec2 split(VkDeviceAddress address) { return {uint32_t(address), uint32_t(address >> 32)}; }
+glm::uvec2 split(VkDeviceAddress address) {
+    return {uint32_t(address), uint32_t(address >> 32)};
+}
 
 }  // namespace
 
@@ -33,7 +35,8 @@ std::array<vk::ArrayExtent, 2> arrayExtents(const BvhBuild& bvh) {
 
 GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh) {
     const auto extents = arrayExtents(bvh);
-    return uploadBvh(context, bvh, vk::chooseAddressAccess(extents, vk::bufferLimits(context.info())));
+    return uploadBvh(context, bvh,
+                     vk::chooseAddressAccess(extents, vk::bufferLimits(context.info())));
 }
 
 GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
@@ -48,7 +51,8 @@ GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
         gpu.primitives = vk::Buffer::fromSpan(context, std::span(bvh.primitives), "bvh primitives");
     }
     // One texel: the bindings are texel buffers (shared/bvh_buffers.h).
-    if (byAddress) gpu.placeholder = vk::Buffer(context, 16, vk::MemoryKind::DeviceLocal, "bvh placeholder");
+    if (byAddress)
+        gpu.placeholder = vk::Buffer(context, 16, vk::MemoryKind::DeviceLocal, "bvh placeholder");
     return gpu;
 }
 

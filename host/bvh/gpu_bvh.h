@@ -20,10 +20,10 @@ class Context;
 namespace vkpath::bvh {
 
 struct GpuBvh {
-    vk::Buffer nodes;         // BvhBuild::traversalNodes
-    vk::Buffer primitives;    // BvhPrimitive[], leaf order
-    bool byAddress = false;   // kernels read both by address (VKP_SPEC_SCENE_BY_ADDRESS)
-    vk::Buffer placeholder;   // bound in place of both when byAddress (never read)
+    vk::Buffer nodes;        // BvhBuild::traversalNodes
+    vk::Buffer primitives;   // BvhPrimitive[], leaf order
+    bool byAddress = false;  // kernels read both by address (VKP_SPEC_SCENE_BY_ADDRESS)
+    vk::Buffer placeholder;  // bound in place of both when byAddress (never read)
 
     // What to bind to the kernels' node and primitive bindings.
     const vk::Buffer& nodeBinding() const { return byAddress ? placeholder : nodes; }

@@ -24,8 +24,9 @@ uint32_t magnitudeWith(uint32_t magnitude, uint32_t bits, bool down) {
     if (down && m > magnitude) m -= WORD_MASK + 1u;
     if (!down && m < magnitude) m += WORD_MASK + 1u;
     if (m > LARGEST_FINITE)
-        throw std::length_error(fmt::format("BVH: a bound of magnitude {} is too close to the largest float",
-                                            std::bit_cast<float>(magnitude)));
+        throw std::length_error(
+            fmt::format("BVH: a bound of magnitude {} is too close to the largest float",
+                        std::bit_cast<float>(magnitude)));
     return m;
 }
 
@@ -40,30 +41,40 @@ float embed(float x, uint32_t bits, bool below) {
     return std::bit_cast<float>(sign | magnitudeWith(u & MAGNITUDE_MASK, bits, down));
 }
 
-uint32_t childWord(std::span<const BvhNode> nodes, uint32_t child, const std::vector<uint32_t>& record) {
+uint32_t childWord(std::span<const BvhNode> nodes, uint32_t child,
+                   const std::vector<uint32_t>& record) {
     const BvhNode& n = nodes[child];
     if (n.count == 0) return record[child];
     if (n.count > VKP_BVH_MAX_LEAF_COUNT)
-        throw std::length_error(fmt::format("BVH: a leaf of {} primitives, more than the {} a node word holds",
-                                            n.count, VKP_BVH_MAX_LEAF_COUNT));
+        throw std::length_error(
+            fmt::format("BVH: a leaf of {} primitives, more than the {} a node word holds", n.count,
+                        VKP_BVH_MAX_LEAF_COUNT));
     if (n.offset > VKP_BVH_WORD_INDEX_MASK)
-        throw std::length_error(fmt::format("BVH: primitive {} is past the 2^28 a node word indexes", n.offset));
+        throw std::length_error(
+            fmt::format("BVH: primitive {} is past the 2^28 a node word indexes", n.offset));
     return (n.count << VKP_BVH_WORD_COUNT_SHIFT) | n.offset;
 }
 
 // A child's box with its word in the low bits: six floats, min.xyz max.xyz.
 void putChild(const BvhNode& child, uint32_t word, uint32_t* out) {
-    auto bitsOf = [word](uint32_t slot) { return (word >> (VKP_BVH_WORD_BITS * slot)) & WORD_MASK; };
+    auto bitsOf = [word](uint32_t slot) {
+        return (word >> (VKP_BVH_WORD_BITS * slot)) & WORD_MASK;
+    };
     for (uint32_t axis = 0; axis < 3; ++axis) {
         out[axis] = std::bit_cast<uint32_t>(embedBelow(child.boundsMin[axis], bitsOf(axis)));
-        out[3 + axis] = std::bit_cast<uint32_t>(embedAbove(child.boundsMax[axis], bitsOf(3 + axis)));
+        out[3 + axis] =
+            std::bit_cast<uint32_t>(embedAbove(child.boundsMax[axis], bitsOf(3 + axis)));
     }
 }
 
 }  // namespace
 
-float embedBelow(float x, uint32_t bits) { return embed(x, bits & WORD_MASK, true); }
-float embedAbove(float x, uint32_t bits) { return embed(x, bits & WORD_MASK, false); }
+float embedBelow(float x, uint32_t bits) {
+    return embed(x, bits & WORD_MASK, true);
+}
+float embedAbove(float x, uint32_t bits) {
+    return embed(x, bits & WORD_MASK, false);
+}
 
 std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes) {
     std::vector<glm::uvec4> texels;
@@ -86,7 +97,8 @@ std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes) {
     for (size_t i = 0; i < nodes.size(); ++i) {
         if (nodes[i].count != 0) continue;
         if (next > VKP_BVH_WORD_INDEX_MASK)
-            throw std::length_error("BVH: more node records than the 2^28 texels a node word indexes");
+            throw std::length_error(
+                "BVH: more node records than the 2^28 texels a node word indexes");
         record[i] = next;
         next += VKP_BVH_RECORD_TEXELS;
     }

@@ -6,7 +6,9 @@
 namespace vkpath::bvh {
 namespace {
 
-bool isLeaf(const shared::BvhNode& node) { return node.count > 0; }
+bool isLeaf(const shared::BvhNode& node) {
+    return node.count > 0;
+}
 
 float surfaceArea(const shared::BvhNode& node) {
     const glm::vec3 d = node.boundsMax - node.boundsMin;
@@ -16,7 +18,8 @@ float surfaceArea(const shared::BvhNode& node) {
 // Appends the blocks of the leaf holding primitives [first, first + count),
 // its triangles then its spheres, each kind in blocks of its own in leaf
 // order; returns the index of the first block.
-uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t first, uint32_t count, WideBvh& wide) {
+uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t first,
+                      uint32_t count, WideBvh& wide) {
     const auto start = uint32_t(wide.blocks.size());
     for (const bool spheres : {false, true}) {
         uint32_t lane = WideBvh::BLOCK;
@@ -42,9 +45,11 @@ uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t
 }
 
 // How many blocks appendBlocks makes of primitives [first, first + count).
-uint32_t blockCount(std::span<const shared::BvhPrimitive> primitives, uint32_t first, uint32_t count) {
+uint32_t blockCount(std::span<const shared::BvhPrimitive> primitives, uint32_t first,
+                    uint32_t count) {
     uint32_t spheres = 0;
-    for (uint32_t i = first; i < first + count; ++i) spheres += primitives[i].kind == VKP_PRIMITIVE_SPHERE;
+    for (uint32_t i = first; i < first + count; ++i)
+        spheres += primitives[i].kind == VKP_PRIMITIVE_SPHERE;
     auto blocks = [](uint32_t n) { return (n + WideBvh::BLOCK - 1) / WideBvh::BLOCK; };
     return blocks(count - spheres) + blocks(spheres);
 }
@@ -70,18 +75,24 @@ constexpr float SPLIT_COST = 0.0f;
 // expected to cost no more than descending into it (the surface area
 // heuristic: a child is met by a ray that meets its parent with the ratio of
 // their box areas); a binary leaf is a wide leaf whatever its size.
-Subtree measureSubtree(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives,
-                       uint32_t index, std::vector<Subtree>& subtrees) {
+Subtree measureSubtree(std::span<const shared::BvhNode> binary,
+                       std::span<const shared::BvhPrimitive> primitives, uint32_t index,
+                       std::vector<Subtree>& subtrees) {
     const shared::BvhNode& node = binary[index];
-    auto leafCost = [&](uint32_t first, uint32_t count) { return float(blockCount(primitives, first, count)); };
+    auto leafCost = [&](uint32_t first, uint32_t count) {
+        return float(blockCount(primitives, first, count));
+    };
     if (isLeaf(node))
-        return subtrees[index] = Subtree{node.offset, node.count, true, leafCost(node.offset, node.count)};
+        return subtrees[index] =
+                   Subtree{node.offset, node.count, true, leafCost(node.offset, node.count)};
     const Subtree left = measureSubtree(binary, primitives, index + 1, subtrees);
     const Subtree right = measureSubtree(binary, primitives, node.offset, subtrees);
-    if (left.first + left.count != right.first) throw std::logic_error("BVH subtree primitives are not contiguous");
+    if (left.first + left.count != right.first)
+        throw std::logic_error("BVH subtree primitives are not contiguous");
     const float area = std::max(surfaceArea(node), 1e-30f);
     const float splitCost = SPLIT_COST + (surfaceArea(binary[index + 1]) * left.cost +
-                                          surfaceArea(binary[node.offset]) * right.cost) / area;
+                                          surfaceArea(binary[node.offset]) * right.cost) /
+                                             area;
     Subtree subtree{left.first, left.count + right.count, false, splitCost};
     if (subtree.count <= WideBvh::LEAF_PRIMITIVES) {
         const float cost = leafCost(subtree.first, subtree.count);
@@ -112,7 +123,8 @@ struct Collapse {
         while (slots.size() < WideBvh::WIDTH) {
             auto largest = slots.end();
             for (auto it = slots.begin(); it != slots.end(); ++it)
-                if (!leaf(*it) && (largest == slots.end() || surfaceArea(binary[*it]) > surfaceArea(binary[*largest])))
+                if (!leaf(*it) && (largest == slots.end() ||
+                                   surfaceArea(binary[*it]) > surfaceArea(binary[*largest])))
                     largest = it;
             if (largest == slots.end()) break;
             const uint32_t opened = *largest;
@@ -148,9 +160,11 @@ struct Collapse {
 
 }  // namespace
 
-WideBvh collapseBvh(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives) {
+WideBvh collapseBvh(std::span<const shared::BvhNode> binary,
+                    std::span<const shared::BvhPrimitive> primitives) {
     WideBvh wide;
-    if (binary.empty() || (binary[0].count == 0 && binary[0].offset == 0)) return wide;  // empty tree
+    if (binary.empty() || (binary[0].count == 0 && binary[0].offset == 0))
+        return wide;  // empty tree
     Collapse collapse{binary, primitives, std::vector<Subtree>(binary.size()), wide};
     measureSubtree(binary, primitives, 0, collapse.subtrees);
     collapse.node(0);

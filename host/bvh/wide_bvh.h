@@ -87,7 +87,8 @@ struct WideBvh {
 };
 
 // The wide tree over a BvhBuild's depth-first node array and its leaf-ordered primitives.
-WideBvh collapseBvh(std::span<const shared::BvhNode> binary, std::span<const shared::BvhPrimitive> primitives);
+WideBvh collapseBvh(std::span<const shared::BvhNode> binary,
+                    std::span<const shared::BvhPrimitive> primitives);
 
 namespace wide_detail {
 
@@ -105,8 +106,12 @@ inline Vector load(const Value* values) {
     return v;
 }
 // glm's min and max, lane by lane: the binary traversal's operations.
-inline Floats minOf(Floats a, Floats b) { return b < a ? b : a; }
-inline Floats maxOf(Floats a, Floats b) { return a < b ? b : a; }
+inline Floats minOf(Floats a, Floats b) {
+    return b < a ? b : a;
+}
+inline Floats maxOf(Floats a, Floats b) {
+    return a < b ? b : a;
+}
 
 // Bit i set where lane i of `mask` is true (all ones).
 inline uint32_t laneBits(Ints mask) {
@@ -122,8 +127,9 @@ inline uint32_t laneBits(Ints mask) {
 // shared/intersect.h intersectBox for the node's eight boxes: bit i of the
 // result says whether the ray meets child i before or at tLimit; entries[i] is
 // where it enters.
-inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origin, const glm::vec3& inverseDirection,
-                               float tLimit, float entries[WideBvh::WIDTH]) {
+inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origin,
+                               const glm::vec3& inverseDirection, float tLimit,
+                               float entries[WideBvh::WIDTH]) {
     const Floats t0x = (load<Floats>(node.minX) - origin.x) * inverseDirection.x;
     const Floats t0y = (load<Floats>(node.minY) - origin.y) * inverseDirection.y;
     const Floats t0z = (load<Floats>(node.minZ) - origin.z) * inverseDirection.z;
@@ -131,8 +137,10 @@ inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origi
     const Floats t1y = (load<Floats>(node.maxY) - origin.y) * inverseDirection.y;
     const Floats t1z = (load<Floats>(node.maxZ) - origin.z) * inverseDirection.z;
     const Floats zero = {};
-    const Floats entry = maxOf(maxOf(minOf(t0x, t1x), minOf(t0y, t1y)), maxOf(minOf(t0z, t1z), zero));
-    const Floats exit = minOf(minOf(maxOf(t0x, t1x), maxOf(t0y, t1y)), maxOf(t0z, t1z)) * VKP_BOX_SLACK;
+    const Floats entry =
+        maxOf(maxOf(minOf(t0x, t1x), minOf(t0y, t1y)), maxOf(minOf(t0z, t1z), zero));
+    const Floats exit =
+        minOf(minOf(maxOf(t0x, t1x), maxOf(t0y, t1y)), maxOf(t0z, t1z)) * VKP_BOX_SLACK;
     const Ints hit = (entry <= exit) & (entry <= tLimit * VKP_BOX_SLACK);
     std::memcpy(entries, &entry, sizeof entry);
     return laneBits(hit) & ((1u << node.children) - 1u);
@@ -165,17 +173,19 @@ inline Floats squareRoot(Floats x) {
 // shared/intersect.h intersectSphere for a block of spheres, lane by lane the
 // same operations (glm's dot is (x + y) + z): bit i of the result says
 // whether sphere i is hit in [0, limit[i]), t[i] is where.
-inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, Floats limit, Floats& t) {
+inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray& ray, Floats limit,
+                                 Floats& t) {
     const glm::vec3 o = ray.origin, d = ray.direction;
     const Floats fx = o.x - load<Floats>(block.p0x), fy = o.y - load<Floats>(block.p0y),
                  fz = o.z - load<Floats>(block.p0z);
     const Floats radius = load<Floats>(block.p1x);
     const float a = glm::dot(d, d);
     const Floats b = -((fx * d.x + fy * d.y) + fz * d.z);
-    const Floats closestX = a * fx + b * d.x, closestY = a * fy + b * d.y, closestZ = a * fz + b * d.z;
+    const Floats closestX = a * fx + b * d.x, closestY = a * fy + b * d.y,
+                 closestZ = a * fz + b * d.z;
     const Floats scaledRadius = a * radius;
-    const Floats discriminant =
-        scaledRadius * scaledRadius - ((closestX * closestX + closestY * closestY) + closestZ * closestZ);
+    const Floats discriminant = scaledRadius * scaledRadius -
+                                ((closestX * closestX + closestY * closestY) + closestZ * closestZ);
     const Floats zero = {};
     uint32_t hit = laneBits(discriminant >= zero) & block.spheres;
     if (hit == 0) return 0;
@@ -195,15 +205,20 @@ inline uint32_t intersectSpheres(const WideBvh::Block& block, const shared::Ray&
 // [0, limit[i]), t[i] and (v[i], w[i]) / det[i] are where. Returns
 // `fallback` true, and nothing else, when an edge function of a lane rounds
 // to zero: there intersectTriangle decides in double.
-inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::TriangleRay& triangleRay, Floats limit,
-                                   Floats& t, Floats& v, Floats& w, Floats& det, bool& fallback) {
+inline uint32_t intersectTriangles(const WideBvh::Block& block,
+                                   const shared::TriangleRay& triangleRay, Floats limit, Floats& t,
+                                   Floats& v, Floats& w, Floats& det, bool& fallback) {
     // Vertices relative to the origin in the permuted axes, the shear, the edge functions.
     const glm::vec3 o = triangleRay.origin;
-    const Floats p0[3] = {load<Floats>(block.p0x) - o.x, load<Floats>(block.p0y) - o.y, load<Floats>(block.p0z) - o.z};
-    const Floats p1[3] = {load<Floats>(block.p1x) - o.x, load<Floats>(block.p1y) - o.y, load<Floats>(block.p1z) - o.z};
-    const Floats p2[3] = {load<Floats>(block.p2x) - o.x, load<Floats>(block.p2y) - o.y, load<Floats>(block.p2z) - o.z};
+    const Floats p0[3] = {load<Floats>(block.p0x) - o.x, load<Floats>(block.p0y) - o.y,
+                          load<Floats>(block.p0z) - o.z};
+    const Floats p1[3] = {load<Floats>(block.p1x) - o.x, load<Floats>(block.p1y) - o.y,
+                          load<Floats>(block.p1z) - o.z};
+    const Floats p2[3] = {load<Floats>(block.p2x) - o.x, load<Floats>(block.p2y) - o.y,
+                          load<Floats>(block.p2z) - o.z};
     const uint32_t kx = triangleRay.kx, ky = triangleRay.ky, kz = triangleRay.kz;
-    const float dx = triangleRay.direction.x, dy = triangleRay.direction.y, dz = triangleRay.direction.z;
+    const float dx = triangleRay.direction.x, dy = triangleRay.direction.y,
+                dz = triangleRay.direction.z;
     const Floats ax = dz * p0[kx] - dx * p0[kz], ay = dz * p0[ky] - dy * p0[kz];
     const Floats bx = dz * p1[kx] - dx * p1[kz], by = dz * p1[ky] - dy * p1[kz];
     const Floats cx = dz * p2[kx] - dx * p2[kz], cy = dz * p2[ky] - dy * p2[kz];
@@ -218,14 +233,16 @@ inline uint32_t intersectTriangles(const WideBvh::Block& block, const shared::Tr
     det = u + v + w;
     const Floats scaledT = u * p0[kz] + v * p1[kz] + w * p2[kz];
     t = scaledT / (dz * det);
-    return laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) & block.triangles;
+    return laneBits(~(negative & positive) & (det != zero) & (t >= zero) & (t < limit)) &
+           block.triangles;
 }
 
 // Tests a block's primitives as shared/bvh_leaf.h bvhTestPrimitive would,
 // each in turn, and updates `hit` alike. Returns whether it took a hit.
 template <typename View>
 bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray& ray,
-               const shared::TriangleRay& triangleRay, uint32_t alphaKey, bool anyHit, shared::Hit& hit) {
+               const shared::TriangleRay& triangleRay, uint32_t alphaKey, bool anyHit,
+               shared::Hit& hit) {
     const Floats limit = intervalEnds(block, hit);
     Floats t, v, w, det;
     uint32_t candidates;
@@ -237,7 +254,8 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
         if (fallback) {
             bool took = false;
             for (uint32_t bits = block.triangles; bits != 0; bits &= bits - 1) {
-                if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)], alphaKey, hit)) {
+                if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)],
+                                          alphaKey, hit)) {
                     if (anyHit) return true;
                     took = true;
                 }
@@ -252,7 +270,9 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
         uint32_t best = uint32_t(__builtin_ctz(candidates));
         for (uint32_t bits = candidates & (candidates - 1); bits != 0; bits &= bits - 1) {
             const uint32_t lane = uint32_t(__builtin_ctz(bits));
-            if (t[lane] < t[best] || (t[lane] == t[best] && block.primitive[lane] < block.primitive[best])) best = lane;
+            if (t[lane] < t[best] ||
+                (t[lane] == t[best] && block.primitive[lane] < block.primitive[best]))
+                best = lane;
         }
         candidates &= ~(1u << best);
         const uint32_t index = block.primitive[best];
@@ -297,16 +317,20 @@ shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& 
     stack[size++] = Entry{0, 0, 0.0f};
     while (size > 0) {
         const Entry top = stack[--size];
-        if (!(top.entry <= hit.t * VKP_BOX_SLACK)) continue;  // the box lies beyond the hit found since
+        if (!(top.entry <= hit.t * VKP_BOX_SLACK))
+            continue;  // the box lies beyond the hit found since
         if (top.count > 0) {
             for (uint32_t b = top.child; b < top.child + top.count; ++b)
-                if (wide_detail::testBlock(view, wide.blocks[b], ray, triangleRay, alphaKey, anyHit, hit) && anyHit)
+                if (wide_detail::testBlock(view, wide.blocks[b], ray, triangleRay, alphaKey, anyHit,
+                                           hit) &&
+                    anyHit)
                     return hit;
             continue;
         }
         const WideBvh::Node& node = wide.nodes[top.child];
         float entries[WideBvh::WIDTH];
-        uint32_t bits = wide_detail::intersectBoxes(node, ray.origin, inverseDirection, hit.t, entries);
+        uint32_t bits =
+            wide_detail::intersectBoxes(node, ray.origin, inverseDirection, hit.t, entries);
         // Push the hit children farthest first, so the nearest is popped next.
         const uint32_t first = size;
         for (; bits != 0; bits &= bits - 1) {

@@ -18,15 +18,17 @@ namespace {
 std::filesystem::path temporaryBeside(const std::filesystem::path& path) {
     // Keep the extension: OpenImageIO picks the format from it.
     auto temp = path;
-    temp.replace_filename(fmt::format(".{}.partial{}", path.stem().string(), path.extension().string()));
+    temp.replace_filename(
+        fmt::format(".{}.partial{}", path.stem().string(), path.extension().string()));
     return temp;
 }
 
-void writeWithOiio(const std::filesystem::path& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                   const void* data) {
+void writeWithOiio(const std::filesystem::path& path, const OIIO::ImageSpec& spec,
+                   OIIO::TypeDesc type, const void* data) {
     const auto temp = temporaryBeside(path);
     auto out = OIIO::ImageOutput::create(temp.string());
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot create an image writer", path.string()));
+    if (!out)
+        throw std::runtime_error(fmt::format("{}: cannot create an image writer", path.string()));
     bool ok = out->open(temp.string(), spec) && out->write_image(type, data) && out->close();
     if (!ok) {
         const std::string error = out->geterror();
@@ -57,7 +59,8 @@ void writeWithOiio(const std::filesystem::path& path, const OIIO::ImageSpec& spe
 void checkExrHeader(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     unsigned char start[8] = {};
-    if (!in.read(reinterpret_cast<char*>(start), 8)) return;  // too short to be an EXR: OIIO says what it is
+    if (!in.read(reinterpret_cast<char*>(start), 8))
+        return;  // too short to be an EXR: OIIO says what it is
     if (start[0] != 0x76 || start[1] != 0x2f || start[2] != 0x31 || start[3] != 0x01) return;
     const bool multiPart = start[5] & 0x10;  // version flags, bit 12
     std::error_code ec;
@@ -76,15 +79,34 @@ void checkExrHeader(const std::filesystem::path& path) {
     };
     auto read32 = [&](const std::string& attribute) {
         unsigned char b[4];
-        if (!in.read(reinterpret_cast<char*>(b), 4)) throw damaged(fmt::format("it ends in attribute '{}'", attribute));
+        if (!in.read(reinterpret_cast<char*>(b), 4))
+            throw damaged(fmt::format("it ends in attribute '{}'", attribute));
         return uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
     };
-    static const std::map<std::string, int32_t> fixedSizes = {
-        {"box2i", 16}, {"box2f", 16},   {"compression", 1}, {"double", 8}, {"envmap", 1},    {"float", 4},
-        {"int", 4},    {"keycode", 28}, {"lineOrder", 1},   {"m33f", 36},  {"m44f", 64},     {"m33d", 72},
-        {"m44d", 128}, {"rational", 8}, {"tiledesc", 9},    {"timecode", 8}, {"v2i", 8},     {"v2f", 8},
-        {"v3i", 12},   {"v3f", 12},     {"v2d", 16},        {"v3d", 24},   {"deepImageState", 1},
-        {"chromaticities", 32}};
+    static const std::map<std::string, int32_t> fixedSizes = {{"box2i", 16},
+                                                              {"box2f", 16},
+                                                              {"compression", 1},
+                                                              {"double", 8},
+                                                              {"envmap", 1},
+                                                              {"float", 4},
+                                                              {"int", 4},
+                                                              {"keycode", 28},
+                                                              {"lineOrder", 1},
+                                                              {"m33f", 36},
+                                                              {"m44f", 64},
+                                                              {"m33d", 72},
+                                                              {"m44d", 128},
+                                                              {"rational", 8},
+                                                              {"tiledesc", 9},
+                                                              {"timecode", 8},
+                                                              {"v2i", 8},
+                                                              {"v2f", 8},
+                                                              {"v3i", 12},
+                                                              {"v3f", 12},
+                                                              {"v2d", 16},
+                                                              {"v3d", 24},
+                                                              {"deepImageState", 1},
+                                                              {"chromaticities", 32}};
     for (bool partStart = true;;) {
         const std::string name = readName();
         if (name.empty()) {
@@ -99,16 +121,19 @@ void checkExrHeader(const std::filesystem::path& path) {
         const uint64_t at = uint64_t(in.tellg());
         const uint64_t left = size - std::min(size, at);
         if (length < 0 || uint64_t(length) > left)
-            throw damaged(fmt::format("attribute '{}' claims {} bytes, the file has {} left", name, length, left));
+            throw damaged(fmt::format("attribute '{}' claims {} bytes, the file has {} left", name,
+                                      length, left));
         const auto fixed = fixedSizes.find(type);
         if (fixed != fixedSizes.end() && length != fixed->second)
-            throw damaged(fmt::format("attribute '{}' of type {} is {} bytes, not {}", name, type, length, fixed->second));
+            throw damaged(fmt::format("attribute '{}' of type {} is {} bytes, not {}", name, type,
+                                      length, fixed->second));
         if (type == "stringvector") {
             for (int64_t used = 0; used < length;) {
                 const uint32_t stringLength = read32(name);
                 used += 4 + int64_t(stringLength);
                 if (stringLength > uint32_t(INT32_MAX) || used > length)
-                    throw damaged(fmt::format("a string of attribute '{}' runs past its end", name));
+                    throw damaged(
+                        fmt::format("a string of attribute '{}' runs past its end", name));
                 in.seekg(stringLength, std::ios::cur);
             }
             continue;
@@ -123,20 +148,25 @@ void checkExrHeader(const std::filesystem::path& path) {
                 const uint32_t pixelType = read32(name);
                 in.seekg(4, std::ios::cur);
                 const int32_t xSampling = int32_t(read32(name)), ySampling = int32_t(read32(name));
-                if (uint64_t(in.tellg()) > end) throw damaged(fmt::format("channel list '{}' runs past its end", name));
+                if (uint64_t(in.tellg()) > end)
+                    throw damaged(fmt::format("channel list '{}' runs past its end", name));
                 if (pixelType > 2)
-                    throw damaged(fmt::format("channel '{}' has pixel type {}, not 0 (uint), 1 (half) or 2 (float)",
-                                              channel, pixelType));
+                    throw damaged(fmt::format(
+                        "channel '{}' has pixel type {}, not 0 (uint), 1 (half) or 2 (float)",
+                        channel, pixelType));
                 if (xSampling < 1 || ySampling < 1)
-                    throw damaged(fmt::format("channel '{}' has sampling {}x{}", channel, xSampling, ySampling));
+                    throw damaged(fmt::format("channel '{}' has sampling {}x{}", channel, xSampling,
+                                              ySampling));
             }
             in.seekg(std::streamoff(end));
             continue;
         }
         if (type == "preview") {
-            const uint64_t width = length >= 8 ? read32(name) : 0, height = length >= 8 ? read32(name) : 0;
+            const uint64_t width = length >= 8 ? read32(name) : 0,
+                           height = length >= 8 ? read32(name) : 0;
             if (length < 8 || 8 + 4 * width * height != uint64_t(length))
-                throw damaged(fmt::format("preview '{}' claims {}x{} pixels in {} bytes", name, width, height, length));
+                throw damaged(fmt::format("preview '{}' claims {}x{} pixels in {} bytes", name,
+                                          width, height, length));
             in.seekg(length - 8, std::ios::cur);
             continue;
         }
@@ -151,7 +181,8 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::filesystem::path& path) {
         throw InputError(fmt::format("{}: no such file", path.string()));
     checkExrHeader(path);
     auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
+    if (!in)
+        throw InputError(fmt::format("{}: cannot read image: {}", path.string(), OIIO::geterror()));
     return in;
 }
 
@@ -163,7 +194,8 @@ float linearToSrgb(float linear) {
 }
 
 void writeExr(const std::filesystem::path& path, const Image& image, const Metadata& metadata) {
-    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3, OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3,
+                         OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B"};
     spec.attribute("compression", "zip");
     for (const auto& [key, value] : metadata) spec.attribute(key, value);
@@ -180,7 +212,8 @@ void writePng(const std::filesystem::path& path, const Image& image, float expos
             const float encoded = std::isnan(v) ? 0.0f : linearToSrgb(v);
             bytes[3 * i + c] = static_cast<uint8_t>(std::lround(encoded * 255.0f));
         }
-    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3,
+                         OIIO::TypeDesc::UINT8);
     writeWithOiio(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
@@ -200,8 +233,8 @@ Image readImage(const std::filesystem::path& path, uint64_t maxPixels) {
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth != 1)
         throw InputError(fmt::format("{}: not a 2-D image", path.string()));
     if (uint64_t(spec.width) * uint64_t(spec.height) > maxPixels)
-        throw InputError(fmt::format("{}: {}x{} pixels exceed the limit of {}", path.string(), spec.width,
-                                     spec.height, maxPixels));
+        throw InputError(fmt::format("{}: {}x{} pixels exceed the limit of {}", path.string(),
+                                     spec.width, spec.height, maxPixels));
     // Only the channels used: the file may declare thousands, and maxPixels
     // bounds what is allocated only if a pixel's size is bounded too.
     const int channels = std::min(spec.nchannels, 3);
@@ -216,7 +249,8 @@ Image readImage(const std::filesystem::path& path, uint64_t maxPixels) {
     return image;
 }
 
-Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& format, uint64_t maxPixels) {
+Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& format,
+                        uint64_t maxPixels) {
     OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
     // Texture images keep straight (unassociated) alpha, as glTF's are: without
     // this OpenImageIO premultiplies on reading, and rounds the colour of every
@@ -229,13 +263,14 @@ Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& forma
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     // The name only picks the reader; the bytes come from `memory`.
     auto in = OIIO::ImageInput::open("texture." + format, &config, proxy);
-    if (!in) throw InputError(fmt::format("cannot decode the {} image: {}", format, OIIO::geterror()));
+    if (!in)
+        throw InputError(fmt::format("cannot decode the {} image: {}", format, OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth != 1)
         throw InputError(fmt::format("the {} image is not a 2-D image", format));
     if (uint64_t(spec.width) * uint64_t(spec.height) > maxPixels)
-        throw InputError(fmt::format("the {} image's {}x{} pixels exceed the limit of {}", format, spec.width,
-                                     spec.height, maxPixels));
+        throw InputError(fmt::format("the {} image's {}x{} pixels exceed the limit of {}", format,
+                                     spec.width, spec.height, maxPixels));
     const int channels = std::min(spec.nchannels, 4);
     std::vector<uint16_t> data(size_t(spec.width) * spec.height * channels);
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, data.data()))
@@ -248,10 +283,18 @@ Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& forma
         const uint16_t* p = &data[i * channels];
         const uint16_t opaque = 65535;
         switch (channels) {
-            case 1: image.texels[i] = glm::u16vec4(p[0], p[0], p[0], opaque); break;
-            case 2: image.texels[i] = glm::u16vec4(p[0], p[0], p[0], p[1]); break;
-            case 3: image.texels[i] = glm::u16vec4(p[0], p[1], p[2], opaque); break;
-            default: image.texels[i] = glm::u16vec4(p[0], p[1], p[2], p[3]); break;
+            case 1:
+                image.texels[i] = glm::u16vec4(p[0], p[0], p[0], opaque);
+                break;
+            case 2:
+                image.texels[i] = glm::u16vec4(p[0], p[0], p[0], p[1]);
+                break;
+            case 3:
+                image.texels[i] = glm::u16vec4(p[0], p[1], p[2], opaque);
+                break;
+            default:
+                image.texels[i] = glm::u16vec4(p[0], p[1], p[2], p[3]);
+                break;
         }
     }
     return image;

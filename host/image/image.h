@@ -2,11 +2,10 @@
 // PNG previews (sRGB-encoded, with an exposure in stops).
 #pragma once
 
-#include <glm/ext/vector_uint4_sized.hpp>
-#include <glm/vec3.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <glm/ext/vector_uint4_sized.hpp>
+#include <glm/vec3.hpp>
 #include <map>
 #include <span>
 #include <string>
@@ -54,7 +53,8 @@ struct Rgba16Image {
 // its reader ("png", "jpg"). Grey becomes RGB, a missing alpha 1. Throws
 // vkpath::InputError (without a file name: the caller knows where the bytes
 // came from) when it cannot be decoded or has more than maxPixels pixels.
-Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& format, uint64_t maxPixels);
+Rgba16Image decodeImage(std::span<const uint8_t> bytes, const std::string& format,
+                        uint64_t maxPixels);
 
 // The attributes of an image's header whose names start with "vkpath:" (what
 // writeExr wrote), as strings. Throws vkpath::InputError naming the file when

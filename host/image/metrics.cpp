@@ -1,10 +1,10 @@
 #include "image/metrics.h"
 
 #include <fmt/format.h>
-#include <glm/glm.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
 #include <limits>
 #include <vector>
 
@@ -13,7 +13,9 @@
 namespace vkpath::image {
 namespace {
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 struct Accumulator {
     double sumSquared = 0, sumRelative = 0, sumAbsolute = 0, maxError = -1;
@@ -50,8 +52,11 @@ struct Accumulator {
 
 // A few stops of a blue-green-yellow ramp (perceptually ordered, viridis-like).
 glm::vec3 ramp(float t) {
-    const glm::vec3 stops[] = {{0.267f, 0.005f, 0.329f}, {0.229f, 0.322f, 0.546f}, {0.128f, 0.567f, 0.551f},
-                               {0.369f, 0.789f, 0.383f}, {0.993f, 0.906f, 0.144f}};
+    const glm::vec3 stops[] = {{0.267f, 0.005f, 0.329f},
+                               {0.229f, 0.322f, 0.546f},
+                               {0.128f, 0.567f, 0.551f},
+                               {0.369f, 0.789f, 0.383f},
+                               {0.993f, 0.906f, 0.144f}};
     t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
     const int i = std::min(3, int(t));
     return glm::mix(stops[i], stops[i + 1], t - float(i));
@@ -71,7 +76,8 @@ double trimmedMean(std::vector<double> terms) {
 
 ImageMetrics compareImages(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
-        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height, b.width, b.height));
+        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height,
+                                     b.width, b.height));
     ImageMetrics metrics;
     std::array<Accumulator, 3> channels;
     Accumulator overall;
@@ -102,7 +108,8 @@ ImageMetrics compareImages(const Image& a, const Image& b) {
 
 ChannelMetrics estimateErrorFromPair(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
-        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height, b.width, b.height));
+        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height,
+                                     b.width, b.height));
     double sumSquared = 0, sumRelative = 0;
     uint64_t count = 0;
     std::vector<double> pixelRelMse;
@@ -131,7 +138,8 @@ ChannelMetrics estimateErrorFromPair(const Image& a, const Image& b) {
 
 Image errorHeatmap(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
-        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height, b.width, b.height));
+        throw InputError(fmt::format("image sizes differ: {}x{} and {}x{}", a.width, a.height,
+                                     b.width, b.height));
     Image heat(a.width, a.height);
     for (size_t i = 0; i < a.pixels.size(); ++i) {
         const glm::vec3 pa = a.pixels[i], pb = b.pixels[i];

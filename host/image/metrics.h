@@ -10,12 +10,13 @@
 namespace vkpath::image {
 
 struct ChannelMetrics {
-    double rmse = 0;      // sqrt(mean (a - b)^2)
-    double relMse = 0;    // mean (a - b)^2 / (b^2 + 1e-2)
-    double mae = 0;       // mean |a - b|
-    double maxError = 0;  // max |a - b|
+    double rmse = 0;              // sqrt(mean (a - b)^2)
+    double relMse = 0;            // mean (a - b)^2 / (b^2 + 1e-2)
+    double mae = 0;               // mean |a - b|
+    double maxError = 0;          // max |a - b|
     uint32_t maxX = 0, maxY = 0;  // where maxError is (first such pixel)
-    double psnr = 0;      // 10 log10(1 / mse): a peak of 1, as for display-referred images; +inf if equal
+    double psnr =
+        0;  // 10 log10(1 / mse): a peak of 1, as for display-referred images; +inf if equal
     // relMSE without the TRIMMED_FRACTION of pixels whose own relMSE (mean of
     // their channels' terms) is largest: an error that a few fireflies cannot
     // dominate. Set for ImageMetrics::overall and by estimateErrorFromPair.
@@ -27,7 +28,7 @@ struct ImageMetrics {
     ChannelMetrics overall;                  // over all channels of all finite pixels
     uint64_t nonFiniteA = 0;                 // pixels with a NaN or infinite channel in a
     uint64_t nonFiniteB = 0;
-    uint64_t comparedPixels = 0;             // pixels finite in both, the ones measured
+    uint64_t comparedPixels = 0;  // pixels finite in both, the ones measured
 };
 
 // The relative-MSE denominator's offset: keeps dark pixels from dominating.

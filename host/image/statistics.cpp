@@ -1,8 +1,8 @@
 #include "image/statistics.h"
 
-#include <boost/math/distributions/normal.hpp>
 #include <fmt/format.h>
 
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <vector>
 
@@ -18,20 +18,23 @@ struct PixelTerms {
 };
 
 PixelTerms pixelTerms(glm::vec3 p, glm::vec3 v) {
-    const double sd = (std::sqrt(double(v.x)) + std::sqrt(double(v.y)) + std::sqrt(double(v.z))) / 3;
+    const double sd =
+        (std::sqrt(double(v.x)) + std::sqrt(double(v.y)) + std::sqrt(double(v.z))) / 3;
     return {(double(p.x) + p.y + p.z) / 3, sd * sd};
 }
 
 void requireSameSize(const Image& a, const Image& b, const char* what) {
     if (a.width != b.width || a.height != b.height)
-        throw InputError(fmt::format("{}: {}x{} and {}x{} differ in size", what, a.width, a.height, b.width, b.height));
+        throw InputError(fmt::format("{}: {}x{} and {}x{} differ in size", what, a.width, a.height,
+                                     b.width, b.height));
 }
 
 }  // namespace
 
 std::filesystem::path aovPath(const std::filesystem::path& output, const std::string& aov) {
     auto path = output;
-    path.replace_filename(fmt::format("{}.{}{}", output.stem().string(), aov, output.extension().string()));
+    path.replace_filename(
+        fmt::format("{}.{}{}", output.stem().string(), aov, output.extension().string()));
     return path;
 }
 
@@ -60,18 +63,21 @@ double sidakAlpha(double alpha, uint64_t tests) {
 
 double normalCritical(double alpha) {
     // The upper alpha/2 quantile: 1 - Phi(z) = alpha / 2.
-    return boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), alpha / 2));
+    return boost::math::quantile(
+        boost::math::complement(boost::math::normal_distribution<double>(), alpha / 2));
 }
 
-BlockComparison compareBlocks(const Image& a, const Image& varianceA, const Image& b, const Image& varianceB,
-                              uint32_t blockSize, double alpha) {
+BlockComparison compareBlocks(const Image& a, const Image& varianceA, const Image& b,
+                              const Image& varianceB, uint32_t blockSize, double alpha) {
     requireSameSize(a, b, "images");
     requireSameSize(a, varianceA, "image A and its variance");
     requireSameSize(b, varianceB, "image B and its variance");
     if (blockSize == 0) throw InputError("block size must be at least 1");
-    if (!(alpha > 0 && alpha < 1)) throw InputError(fmt::format("alpha {} is not in (0, 1)", alpha));
+    if (!(alpha > 0 && alpha < 1))
+        throw InputError(fmt::format("alpha {} is not in (0, 1)", alpha));
 
-    const uint32_t bw = (a.width + blockSize - 1) / blockSize, bh = (a.height + blockSize - 1) / blockSize;
+    const uint32_t bw = (a.width + blockSize - 1) / blockSize,
+                   bh = (a.height + blockSize - 1) / blockSize;
     // Per block: sums of the channel averages and of their variances, for A and B.
     struct Sums {
         double meanA = 0, varianceA = 0, meanB = 0, varianceB = 0;

@@ -41,13 +41,13 @@ double sidakAlpha(double alpha, uint64_t tests);
 double normalCritical(double alpha);
 
 struct BlockComparison {
-    int blocks = 0;             // blockSize x blockSize blocks (partial ones at the right and bottom edges)
-    int rejected = 0;           // blocks whose means differ at the corrected significance
-    double worstZ = 0;          // largest |z| (+inf for a block with a NaN or infinite pixel)
-    uint32_t worstX = 0;        // top-left pixel of the block with the largest |z|
+    int blocks = 0;     // blockSize x blockSize blocks (partial ones at the right and bottom edges)
+    int rejected = 0;   // blocks whose means differ at the corrected significance
+    double worstZ = 0;  // largest |z| (+inf for a block with a NaN or infinite pixel)
+    uint32_t worstX = 0;  // top-left pixel of the block with the largest |z|
     uint32_t worstY = 0;
-    double critical = 0;        // the Sidak-corrected two-sided critical value of |z|
-    double alpha = 0;           // the family-wise false-alarm rate asked for
+    double critical = 0;  // the Sidak-corrected two-sided critical value of |z|
+    double alpha = 0;     // the family-wise false-alarm rate asked for
 };
 
 // Whether two independent renders (different seeds) estimate the same image:
@@ -56,7 +56,7 @@ struct BlockComparison {
 // for the Sidak-corrected alpha over all blocks. A block holding a NaN or
 // infinite pixel (image or variance) is rejected. Throws InputError when the
 // four images differ in size or blockSize is 0; alpha must lie in (0, 1).
-BlockComparison compareBlocks(const Image& a, const Image& varianceA, const Image& b, const Image& varianceB,
-                              uint32_t blockSize, double alpha);
+BlockComparison compareBlocks(const Image& a, const Image& varianceA, const Image& b,
+                              const Image& varianceB, uint32_t blockSize, double alpha);
 
 }  // namespace vkpath::image

@@ -95,7 +95,8 @@ constexpr Glyph GLYPHS[] = {
     {'>', {0b01000, 0b00100, 0b00010, 0b00001, 0b00010, 0b00100, 0b01000}},
 };
 
-constexpr std::array<uint8_t, GLYPH_HEIGHT> MISSING = {0b11111, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b11111};
+constexpr std::array<uint8_t, GLYPH_HEIGHT> MISSING = {0b11111, 0b10001, 0b10001, 0b10001,
+                                                       0b10001, 0b10001, 0b11111};
 
 }  // namespace
 
@@ -105,13 +106,16 @@ const uint8_t* glyph(char c) {
     return nullptr;
 }
 
-bool descending(char c) { return c == 'g' || c == 'p' || c == 'q' || c == 'y'; }
+bool descending(char c) {
+    return c == 'g' || c == 'p' || c == 'q' || c == 'y';
+}
 
 int textWidth(std::string_view text, int scale) {
     return text.empty() ? 0 : (int(text.size()) * GLYPH_ADVANCE - 1) * scale;
 }
 
-void drawText(image::Image& image, int x, int y, std::string_view text, glm::vec3 color, int scale) {
+void drawText(image::Image& image, int x, int y, std::string_view text, glm::vec3 color,
+              int scale) {
     for (size_t i = 0; i < text.size(); ++i) {
         const uint8_t* rows = glyph(text[i]);
         if (!rows) rows = MISSING.data();

@@ -4,9 +4,8 @@
 // host/image to be written.
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <string_view>
 
 #include "image/image.h"
@@ -26,7 +25,9 @@ bool descending(char c);
 
 // Width and height in pixels of `text` drawn at `scale` (pixels per font dot).
 int textWidth(std::string_view text, int scale);
-inline int textHeight(int scale) { return GLYPH_HEIGHT * scale; }  // cap height; descenders reach below
+inline int textHeight(int scale) {
+    return GLYPH_HEIGHT * scale;
+}  // cap height; descenders reach below
 
 // Draws `text` with its top-left corner at (x, y); pixels outside the image are skipped.
 void drawText(image::Image& image, int x, int y, std::string_view text, glm::vec3 color, int scale);

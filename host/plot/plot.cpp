@@ -1,12 +1,12 @@
 #include "plot/plot.h"
 
 #include <fmt/format.h>
-#include <glm/glm.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
+#include <glm/glm.hpp>
 #include <limits>
 
 #include "plot/font.h"
@@ -32,7 +32,9 @@ const glm::vec3 TEXT = srgb(30, 30, 30);
 const glm::vec3 DECADE_GRID = srgb(200, 200, 200);
 const glm::vec3 MINOR_GRID = srgb(235, 235, 235);
 
-bool usable(double v) { return std::isfinite(v) && v > 0; }
+bool usable(double v) {
+    return std::isfinite(v) && v > 0;
+}
 
 // Three significant digits, exponents without '+' and leading zeros (2.41e4),
 // so a legend figure stays short.
@@ -50,7 +52,8 @@ class Canvas {
     }
 
     void blend(int x, int y, glm::vec3 color, float alpha) {
-        if (x < 0 || y < 0 || x >= int(m_image.width) || y >= int(m_image.height) || alpha <= 0) return;
+        if (x < 0 || y < 0 || x >= int(m_image.width) || y >= int(m_image.height) || alpha <= 0)
+            return;
         glm::vec3& p = m_image.at(uint32_t(x), uint32_t(y));
         p = glm::mix(p, color, std::min(alpha, 1.0f));
     }
@@ -63,27 +66,32 @@ class Canvas {
     // A segment `width` pixels wide, anti-aliased by each pixel's distance to it.
     void line(glm::dvec2 a, glm::dvec2 b, double width, glm::vec3 color) {
         const double reach = width / 2 + 1;
-        const int x0 = int(std::floor(std::min(a.x, b.x) - reach)), x1 = int(std::ceil(std::max(a.x, b.x) + reach));
-        const int y0 = int(std::floor(std::min(a.y, b.y) - reach)), y1 = int(std::ceil(std::max(a.y, b.y) + reach));
+        const int x0 = int(std::floor(std::min(a.x, b.x) - reach)),
+                  x1 = int(std::ceil(std::max(a.x, b.x) + reach));
+        const int y0 = int(std::floor(std::min(a.y, b.y) - reach)),
+                  y1 = int(std::ceil(std::max(a.y, b.y) + reach));
         const glm::dvec2 ab = b - a;
         const double length2 = glm::dot(ab, ab);
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x) {
                 const glm::dvec2 p(x + 0.5, y + 0.5);
-                const double t = length2 > 0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
+                const double t =
+                    length2 > 0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
                 const double d = glm::length(p - (a + t * ab));
                 blend(x, y, color, float(std::clamp(width / 2 + 0.5 - d, 0.0, 1.0)));
             }
     }
 
     // A filled shape given by an inside test around (cx, cy), 4x4 samples per pixel.
-    void shape(double cx, double cy, double radius, glm::vec3 color, const std::function<bool(double, double)>& inside) {
+    void shape(double cx, double cy, double radius, glm::vec3 color,
+               const std::function<bool(double, double)>& inside) {
         for (int y = int(cy - radius) - 1; y <= int(cy + radius) + 1; ++y)
             for (int x = int(cx - radius) - 1; x <= int(cx + radius) + 1; ++x) {
                 int hits = 0;
                 for (int sy = 0; sy < 4; ++sy)
                     for (int sx = 0; sx < 4; ++sx)
-                        hits += inside((x + (sx + 0.5) / 4 - cx) / radius, (y + (sy + 0.5) / 4 - cy) / radius);
+                        hits += inside((x + (sx + 0.5) / 4 - cx) / radius,
+                                       (y + (sy + 0.5) / 4 - cy) / radius);
                 blend(x, y, color, hits / 16.0f);
             }
     }
@@ -98,7 +106,9 @@ class Canvas {
         shape(cx, cy, 5.5, color, shapes[kind % shapes.size()]);
     }
 
-    void text(int x, int y, const std::string& s, glm::vec3 color = TEXT) { drawText(m_image, x, y, s, color, FONT_SCALE); }
+    void text(int x, int y, const std::string& s, glm::vec3 color = TEXT) {
+        drawText(m_image, x, y, s, color, FONT_SCALE);
+    }
 
     image::Image take() { return std::move(m_image); }
 
@@ -115,7 +125,8 @@ DecadeRange decadeRange(double min, double max) {
 }
 
 std::string decadeLabel(int exponent) {
-    if (exponent >= 0 && exponent <= 2) return fmt::format("{}", int(std::lround(std::pow(10.0, exponent))));
+    if (exponent >= 0 && exponent <= 2)
+        return fmt::format("{}", int(std::lround(std::pow(10.0, exponent))));
     if (exponent < 0 && exponent >= -2) return "0." + std::string(size_t(-exponent - 1), '0') + "1";
     return fmt::format("1e{}", exponent);
 }
@@ -135,9 +146,9 @@ std::vector<double> LogAxis::minorTicks() const {
 glm::vec3 seriesColor(size_t i) {
     // Blue, vermillion, bluish green, reddish purple, orange, sky blue, black,
     // yellow: the order puts the most distinct first; yellow, faint on white, last.
-    static const std::array<glm::vec3, 8> palette = {srgb(0, 114, 178),   srgb(213, 94, 0),  srgb(0, 158, 115),
-                                                     srgb(204, 121, 167), srgb(230, 159, 0), srgb(86, 180, 233),
-                                                     srgb(0, 0, 0),       srgb(240, 228, 66)};
+    static const std::array<glm::vec3, 8> palette = {
+        srgb(0, 114, 178), srgb(213, 94, 0),   srgb(0, 158, 115), srgb(204, 121, 167),
+        srgb(230, 159, 0), srgb(86, 180, 233), srgb(0, 0, 0),     srgb(240, 228, 66)};
     return palette[i % palette.size()];
 }
 
@@ -156,13 +167,16 @@ image::Image renderChart(const Chart& chart) {
 
     // ---- layout: title on top, the legend panel on the right --------------------------
     const int left = 20 + textWidth("1e-10", FONT_SCALE) + 10, top = 30 + 2 * LINE_HEIGHT;
-    const int right = int(chart.width) - PANEL_WIDTH - 20, bottom = int(chart.height) - 2 * LINE_HEIGHT - 20;
+    const int right = int(chart.width) - PANEL_WIDTH - 20,
+              bottom = int(chart.height) - 2 * LINE_HEIGHT - 20;
     const LogAxis x{decadeRange(xMin, xMax), double(left), double(right)};
     const LogAxis y{decadeRange(yMin, yMax), double(bottom), double(top)};
 
     // ---- grid, ticks and their labels ----------------------------------------------------
-    for (double v : x.minorTicks()) canvas.line({x.toPixel(v), top}, {x.toPixel(v), bottom}, 1, MINOR_GRID);
-    for (double v : y.minorTicks()) canvas.line({left, y.toPixel(v)}, {right, y.toPixel(v)}, 1, MINOR_GRID);
+    for (double v : x.minorTicks())
+        canvas.line({x.toPixel(v), top}, {x.toPixel(v), bottom}, 1, MINOR_GRID);
+    for (double v : y.minorTicks())
+        canvas.line({left, y.toPixel(v)}, {right, y.toPixel(v)}, 1, MINOR_GRID);
     for (int e = x.range.lo; e <= x.range.hi; ++e) {
         const double px = x.toPixel(std::pow(10.0, e));
         canvas.line({px, top}, {px, bottom}, 1, DECADE_GRID);
@@ -175,14 +189,16 @@ image::Image renderChart(const Chart& chart) {
         canvas.line({left, py}, {right, py}, 1, DECADE_GRID);
         canvas.line({left - 6.0, py}, {left, py}, 1.5, BLACK);
         const std::string label = decadeLabel(e);
-        canvas.text(left - 10 - textWidth(label, FONT_SCALE), int(py) - textHeight(FONT_SCALE) / 2, label);
+        canvas.text(left - 10 - textWidth(label, FONT_SCALE), int(py) - textHeight(FONT_SCALE) / 2,
+                    label);
     }
     canvas.line({left, top}, {left, bottom}, 1.5, BLACK);
     canvas.line({left, bottom}, {right, bottom}, 1.5, BLACK);
 
     canvas.text(left, 12, chart.title);
     canvas.text(left - textWidth("1e-10", FONT_SCALE) / 2, top - LINE_HEIGHT - 8, chart.yLabel);
-    canvas.text((left + right - textWidth(chart.xLabel, FONT_SCALE)) / 2, bottom + 14 + LINE_HEIGHT, chart.xLabel);
+    canvas.text((left + right - textWidth(chart.xLabel, FONT_SCALE)) / 2, bottom + 14 + LINE_HEIGHT,
+                chart.xLabel);
 
     // ---- the series: lines first, markers over them ------------------------------------
     for (size_t k = 0; k < chart.series.size(); ++k) {
@@ -198,7 +214,8 @@ image::Image renderChart(const Chart& chart) {
             connected = true;
         }
         for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
-            if (usable(s.x[i]) && usable(s.y[i])) canvas.marker(k, x.toPixel(s.x[i]), y.toPixel(s.y[i]), seriesColor(k));
+            if (usable(s.x[i]) && usable(s.y[i]))
+                canvas.marker(k, x.toPixel(s.x[i]), y.toPixel(s.y[i]), seriesColor(k));
     }
 
     // ---- the legend: swatch and label, then the score as a bar --------------------------
@@ -220,7 +237,8 @@ image::Image renderChart(const Chart& chart) {
             const double v = std::isfinite(chart.scores[k]) ? chart.scores[k] : 0.0;
             constexpr int BAR = 90;
             const int length = best > 0 ? int(std::lround(BAR * v / best)) : 0;
-            canvas.fillRect(panel + 40, row, panel + 40 + std::max(length, 1), row + textHeight(FONT_SCALE), seriesColor(k));
+            canvas.fillRect(panel + 40, row, panel + 40 + std::max(length, 1),
+                            row + textHeight(FONT_SCALE), seriesColor(k));
             const bool mark = chart.series.size() > 1 && best > 0 && v == best;
             canvas.text(panel + 40 + BAR + 8, row, compactNumber(v) + (mark ? " best" : ""));
             row += LINE_HEIGHT;

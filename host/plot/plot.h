@@ -4,9 +4,8 @@
 // can carry one score per series as a bar (the best one marked).
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
 
@@ -36,7 +35,8 @@ struct LogAxis {
 
 struct Series {
     std::string label;
-    std::vector<double> x, y;  // points that are not finite and > 0 are left out (the line breaks there)
+    std::vector<double> x,
+        y;  // points that are not finite and > 0 are left out (the line breaks there)
 };
 
 struct Chart {

@@ -6,7 +6,8 @@
 
 namespace vkpath::reference {
 
-std::unique_ptr<PathSampler> makeSmoothPathSampler(const char* name, const wavefront::SceneTables& tables,
+std::unique_ptr<PathSampler> makeSmoothPathSampler(const char* name,
+                                                   const wavefront::SceneTables& tables,
                                                    const shared::SceneInfo& info) {
     return std::make_unique<PathSamplerOf<VKP_CPU_FEATURES>>(name, tables, info);
 }

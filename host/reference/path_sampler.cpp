@@ -19,13 +19,17 @@ const std::array<CpuProfile, 1> PROFILES = {{
 
 }  // namespace
 
-std::span<const CpuProfile> cpuProfiles() { return PROFILES; }
+std::span<const CpuProfile> cpuProfiles() {
+    return PROFILES;
+}
 
-std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& tables, const shared::SceneInfo& info,
-                                             uint32_t features, bool specialize) {
+std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& tables,
+                                             const shared::SceneInfo& info, uint32_t features,
+                                             bool specialize) {
     if (specialize)
         for (const CpuProfile& profile : PROFILES)
-            if ((features & ~profile.features) == 0) return profile.make(profile.name, tables, info);
+            if ((features & ~profile.features) == 0)
+                return profile.make(profile.name, tables, info);
     return std::make_unique<PathSamplerOf<VKP_FEATURES_ALL>>("general", tables, info);
 }
 

@@ -12,10 +12,9 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <span>
-
-#include <glm/vec3.hpp>
 
 #include "shared/camera.h"
 #include "shared/path_state.h"
@@ -39,7 +38,8 @@ class PathSampler {
 };
 
 // A profile's build, named `name` (CpuProfile::name).
-using MakePathSampler = std::unique_ptr<PathSampler> (*)(const char* name, const wavefront::SceneTables& tables,
+using MakePathSampler = std::unique_ptr<PathSampler> (*)(const char* name,
+                                                         const wavefront::SceneTables& tables,
                                                          const shared::SceneInfo& info);
 
 struct CpuProfile {
@@ -55,7 +55,8 @@ std::span<const CpuProfile> cpuProfiles();
 // `features` (wavefront::renderFeatures): with `specialize`, the first
 // profile whose features hold them all; else, or when none does, the general
 // build. `tables` must outlive it.
-std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& tables, const shared::SceneInfo& info,
-                                             uint32_t features, bool specialize);
+std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& tables,
+                                             const shared::SceneInfo& info, uint32_t features,
+                                             bool specialize);
 
 }  // namespace vkpath::reference

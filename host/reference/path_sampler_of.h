@@ -13,7 +13,8 @@ namespace vkpath::reference {
 template <uint32_t Features>
 class PathSamplerOf final : public PathSampler {
   public:
-    PathSamplerOf(const char* name, const wavefront::SceneTables& tables, const shared::SceneInfo& info)
+    PathSamplerOf(const char* name, const wavefront::SceneTables& tables,
+                  const shared::SceneInfo& info)
         : m_name(name), m_view(tables, info) {}
 
     uint32_t features() const override { return Features; }
@@ -24,7 +25,8 @@ class PathSamplerOf final : public PathSampler {
     // left as calls passing structs through memory (docs/BENCHMARKS.md,
     // "What each part of its design buys").
     __attribute__((flatten)) glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel,
-                                                 uint32_t sampleIndex, shared::PathTally& tally) const override {
+                                                 uint32_t sampleIndex,
+                                                 shared::PathTally& tally) const override {
         const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);
         return m_view.tracePath(shared::startPath(camera, pixel, key), key, tally);
     }

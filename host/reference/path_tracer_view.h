@@ -12,7 +12,8 @@
 //
 //   shared::PathTracerView view(tables, info);
 //   shared::Hit hit = view.bvhClosestHit(ray);
-//   shared::ShadowRequest r = view.sampleDirectLight(material, surface, wo, guide, beta, key, bounce, j);
+//   shared::ShadowRequest r = view.sampleDirectLight(material, surface, wo, guide, beta, key,
+//   bounce, j);
 //
 // Features is the translation unit's shared::kernelFeatures (a static_assert
 // says so): the general code everywhere, except in the CPU reference's
@@ -30,13 +31,13 @@
 #include "shared/alias.h"
 #include "shared/alpha.h"
 #include "shared/bsdf.h"
-#include "shared/path_state.h"
 #include "shared/constants.h"
 #include "shared/environment_sampling.h"
 #include "shared/features.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
+#include "shared/path_state.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 #include "shared/scene_arrays.h"
@@ -66,7 +67,9 @@ struct SceneTablesView {
     }
     AliasEntry sceneEnvAlias(uint texel) const { return m_envAlias[texel]; }
     vec3 sceneEnvRadiance(uint texel) const { return vec3(m_envRadiance[texel]); }
-    TriangleVertices sceneTriangleVertices(uint triangle) const { return m_triangleVertices[triangle]; }
+    TriangleVertices sceneTriangleVertices(uint triangle) const {
+        return m_triangleVertices[triangle];
+    }
     vec3 sceneVertexNormal(uint vertex) const { return vec3(m_vertexNormals[vertex]); }
     vec4 sceneVertexTexcoords(uint vertex) const { return m_vertexTexcoords[vertex]; }
     vec4 sceneVertexColor(uint vertex) const { return m_vertexColors[vertex]; }
@@ -95,9 +98,10 @@ struct SceneTablesView {
 
 template <uint Features>
 struct PathTracerViewOf : SceneTablesView {
-    static_assert(Features == kernelFeatures,
-                  "a view is compiled with the shared code of its own features: define VKP_CPU_FEATURES "
-                  "before the first include (host/reference/cpu_profiles.h)");
+    static_assert(
+        Features == kernelFeatures,
+        "a view is compiled with the shared code of its own features: define VKP_CPU_FEATURES "
+        "before the first include (host/reference/cpu_profiles.h)");
     static constexpr uint features = Features;
 
     using SceneTablesView::SceneTablesView;

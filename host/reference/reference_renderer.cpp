@@ -6,8 +6,8 @@
 #include <atomic>
 #include <cfloat>
 #include <chrono>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
@@ -27,12 +27,15 @@ using Clock = std::chrono::steady_clock;
 // per core.
 constexpr uint64_t PATHS_PER_PASS = uint64_t(1) << 18;
 
-wavefront::SceneTables withSettings(wavefront::SceneTables tables, const wavefront::RenderSettings& settings) {
+wavefront::SceneTables withSettings(wavefront::SceneTables tables,
+                                    const wavefront::RenderSettings& settings) {
     tables.info = wavefront::renderSceneInfo(tables, settings);
     return tables;
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 // Whether every component of both (finite) sums still fits a float.
 bool fitFloat(const glm::dvec3& a, const glm::dvec3& b) {
     const glm::dvec3 m = glm::max(glm::abs(a), glm::abs(b));
@@ -55,14 +58,16 @@ struct SampleCounts {
 // firefly threshold is counted (and, with a clamp, scaled down to it); one
 // that would overflow the GPU's float sums is dropped too, so both
 // renderers keep and drop the same samples.
-void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info, SampleCounts& counts) {
+void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info,
+                SampleCounts& counts) {
     if (!finite(l)) {
         ++counts.dropped;
         return;
     }
     const float largest = std::max(std::max(l.x, l.y), l.z);
     if (largest > info.fireflyThreshold) ++counts.fireflies;
-    if (info.clampRadiance > 0.0f && largest > info.clampRadiance) l *= info.clampRadiance / largest;
+    if (info.clampRadiance > 0.0f && largest > info.clampRadiance)
+        l *= info.clampRadiance / largest;
     const glm::dvec3 d(l);
     const PixelSums next{pixel.sum + d, pixel.sumSquares + d * d};
     if (!finite(l * l) || !fitFloat(next.sum, next.sumSquares)) {
@@ -74,10 +79,12 @@ void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info, Sa
 
 }  // namespace
 
-ReferenceRenderer::ReferenceRenderer(const scene::Scene& scene, const wavefront::RenderSettings& settings)
+ReferenceRenderer::ReferenceRenderer(const scene::Scene& scene,
+                                     const wavefront::RenderSettings& settings)
     : ReferenceRenderer(wavefront::buildSceneTables(scene), settings) {}
 
-ReferenceRenderer::ReferenceRenderer(wavefront::SceneTables tables, const wavefront::RenderSettings& settings)
+ReferenceRenderer::ReferenceRenderer(wavefront::SceneTables tables,
+                                     const wavefront::RenderSettings& settings)
     : m_settings(settings),
       m_tables(withSettings(std::move(tables), settings)),
       m_camera(scene::makeGpuCamera(m_tables.camera, settings.width, settings.height)),
@@ -93,8 +100,9 @@ std::string ReferenceRenderer::describe() const {
     constexpr uint32_t defined = (1u << VKP_FEATURE_COUNT) - 1u;
     std::string build;
     if (m_sampler->features() != VKP_FEATURES_ALL)
-        build = fmt::format("the integrator built for the '{}' profile (without {})", m_sampler->name(),
-                            wavefront::describeFeatures(defined & ~m_sampler->features()));
+        build =
+            fmt::format("the integrator built for the '{}' profile (without {})", m_sampler->name(),
+                        wavefront::describeFeatures(defined & ~m_sampler->features()));
     else if (!m_settings.specialize)
         build = "the integrator's general build (--no-specialize)";
     else
@@ -103,7 +111,8 @@ std::string ReferenceRenderer::describe() const {
                        wavefront::describeFeatures(m_features));
 }
 
-glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
+glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex,
+                                       wavefront::RayCounts& rays,
                                        uint64_t& rejectedLightSamples) const {
     // The loop the GPU runs (shared/integrator.h), one path at a time.
     shared::PathTally tally{};
@@ -120,7 +129,8 @@ wavefront::RenderResult ReferenceRenderer::render(
 }
 
 wavefront::RenderResult ReferenceRenderer::render(
-    const wavefront::SampleRange& samples, const std::function<void(const wavefront::RenderProgress&)>& progress) const {
+    const wavefront::SampleRange& samples,
+    const std::function<void(const wavefront::RenderProgress&)>& progress) const {
     return render(samples, wavefront::RenderControl{.progress = progress});
 }
 
@@ -131,16 +141,19 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
         throw std::out_of_range("sample indices beyond 32 bits");
     const uint32_t width = m_camera.width, height = m_camera.height;
     const uint64_t pixels = uint64_t(width) * height;
-    const uint32_t samplesPerPass =
-        uint32_t(std::clamp<uint64_t>(PATHS_PER_PASS / std::max<uint64_t>(pixels, 1), 1, std::max(1u, samples.count)));
+    const uint32_t samplesPerPass = uint32_t(std::clamp<uint64_t>(
+        PATHS_PER_PASS / std::max<uint64_t>(pixels, 1), 1, std::max(1u, samples.count)));
     const uint32_t workers = uint32_t(std::min<uint64_t>(threads(), std::max<uint64_t>(height, 1)));
 
     const shared::SceneInfo& info = m_tables.info;
     std::vector<PixelSums> film(pixels);
-    const wavefront::RenderState before = wavefront::resumedState(control, wavefront::CPU_FILM_FORMAT, width, height,
-                                                                  samples, film.size() * sizeof(PixelSums));
-    if (control.resume) std::memcpy(film.data(), control.resume->film.data(), control.resume->film.size());
-    std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0}, rejectedLightSamples{0};
+    const wavefront::RenderState before =
+        wavefront::resumedState(control, wavefront::CPU_FILM_FORMAT, width, height, samples,
+                                film.size() * sizeof(PixelSums));
+    if (control.resume)
+        std::memcpy(film.data(), control.resume->film.data(), control.resume->film.size());
+    std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0},
+        rejectedLightSamples{0};
 
     wavefront::RenderResult result;
     result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
@@ -148,8 +161,9 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
     auto state = [&](uint32_t done, double seconds) {
         std::vector<std::byte> bytes(film.size() * sizeof(PixelSums));
         std::memcpy(bytes.data(), film.data(), bytes.size());
-        const wavefront::RunTally run{nonFinite, fireflies, rejectedLightSamples, {closestRays, shadowRays},
-                                      result.waves, seconds};
+        const wavefront::RunTally run{
+            nonFinite,    fireflies, rejectedLightSamples, {closestRays, shadowRays},
+            result.waves, seconds};
         return wavefront::continuedState(before, done, std::move(bytes), run);
     };
     const auto start = Clock::now();
@@ -168,7 +182,8 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
                 for (uint32_t x = 0; x < width; ++x) {
                     const uint32_t pixel = y * width + x;
                     for (uint64_t sample = first; sample < end; ++sample)
-                        accumulate(film[pixel], tracePath(pixel, uint32_t(sample), rays, rejected), info, counts);
+                        accumulate(film[pixel], tracePath(pixel, uint32_t(sample), rays, rejected),
+                                   info, counts);
                 }
             rejectedLightSamples += rejected;
             nonFinite += counts.dropped;
@@ -202,7 +217,8 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
     result.varianceOfMean = image::Image(width, height);
     for (size_t i = 0; i < pixels; ++i)
         for (int c = 0; c < 3; ++c) {
-            const wavefront::PixelEstimate e = wavefront::estimatePixel(film[i].sum[c], film[i].sumSquares[c], done);
+            const wavefront::PixelEstimate e =
+                wavefront::estimatePixel(film[i].sum[c], film[i].sumSquares[c], done);
             result.image.pixels[i][c] = float(e.mean);
             result.varianceOfMean.pixels[i][c] = float(e.varianceOfMean);
         }

@@ -45,13 +45,16 @@ class ReferenceRenderer {
 
     // Renders settings.samplesPerPixel samples per pixel (fewer when the
     // time budget runs out: it is checked after each pass of whole samples).
-    wavefront::RenderResult render(const std::function<void(const wavefront::RenderProgress&)>& progress = {}) const;
+    wavefront::RenderResult render(
+        const std::function<void(const wavefront::RenderProgress&)>& progress = {}) const;
     // The given samples of every pixel (the time budget as above); the result holds their mean.
-    wavefront::RenderResult render(const wavefront::SampleRange& samples,
-                                   const std::function<void(const wavefront::RenderProgress&)>& progress = {}) const;
+    wavefront::RenderResult render(
+        const wavefront::SampleRange& samples,
+        const std::function<void(const wavefront::RenderProgress&)>& progress = {}) const;
     // The same with stops, checkpoints and resuming (wavefront::RenderControl);
     // throws InputError for a state it cannot continue.
-    wavefront::RenderResult render(const wavefront::SampleRange& samples, const wavefront::RenderControl& control) const;
+    wavefront::RenderResult render(const wavefront::SampleRange& samples,
+                                   const wavefront::RenderControl& control) const;
 
     // The radiance one path brings to its pixel: path `sampleIndex` of pixel
     // y * width + x, exactly what the wavefront renderer accumulates for it.

@@ -39,7 +39,8 @@ std::vector<shared::AliasEntry> buildAliasTable(std::span<const double> rawWeigh
     }
     // Whatever remains in either list keeps its whole bucket (its q is 1 up to rounding).
 
-    const auto heaviest = uint32_t(std::max_element(weights.begin(), weights.end()) - weights.begin());
+    const auto heaviest =
+        uint32_t(std::max_element(weights.begin(), weights.end()) - weights.begin());
     constexpr double SCALE = 4294967296.0;  // 2^32
     for (size_t i = 0; i < count; ++i) {
         const double t = std::round(keep[i] * SCALE);
@@ -65,7 +66,8 @@ std::vector<shared::AliasEntry> buildAliasTable(std::span<const double> rawWeigh
         outcomes[i] += entries[i].threshold;
         outcomes[entries[i].alias] += (uint64_t(1) << 32) - entries[i].threshold;
     }
-    for (size_t i = 0; i < count; ++i) entries[i].probability = float(double(outcomes[i]) / (double(count) * SCALE));
+    for (size_t i = 0; i < count; ++i)
+        entries[i].probability = float(double(outcomes[i]) / (double(count) * SCALE));
     return entries;
 }
 

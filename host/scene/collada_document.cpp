@@ -130,9 +130,10 @@ pugi::xml_node Document::resolve(const char* url, const char* kind,
     const std::string_view ref(url ? url : "");
     if (ref.empty()) fail(fmt::format("{}: no {} reference", context, kind));
     if (ref.front() != '#')
-        fail(fmt::format("{}: {} reference '{}' is not in this file (external references are not "
-                         "supported)",
-                         context, kind, ref));
+        fail(
+            fmt::format("{}: {} reference '{}' is not in this file (external references are not "
+                        "supported)",
+                        context, kind, ref));
     const auto it = m_ids.find(std::string(ref.substr(1)));
     if (it == m_ids.end())
         fail(fmt::format("{}: missing referenced {} id '{}'", context, kind, ref.substr(1)));

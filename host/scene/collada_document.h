@@ -3,11 +3,10 @@
 // of the importer uses, each failing with one InputError line naming the file.
 #pragma once
 
-#include <glm/glm.hpp>
-#include <pugixml.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <glm/glm.hpp>
+#include <pugixml.hpp>
 #include <string>
 #include <string_view>
 #include <unordered_map>

@@ -105,8 +105,7 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
                 const std::string_view vsemantic = vin.attribute("semantic").as_string();
                 const char* url = vin.attribute("source").as_string(nullptr);
                 if (vsemantic == "POSITION") {
-                    local.positions =
-                        readSource(m_document.resolve(url, "source", what), 3, true);
+                    local.positions = readSource(m_document.resolve(url, "source", what), 3, true);
                     havePositions = true;
                 } else if (vsemantic == "NORMAL") {
                     normals = readSource(m_document.resolve(url, "source", what), 3, false);
@@ -118,8 +117,8 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
             normals = readSource(m_document.resolve(sourceUrl, "source", what), 3, false);
             normalOffset = offset;
             normalsPerPosition = false;
-        } else if (semantic == "TEXCOORD" && (!texCoordOffset || input.attribute("set").as_uint(0) <
-                                                                      texCoordSet)) {
+        } else if (semantic == "TEXCOORD" &&
+                   (!texCoordOffset || input.attribute("set").as_uint(0) < texCoordSet)) {
             // The lowest set is Mesh::texcoords0 (Blender and Maya export one, set 0).
             texCoordSet = input.attribute("set").as_uint(0);
             texCoords = readSource(m_document.resolve(sourceUrl, "source", what), 2, true);
@@ -145,8 +144,8 @@ void Geometry::readPrimitive(pugi::xml_node element, pugi::xml_node mesh,
     auto corner = [&](const std::vector<uint32_t>& p, uint64_t k) {
         const uint32_t position = p[k * stride + *vertexOffset];
         if (position >= local.positions.size())
-            fail(fmt::format("{}: position index {} out of range of its source ({} elements)",
-                             what, position, local.positions.size()));
+            fail(fmt::format("{}: position index {} out of range of its source ({} elements)", what,
+                             position, local.positions.size()));
         uint32_t normal = NO_INDEX, texCoord = NO_INDEX;
         if (normalOffset) {
             normal = p[k * stride + *normalOffset];

@@ -3,13 +3,12 @@
 // splitting); and the CMU462 spheres.
 #pragma once
 
-#include <glm/glm.hpp>
-#include <pugixml.hpp>
-
 #include <cstdint>
 #include <functional>
+#include <glm/glm.hpp>
 #include <limits>
 #include <optional>
+#include <pugixml.hpp>
 #include <string>
 #include <unordered_map>
 #include <vector>

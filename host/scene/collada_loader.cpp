@@ -30,12 +30,12 @@
 #include "scene/collada_loader.h"
 
 #include <fmt/format.h>
-#include <glm/gtc/matrix_transform.hpp>
-#include <pugixml.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <optional>
+#include <pugixml.hpp>
 #include <string_view>
 
 #include "input_error.h"
@@ -136,9 +136,8 @@ glm::dmat4 ColladaLoader::rootTransform() {
             pointed[pointed.find(',')] = '.';
             if (parseNumber(pointed, scale))
                 m_warnings.addExample(
-                    "unit comma",
-                    fmt::format("<unit meter=\"{}\"> has a decimal comma; read as {}", text,
-                                pointed));
+                    "unit comma", fmt::format("<unit meter=\"{}\"> has a decimal comma; read as {}",
+                                              text, pointed));
         }
         if (!(scale > 0) || !std::isfinite(scale))
             fail(fmt::format("<unit meter=\"{}\"> is not a positive number", text));
@@ -343,11 +342,10 @@ void ColladaLoader::addLightInstance(pugi::xml_node instance, const glm::dmat4& 
             // falloff_exponent (Blender's blend) sets the soft edge.
             double falloff = 180.0, blend = 0.15;
             if (type.child("falloff_angle"))
-                falloff =
-                    m_document.scalar(type.child("falloff_angle"), what + " <falloff_angle>");
+                falloff = m_document.scalar(type.child("falloff_angle"), what + " <falloff_angle>");
             if (type.child("falloff_exponent"))
-                blend = m_document.scalar(type.child("falloff_exponent"),
-                                          what + " <falloff_exponent>");
+                blend =
+                    m_document.scalar(type.child("falloff_exponent"), what + " <falloff_exponent>");
             if (!(falloff > 0 && falloff <= 360))
                 fail(fmt::format("{}: falloff_angle {} is not in (0, 360]", what, falloff));
             spot.outerConeAngle = static_cast<float>(glm::radians(std::min(falloff, 180.0)) / 2);
@@ -379,8 +377,7 @@ void ColladaLoader::addLightInstance(pugi::xml_node instance, const glm::dmat4& 
                                           what));
     } else {
         m_warnings.addExample(
-            "light-type",
-            fmt::format("{}: light type <{}> is not supported; ignored", what, kind));
+            "light-type", fmt::format("{}: light type <{}> is not supported; ignored", what, kind));
     }
 }
 
@@ -406,8 +403,8 @@ std::optional<glm::dmat4> ColladaLoader::readCamera() {
                 names += (names.empty() ? "" : ", ") + c.nodeName;
             }
             if (!chosen)
-                fail(fmt::format("no camera named '{}' (cameras: {})", m_options.cameraName,
-                                 names));
+                fail(
+                    fmt::format("no camera named '{}' (cameras: {})", m_options.cameraName, names));
         }
         const std::string what = fmt::format("camera '{}'", nameOf(chosen->camera));
         camera.name = chosen->nodeName;
@@ -482,8 +479,7 @@ Scene ColladaLoader::load(std::vector<std::string>* warningLines) {
 
     const uint64_t dropped = m_geometry.droppedTriangles();
     if (m_scene.meshes.empty() && m_scene.spheres.empty()) {
-        if (dropped > 0)
-            fail(fmt::format("no geometry: all {} triangles are degenerate", dropped));
+        if (dropped > 0) fail(fmt::format("no geometry: all {} triangles are degenerate", dropped));
         fail("no geometry: no meshes or spheres in the scene");
     }
     if (dropped > 0)
@@ -491,18 +487,19 @@ Scene ColladaLoader::load(std::vector<std::string>* warningLines) {
             "degenerate",
             fmt::format("dropped {} degenerate (zero-area or non-finite) triangles", dropped));
     if (m_geometry.replacedNormals() > 0)
-        m_warnings.addExample(
-            "normals", fmt::format("{} zero or non-finite normals replaced by face normals",
-                                   m_geometry.replacedNormals()));
+        m_warnings.addExample("normals",
+                              fmt::format("{} zero or non-finite normals replaced by face normals",
+                                          m_geometry.replacedNormals()));
 
     for (const Mesh& mesh : m_scene.meshes)
         if (m_scene.materials[mesh.material].baseColorTexture.present() && mesh.texcoords0.empty())
-            m_warnings.addCounted("textured meshes without texture coordinates take one texel, at (0, 0)",
-                                  "mesh", mesh.name);
+            m_warnings.addCounted(
+                "textured meshes without texture coordinates take one texel, at (0, 0)", "mesh",
+                mesh.name);
     for (const Sphere& sphere : m_scene.spheres)
         if (m_scene.materials[sphere.material].baseColorTexture.present())
-            m_warnings.addCounted("spheres have no texture coordinates: textured ones are white", "sphere",
-                                  sphere.name);
+            m_warnings.addCounted("spheres have no texture coordinates: textured ones are white",
+                                  "sphere", sphere.name);
 
     // Bounds of the file's meshes and spheres: lights (and the quads made
     // from them below) excluded, as SOURCE.md's framing rule says.

@@ -25,8 +25,7 @@ uint32_t Materials::forSymbol(const std::string& symbol, const Bindings& binding
         m_warnings.addExample(
             "unbound-symbol",
             fmt::format("{}: material symbol '{}' is not bound; using {} (as Scotty3D)", context,
-                        symbol,
-                        bindings.empty() ? "grey 0.5" : "the instance's first material"));
+                        symbol, bindings.empty() ? "grey 0.5" : "the instance's first material"));
     if (!bindings.empty()) return materialIndex(bindings.front().second, context);
     return defaultMaterial();
 }
@@ -69,8 +68,8 @@ Material Materials::readMaterial(pugi::xml_node material) {
             m.kind = MaterialKind::Dielectric;
             m.transmittance = optionalColor("transmittance", glm::vec3(1.0f));
             // Scotty3D's RefractionBSDF only transmits: no reflected tint.
-            m.reflectance = kind == "glass" ? optionalColor("reflectance", glm::vec3(1.0f))
-                                            : glm::vec3(0.0f);
+            m.reflectance =
+                kind == "glass" ? optionalColor("reflectance", glm::vec3(1.0f)) : glm::vec3(0.0f);
             if (kind == "refraction")
                 m_warnings.addExample("refraction",
                                       fmt::format("{}: refraction-only BSDF approximated by glass "
@@ -89,7 +88,8 @@ Material Materials::readMaterial(pugi::xml_node material) {
             if (const pugi::xml_node roughness = bsdf.child("roughness")) {
                 const double value = m_document.scalar(roughness, where + " <roughness>");
                 if (!(value >= 0.0 && value <= 1.0))
-                    m_document.fail(fmt::format("{} <roughness> {} is not in [0, 1]", where, value));
+                    m_document.fail(
+                        fmt::format("{} <roughness> {} is not in [0, 1]", where, value));
                 if (value > 0.0) {
                     m.kind = MaterialKind::RoughDielectric;
                     m.roughness = static_cast<float>(value);
@@ -125,7 +125,8 @@ Material Materials::readMaterial(pugi::xml_node material) {
             m.reflectance = m_document.color(diffuse.child("color"), what + " <diffuse><color>");
         } else if (const pugi::xml_node texture = diffuse.child("texture")) {
             m.baseColorTexture = m_textures.reference(texture, effect, what);
-            if (m.baseColorTexture.present()) m.reflectance = glm::vec3(1.0f);  // the texture is the albedo
+            if (m.baseColorTexture.present())
+                m.reflectance = glm::vec3(1.0f);  // the texture is the albedo
         }
     }
     if (glm::any(glm::greaterThan(m.reflectance, glm::vec3(1.0f)))) {
@@ -151,9 +152,9 @@ Material Materials::readMaterial(pugi::xml_node material) {
                                               what, vecString(e)));
     }
     if (shading.child("transparent") || shading.child("transparency"))
-        m_warnings.addExample("transparency",
-                              fmt::format("{}: transparency is not modelled; the surface is opaque",
-                                          what));
+        m_warnings.addExample(
+            "transparency",
+            fmt::format("{}: transparency is not modelled; the surface is opaque", what));
     return m;
 }
 

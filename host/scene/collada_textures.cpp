@@ -54,7 +54,8 @@ TextureWrap wrapMode(pugi::xml_node element, bool& approximated) {
 
 }  // namespace
 
-TextureRef TextureImporter::reference(pugi::xml_node texture, pugi::xml_node effect, const std::string& what) {
+TextureRef TextureImporter::reference(pugi::xml_node texture, pugi::xml_node effect,
+                                      const std::string& what) {
     const std::string name = texture.attribute("texture").as_string();
     if (name.empty()) m_document.fail(what + ": <texture> names no sampler (no texture attribute)");
     const std::string where = fmt::format("{}: <texture texture=\"{}\">", what, printable(name));
@@ -63,14 +64,17 @@ TextureRef TextureImporter::reference(pugi::xml_node texture, pugi::xml_node eff
     if (const pugi::xml_node param = newparam(effect, name); param.child("sampler2D")) {
         sampler = param.child("sampler2D");
         if (const pugi::xml_node instance = sampler.child("instance_image")) {  // COLLADA 1.5
-            imageElement = m_document.resolve(instance.attribute("url").as_string(nullptr), "image", where);
+            imageElement =
+                m_document.resolve(instance.attribute("url").as_string(nullptr), "image", where);
         } else {
             const std::string source = trimmed(sampler.child_value("source"));
             const pugi::xml_node surface = newparam(effect, source).child("surface");
             if (!surface)
-                m_document.fail(fmt::format("{}: the sampler2D's <source> '{}' names no <surface> newparam", where,
-                                            printable(source)));
-            const std::string id = std::string("#").append(trimmed(surface.child_value("init_from")));
+                m_document.fail(
+                    fmt::format("{}: the sampler2D's <source> '{}' names no <surface> newparam",
+                                where, printable(source)));
+            const std::string id =
+                std::string("#").append(trimmed(surface.child_value("init_from")));
             imageElement = m_document.resolve(id.c_str(), "image", where);
         }
     } else {
@@ -91,11 +95,12 @@ TextureRef TextureImporter::reference(pugi::xml_node texture, pugi::xml_node eff
     // modelled, as for glTF).
     t.nearest = trimmed(sampler.child_value("magfilter")) == "NEAREST";
     if (approximated)
-        m_warnings.addCounted("texture wrap modes BORDER, NONE and MIRROR_ONCE are read as CLAMP", "texture",
-                              printable(name));
+        m_warnings.addCounted("texture wrap modes BORDER, NONE and MIRROR_ONCE are read as CLAMP",
+                              "texture", printable(name));
     for (size_t i = 0; i < m_scene.textures.size() && ref.texture < 0; ++i) {
         const Texture& o = m_scene.textures[i];
-        if (o.image == t.image && o.wrapU == t.wrapU && o.wrapV == t.wrapV && o.nearest == t.nearest)
+        if (o.image == t.image && o.wrapU == t.wrapU && o.wrapV == t.wrapV &&
+            o.nearest == t.nearest)
             ref.texture = int32_t(i);
     }
     if (ref.texture < 0) {
@@ -111,14 +116,16 @@ int32_t TextureImporter::image(pugi::xml_node image, const std::string& what) {
     if (init.child("ref")) init = init.child("ref");  // COLLADA 1.5: <init_from><ref>
     const std::string uri = trimmed(init.child_value());
     if (uri.empty()) {
-        m_warnings.addCounted("images without a file (embedded <data> is not read) leave their textures out",
-                              "image", name);
+        m_warnings.addCounted(
+            "images without a file (embedded <data> is not read) leave their textures out", "image",
+            name);
         return -1;
     }
     if (uri.rfind("data:", 0) == 0)
-        m_document.fail(fmt::format("{}: image '{}': data: URIs are not read from COLLADA; give the image as a file "
-                                    "beside the .dae",
-                                    what, name));
+        m_document.fail(fmt::format(
+            "{}: image '{}': data: URIs are not read from COLLADA; give the image as a file "
+            "beside the .dae",
+            what, name));
     // The glTF importer's rule for external files. Its URI decoding is
     // tinygltf's, which reads '+' as a space; in a COLLADA URI '+' is '+'.
     std::string escaped;
@@ -131,24 +138,27 @@ int32_t TextureImporter::image(pugi::xml_node image, const std::string& what) {
     fs::path folder = fs::path(m_document.file()).parent_path();
     if (folder.empty()) folder = ".";
     if (const std::string problem = gltf::uriProblem(escaped, folder); !problem.empty())
-        m_document.fail(fmt::format("{}: image '{}': uri '{}' {}", what, name, printable(uri), problem));
+        m_document.fail(
+            fmt::format("{}: image '{}': uri '{}' {}", what, name, printable(uri), problem));
     const fs::path path = folder / gltf::decodeUri(escaped);
     std::error_code ec;
     const std::string key = fs::canonical(path, ec).string();
     if (const auto it = m_images.find(key); it != m_images.end()) return it->second;
 
     const uintmax_t size = fs::file_size(path, ec);
-    if (ec) m_document.fail(fmt::format("{}: image '{}': cannot read '{}': {}", what, name, path.string(), ec.message()));
+    if (ec)
+        m_document.fail(fmt::format("{}: image '{}': cannot read '{}': {}", what, name,
+                                    path.string(), ec.message()));
     if (size > MAX_FILE_BYTES)
-        m_document.fail(fmt::format("{}: image '{}': '{}' has {} bytes, more than the limit of {}", what, name,
-                                    path.string(), size, MAX_FILE_BYTES));
+        m_document.fail(fmt::format("{}: image '{}': '{}' has {} bytes, more than the limit of {}",
+                                    what, name, path.string(), size, MAX_FILE_BYTES));
     std::vector<uint8_t> bytes(size);
     std::ifstream in(path, std::ios::binary);
     if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
         m_document.fail(fmt::format("{}: image '{}': cannot read '{}'", what, name, path.string()));
     m_scene.referencedFiles.push_back(path.lexically_normal());
-    const int32_t result =
-        addTextureImage(m_scene, bytes, imageFormat(bytes, "", uri), name, m_document.file(), m_warnings);
+    const int32_t result = addTextureImage(m_scene, bytes, imageFormat(bytes, "", uri), name,
+                                           m_document.file(), m_warnings);
     m_images[key] = result;
     return result;
 }

@@ -7,7 +7,9 @@
 
 namespace vkpath::scene {
 
-double luminance(const glm::vec3& rgb) { return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z; }
+double luminance(const glm::vec3& rgb) {
+    return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+}
 
 RowWeights bilinearRowWeights(uint32_t row, uint32_t height) {
     // The cell spans [c - h, c + h] in v around the row's centre c. Above c the

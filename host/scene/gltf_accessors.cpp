@@ -214,12 +214,11 @@ std::span<const uint8_t> Accessors::bufferView(int index, const std::string& wha
         fail("{}: bufferView {} does not exist", what, index);
     const tinygltf::BufferView& v = m_model.bufferViews[size_t(index)];
     if (v.buffer < 0 || size_t(v.buffer) >= m_model.buffers.size())
-        fail("{}: bufferView {} refers to buffer {}, which does not exist", what, index,
-             v.buffer);
+        fail("{}: bufferView {} refers to buffer {}, which does not exist", what, index, v.buffer);
     const std::vector<unsigned char>& data = m_model.buffers[size_t(v.buffer)].data;
     if (v.byteOffset > data.size() || v.byteLength > data.size() - v.byteOffset)
-        fail("{}: bufferView {} (offset {}, length {}) overruns buffer {} of {} bytes", what,
-             index, v.byteOffset, v.byteLength, v.buffer, data.size());
+        fail("{}: bufferView {} (offset {}, length {}) overruns buffer {} of {} bytes", what, index,
+             v.byteOffset, v.byteLength, v.buffer, data.size());
     if (v.byteStride != 0 && (v.byteStride < 4 || v.byteStride > 252 || v.byteStride % 4 != 0))
         fail("{}: bufferView {} byteStride {} is not a multiple of 4 in [4, 252]", what, index,
              v.byteStride);
@@ -243,8 +242,7 @@ void Accessors::applySparse(const tinygltf::Accessor& a, int index, const std::s
         size_t stride = 0;
         const std::span<const uint8_t> view = bufferView(viewIndex, what, stride);
         if (offset < 0 || size_t(offset) > view.size() || bytes > view.size() - size_t(offset))
-            fail("{}: accessor {} sparse {} overrun bufferView {}", what, index, part,
-                 viewIndex);
+            fail("{}: accessor {} sparse {} overrun bufferView {}", what, index, part, viewIndex);
         return view.subspan(size_t(offset), bytes);
     };
     const auto targets =
@@ -256,8 +254,8 @@ void Accessors::applySparse(const tinygltf::Accessor& a, int index, const std::s
         uint64_t target = 0;
         std::memcpy(&target, &targets[i * indexSize], indexSize);  // little-endian host
         if (target >= a.count || (i > 0 && target <= previous))
-            fail("{}: accessor {} sparse index {} is out of range or not increasing", what,
-                 index, target);
+            fail("{}: accessor {} sparse index {} is out of range or not increasing", what, index,
+                 target);
         std::memcpy(&out[target * elementSize], &values[i * elementSize], elementSize);
         previous = target;
     }

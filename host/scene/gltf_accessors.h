@@ -5,9 +5,9 @@
 #pragma once
 
 #include <fmt/format.h>
-#include <glm/glm.hpp>
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <span>
 #include <string>
 #include <vector>

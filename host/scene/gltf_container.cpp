@@ -23,14 +23,14 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 constexpr uint64_t MAX_FILE_BYTES = uint64_t(1) << 30;  // the scene file and each external file
-constexpr uint32_t GLB_MAGIC = 0x46546C67;       // "glTF"
-constexpr uint32_t GLB_CHUNK_JSON = 0x4E4F534A;  // "JSON"
-constexpr uint32_t GLB_CHUNK_BIN = 0x004E4942;   // "BIN\0"
+constexpr uint32_t GLB_MAGIC = 0x46546C67;              // "glTF"
+constexpr uint32_t GLB_CHUNK_JSON = 0x4E4F534A;         // "JSON"
+constexpr uint32_t GLB_CHUNK_BIN = 0x004E4942;          // "BIN\0"
 
 const std::set<std::string> SUPPORTED_EXTENSIONS = {
-    "KHR_lights_punctual",  "KHR_materials_emissive_strength", "KHR_materials_ior",
-    "KHR_materials_specular", "KHR_materials_transmission",    "KHR_materials_volume",
-    "KHR_mesh_quantization", "KHR_texture_transform",          "VKPATH_environment",
+    "KHR_lights_punctual",    "KHR_materials_emissive_strength", "KHR_materials_ior",
+    "KHR_materials_specular", "KHR_materials_transmission",      "KHR_materials_volume",
+    "KHR_mesh_quantization",  "KHR_texture_transform",           "VKPATH_environment",
     "VKPATH_sphere"};
 
 // ---------------------------------------------------------------------------

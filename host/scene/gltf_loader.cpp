@@ -281,9 +281,8 @@ class Importer {
     // ---- meshes --------------------------------------------------------------
 
     void addMesh(int nodeIndex, const glm::dmat4& world) {
-        for (gltf::WorldPrimitive& primitive :
-             gltf::convertMesh(m_model, m_accessors, nodeIndex, nodeName(nodeIndex), world, m_file,
-                               m_warnings)) {
+        for (gltf::WorldPrimitive& primitive : gltf::convertMesh(
+                 m_model, m_accessors, nodeIndex, nodeName(nodeIndex), world, m_file, m_warnings)) {
             if (primitive.usesDefaultMaterial) primitive.mesh.material = defaultMaterial();
             m_scene.meshes.push_back(std::move(primitive.mesh));
         }
@@ -312,7 +311,8 @@ class Importer {
             // texture coordinates, and a BLEND sphere would need both of its
             // surfaces tested apart.
             if (m_scene.materials[sphere.material].alphaMode != AlphaMode::Opaque)
-                m_warnings.addCounted("alphaMode is ignored on VKPATH_sphere: spheres are opaque", "sphere",
+                m_warnings.addCounted("alphaMode is ignored on VKPATH_sphere: spheres are opaque",
+                                      "sphere",
                                       sphere.name.empty() ? nodeName(nodeIndex) : sphere.name);
         } else {
             sphere.material = defaultMaterial();

@@ -38,13 +38,15 @@ class MaterialConverter {
         if (!std::isfinite(ior) || ior < 1.0)
             fail("material '{}': ior {} is not a finite number >= 1", name, ior);
 
-        out.baseColorTexture = m_textures.reference(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                                    pbr.baseColorTexture.extensions, name, "baseColorTexture");
-        out.emissiveTexture = m_textures.reference(m.emissiveTexture.index, m.emissiveTexture.texCoord,
-                                                   m.emissiveTexture.extensions, name, "emissiveTexture");
-        out.metallicRoughnessTexture =
-            m_textures.reference(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                                 pbr.metallicRoughnessTexture.extensions, name, "metallicRoughnessTexture");
+        out.baseColorTexture =
+            m_textures.reference(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                 pbr.baseColorTexture.extensions, name, "baseColorTexture");
+        out.emissiveTexture =
+            m_textures.reference(m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                                 m.emissiveTexture.extensions, name, "emissiveTexture");
+        out.metallicRoughnessTexture = m_textures.reference(
+            pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+            pbr.metallicRoughnessTexture.extensions, name, "metallicRoughnessTexture");
         out.normalTexture = m_textures.reference(m.normalTexture.index, m.normalTexture.texCoord,
                                                  m.normalTexture.extensions, name, "normalTexture");
         if (!std::isfinite(m.normalTexture.scale))
@@ -55,23 +57,26 @@ class MaterialConverter {
         // scaled normal map tilts its normals the wrong way.
         const TextureRef& normal = out.normalTexture;
         if (normal.present() && (normal.rotation != 0.0f || normal.scale.x != normal.scale.y))
-            m_warnings.addCounted("normal maps turned or unevenly scaled by KHR_texture_transform are approximated: "
-                                  "the tangent frame does not follow the transform",
-                                  "material", name);
+            m_warnings.addCounted(
+                "normal maps turned or unevenly scaled by KHR_texture_transform are approximated: "
+                "the tangent frame does not follow the transform",
+                "material", name);
         if (m.occlusionTexture.index >= 0)
-            m_warnings.addCounted("occlusionTexture is not applied: a path tracer computes occlusion itself",
-                                  "material", name);
+            m_warnings.addCounted(
+                "occlusionTexture is not applied: a path tracer computes occlusion itself",
+                "material", name);
         if (usesExtensionTexture(m))
-            m_warnings.addCounted("textures of material extensions are ignored; their factors are used",
-                                  "material", name);
+            m_warnings.addCounted(
+                "textures of material extensions are ignored; their factors are used", "material",
+                name);
         readAlphaMode(m, out);
         // KHR_materials_specular: the dielectric layer's weight and the tint of
         // its Fresnel at normal incidence.
-        const double specular =
-            factor(extensionNumber(m.extensions, "KHR_materials_specular", "specularFactor", 1.0, name),
-                   "specularFactor", name);
-        const glm::dvec3 specularColor =
-            extensionVector(m.extensions, "KHR_materials_specular", "specularColorFactor", glm::dvec3(1.0), name);
+        const double specular = factor(
+            extensionNumber(m.extensions, "KHR_materials_specular", "specularFactor", 1.0, name),
+            "specularFactor", name);
+        const glm::dvec3 specularColor = extensionVector(
+            m.extensions, "KHR_materials_specular", "specularColorFactor", glm::dvec3(1.0), name);
 
         out.roughness = float(roughness);
         out.metallic = float(metallic);
@@ -89,14 +94,16 @@ class MaterialConverter {
             out.transmittance = base;
             out.attenuation = volumeAttenuation(m, name);
             if (metallic > 0.0)
-                m_warnings.addCounted("metallicFactor of transmissive materials is ignored: they are glass",
-                                      "material", name);
+                m_warnings.addCounted(
+                    "metallicFactor of transmissive materials is ignored: they are glass",
+                    "material", name);
             if (specular != 1.0 || specularColor != glm::dvec3(1.0))
-                m_warnings.addCounted("KHR_materials_specular of transmissive materials is ignored", "material",
-                                      name);
+                m_warnings.addCounted("KHR_materials_specular of transmissive materials is ignored",
+                                      "material", name);
             if (!m.extensions.count("KHR_materials_volume"))
                 m_warnings.addCounted(
-                    "transmission without KHR_materials_volume is thin-walled in glTF (light passes unbent); "
+                    "transmission without KHR_materials_volume is thin-walled in glTF (light "
+                    "passes unbent); "
                     "vkpath refracts it as the surface of a solid",
                     "material", name);
         } else {
@@ -114,7 +121,8 @@ class MaterialConverter {
         }
         if (transmission > 0.0 && transmission < 1.0)
             m_warnings.addCounted(
-                "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below as opaque",
+                "partial transmission is approximated: transmissionFactor >= 0.5 as glass, below "
+                "as opaque",
                 "material", name);
         // A texture that no longer changes anything is not uploaded.
         if (out.kind == MaterialKind::Diffuse || out.kind == MaterialKind::Dielectric)
@@ -147,10 +155,12 @@ class MaterialConverter {
         } else if (m.alphaMode == "BLEND") {
             out.alphaMode = AlphaMode::Blend;
         } else {
-            fail("material '{}': alphaMode '{}' is not OPAQUE, MASK or BLEND", out.name, m.alphaMode);
+            fail("material '{}': alphaMode '{}' is not OPAQUE, MASK or BLEND", out.name,
+                 m.alphaMode);
         }
         if (!std::isfinite(m.alphaCutoff) || m.alphaCutoff < 0.0)
-            fail("material '{}': alphaCutoff {} is not a finite number >= 0", out.name, m.alphaCutoff);
+            fail("material '{}': alphaCutoff {} is not a finite number >= 0", out.name,
+                 m.alphaCutoff);
         out.alphaCutoff = float(m.alphaCutoff);
     }
 
@@ -166,8 +176,9 @@ class MaterialConverter {
     }
 
     // extension.key, or null when the extension or key is absent.
-    const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& extensions, const char* extension,
-                                          const char* key, const std::string& material) {
+    const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& extensions,
+                                          const char* extension, const char* key,
+                                          const std::string& material) {
         const auto it = extensions.find(extension);
         if (it == extensions.end()) return nullptr;
         if (!it->second.IsObject()) fail("material '{}': {} is not an object", material, extension);
@@ -187,8 +198,8 @@ class MaterialConverter {
     }
 
     // extension.key as three numbers, `fallback` when the extension or key is absent.
-    glm::dvec3 extensionVector(const tinygltf::ExtensionMap& extensions, const char* extension, const char* key,
-                               glm::dvec3 fallback, const std::string& material) {
+    glm::dvec3 extensionVector(const tinygltf::ExtensionMap& extensions, const char* extension,
+                               const char* key, glm::dvec3 fallback, const std::string& material) {
         const tinygltf::Value* found = extensionValue(extensions, extension, key, material);
         if (!found) return fallback;
         const tinygltf::Value& value = *found;
@@ -197,7 +208,8 @@ class MaterialConverter {
         glm::dvec3 v;
         for (int c = 0; c < 3; ++c) {
             const tinygltf::Value& number = value.Get(c);
-            if (!number.IsNumber() || !std::isfinite(number.GetNumberAsDouble()) || number.GetNumberAsDouble() < 0.0)
+            if (!number.IsNumber() || !std::isfinite(number.GetNumberAsDouble()) ||
+                number.GetNumberAsDouble() < 0.0)
                 fail("material '{}': {}.{} is not 3 finite numbers >= 0", material, extension, key);
             v[c] = number.GetNumberAsDouble();
         }
@@ -214,16 +226,19 @@ class MaterialConverter {
     glm::vec3 volumeAttenuation(const tinygltf::Material& m, const std::string& name) {
         const auto volume = m.extensions.find("KHR_materials_volume");
         if (volume == m.extensions.end()) return glm::vec3(0.0f);
-        const double distance = extensionNumber(m.extensions, "KHR_materials_volume", "attenuationDistance",
-                                                std::numeric_limits<double>::infinity(), name);
-        if (!(distance > 0.0)) fail("material '{}': attenuationDistance {} is not > 0", name, distance);
-        glm::dvec3 color =
-            extensionVector(m.extensions, "KHR_materials_volume", "attenuationColor", glm::dvec3(1.0), name);
+        const double distance =
+            extensionNumber(m.extensions, "KHR_materials_volume", "attenuationDistance",
+                            std::numeric_limits<double>::infinity(), name);
+        if (!(distance > 0.0))
+            fail("material '{}': attenuationDistance {} is not > 0", name, distance);
+        glm::dvec3 color = extensionVector(m.extensions, "KHR_materials_volume", "attenuationColor",
+                                           glm::dvec3(1.0), name);
         if (std::isinf(distance) || color == glm::dvec3(1.0)) return glm::vec3(0.0f);
         glm::vec3 attenuation;
         for (int c = 0; c < 3; ++c) {
             if (color[c] > 1.0) {
-                m_warnings.addCounted("material factors outside [0, 1] are clamped", "material", name);
+                m_warnings.addCounted("material factors outside [0, 1] are clamped", "material",
+                                      name);
                 color[c] = 1.0;
             }
             attenuation[c] = float(-std::log(std::max(color[c], 1e-6)) / distance);

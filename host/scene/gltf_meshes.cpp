@@ -58,8 +58,7 @@ bool finite(const glm::dvec3& v) {
 template <typename... Args>
 [[noreturn]] void fail(const std::string& file, fmt::format_string<Args...> format,
                        Args&&... args) {
-    throw InputError(
-        fmt::format("{}: {}", file, fmt::format(format, std::forward<Args>(args)...)));
+    throw InputError(fmt::format("{}: {}", file, fmt::format(format, std::forward<Args>(args)...)));
 }
 
 // ---- attribute formats ------------------------------------------------------
@@ -82,12 +81,12 @@ struct AttributeFormats {
     AttributeFormat core, quantized;
 };
 
-const AttributeFormats POSITION_FORMATS = {
-    {{VEC3}, {F32}}, {{VEC3}, {F32, I8, I8N, U8, U8N, I16, I16N, U16, U16N}}};
+const AttributeFormats POSITION_FORMATS = {{{VEC3}, {F32}},
+                                           {{VEC3}, {F32, I8, I8N, U8, U8N, I16, I16N, U16, U16N}}};
 const AttributeFormats NORMAL_FORMATS = {{{VEC3}, {F32}}, {{VEC3}, {F32, I8N, I16N}}};
 const AttributeFormats TANGENT_FORMATS = {{{VEC4}, {F32}}, {{VEC4}, {F32, I8N, I16N}}};
-const AttributeFormats TEXCOORD_FORMATS = {
-    {{VEC2}, {F32, U8N, U16N}}, {{VEC2}, {F32, I8, I8N, U8, U8N, I16, I16N, U16, U16N}}};
+const AttributeFormats TEXCOORD_FORMATS = {{{VEC2}, {F32, U8N, U16N}},
+                                           {{VEC2}, {F32, I8, I8N, U8, U8N, I16, I16N, U16, U16N}}};
 const AttributeFormats COLOR_FORMATS = {{{VEC3, VEC4}, {F32, U8N, U16N}},
                                         {{VEC3, VEC4}, {F32, U8N, U16N}}};
 
@@ -101,7 +100,7 @@ bool allows(const AttributeFormat& format, const Encoding& encoding) {
 class AttributeReader {
   public:
     AttributeReader(const tinygltf::Primitive& primitive, const Accessors& accessors,
-                       const std::string& file, const std::string& meshName, bool quantized)
+                    const std::string& file, const std::string& meshName, bool quantized)
         : m_primitive(primitive),
           m_accessors(accessors),
           m_file(file),
@@ -162,11 +161,11 @@ std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Acce
                            : (!mesh.name.empty() ? mesh.name : fmt::format("mesh {}", node.mesh));
     // KHR_mesh_quantization must be declared to be used (its spec: in
     // extensionsRequired); extensionsUsed is enough to read it here.
-    const bool quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
-                                     "KHR_mesh_quantization") != model.extensionsUsed.end() ||
-                           std::find(model.extensionsRequired.begin(),
-                                     model.extensionsRequired.end(),
-                                     "KHR_mesh_quantization") != model.extensionsRequired.end();
+    const bool quantized =
+        std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                  "KHR_mesh_quantization") != model.extensionsUsed.end() ||
+        std::find(model.extensionsRequired.begin(), model.extensionsRequired.end(),
+                  "KHR_mesh_quantization") != model.extensionsRequired.end();
 
     std::vector<WorldPrimitive> primitives;
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
@@ -253,8 +252,8 @@ std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Acce
         // glTF's UV origin is the image's top-left corner, v running down
         // (glTF 2.0, 3.7.2.1 and 3.8.4); kept so, and textures are sampled
         // with that convention.
-        for (const auto& [name, uv] : {std::pair{"TEXCOORD_0", &out.texcoords0},
-                                       std::pair{"TEXCOORD_1", &out.texcoords1}})
+        for (const auto& [name, uv] :
+             {std::pair{"TEXCOORD_0", &out.texcoords0}, std::pair{"TEXCOORD_1", &out.texcoords1}})
             if (const auto values = attributes.read(name, TEXCOORD_FORMATS, count, components))
                 for (const glm::vec4& v : *values) uv->push_back(glm::vec2(v));
 

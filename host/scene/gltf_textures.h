@@ -16,7 +16,8 @@ namespace vkpath::scene::gltf {
 class TextureImporter {
   public:
     // Textures and images go into `scene`; `document` must outlive the importer.
-    TextureImporter(const Document& document, const std::string& file, Scene& scene, ImportWarnings& warnings);
+    TextureImporter(const Document& document, const std::string& file, Scene& scene,
+                    ImportWarnings& warnings);
 
     // The reference of textureInfo `info` (index, texCoord, extensions) of
     // material `material`, used as `use` ("baseColorTexture"). Absent (with a

@@ -35,8 +35,8 @@ class ImportWarnings {
 
   private:
     struct Entry {
-        std::string kind;  // what groups occurrences
-        std::string text;  // printed: the message, or the first occurrence's text
+        std::string kind;           // what groups occurrences
+        std::string text;           // printed: the message, or the first occurrence's text
         std::string unit, example;  // addCounted only
         size_t count = 0;
     };

@@ -1,13 +1,13 @@
 #include "scene/mitsuba_export.h"
 
 #include <fmt/format.h>
-#include <pugixml.hpp>
 
 #include <bit>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <pugixml.hpp>
 #include <stdexcept>
 
 #include "image/image.h"
@@ -20,11 +20,16 @@ namespace {
 namespace fs = std::filesystem;
 
 // The PLY files are written as binary_little_endian straight from memory.
-static_assert(std::endian::native == std::endian::little, "export-mitsuba writes PLY from memory: little-endian only");
+static_assert(std::endian::native == std::endian::little,
+              "export-mitsuba writes PLY from memory: little-endian only");
 
 // Nine significant digits: a float survives the round trip through text.
-std::string num(float v) { return fmt::format("{:.9g}", v); }
-std::string rgb(const glm::vec3& v) { return fmt::format("{:.9g}, {:.9g}, {:.9g}", v.x, v.y, v.z); }
+std::string num(float v) {
+    return fmt::format("{:.9g}", v);
+}
+std::string rgb(const glm::vec3& v) {
+    return fmt::format("{:.9g}, {:.9g}, {:.9g}", v.x, v.y, v.z);
+}
 
 // A name that is safe in a file name and an XML id.
 std::string safeName(const std::string& name) {
@@ -40,7 +45,8 @@ pugi::xml_node child(pugi::xml_node parent, const char* tag, const std::string& 
     return node;
 }
 
-void addValue(pugi::xml_node parent, const char* tag, const std::string& name, const std::string& value) {
+void addValue(pugi::xml_node parent, const char* tag, const std::string& name,
+              const std::string& value) {
     child(parent, tag, name).append_attribute("value") = value.c_str();
 }
 
@@ -55,7 +61,8 @@ void addXyz(pugi::xml_node parent, const char* tag, const std::string& name, con
     node.append_attribute("z") = num(v.z).c_str();
 }
 
-void addLookAt(pugi::xml_node transform, const glm::vec3& origin, const glm::vec3& target, const glm::vec3& up) {
+void addLookAt(pugi::xml_node transform, const glm::vec3& origin, const glm::vec3& target,
+               const glm::vec3& up) {
     pugi::xml_node lookat = transform.append_child("lookat");
     lookat.append_attribute("origin") = rgb(origin).c_str();
     lookat.append_attribute("target") = rgb(target).c_str();
@@ -67,9 +74,12 @@ void addLookAt(pugi::xml_node transform, const glm::vec3& origin, const glm::vec
 void writePly(const fs::path& path, const Mesh& mesh) {
     const bool normals = mesh.normals.size() == mesh.positions.size();
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment vkpath export-mitsuba\n";
-    header += fmt::format("element vertex {}\nproperty float x\nproperty float y\nproperty float z\n", mesh.positions.size());
+    header +=
+        fmt::format("element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+                    mesh.positions.size());
     if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
-    header += fmt::format("element face {}\nproperty list uchar int vertex_indices\nend_header\n", mesh.triangles.size());
+    header += fmt::format("element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+                          mesh.triangles.size());
 
     std::ofstream out(path, std::ios::binary);
     out.write(header.data(), std::streamsize(header.size()));
@@ -89,7 +99,8 @@ void writePly(const fs::path& path, const Mesh& mesh) {
 // The kinds of a scene's materials that Mitsuba renders differently, each
 // reported once by exportMitsuba.
 struct MaterialNotes {
-    size_t separableMasking = 0;  // GGX lobes: Mitsuba's G1 G1 against vkpath's height-correlated G2
+    size_t separableMasking =
+        0;  // GGX lobes: Mitsuba's G1 G1 against vkpath's height-correlated G2
     size_t schlickConductors = 0;
     size_t metallicRoughness = 0;
     size_t absorbingGlass = 0;  // Beer-Lambert inside: Mitsuba needs a medium and volpath for it
@@ -105,7 +116,9 @@ void addGgx(pugi::xml_node bsdf, float roughness) {
 
 // vkpath's microfacet lobes are their delta limits below this alpha
 // (VKP_MICROFACET_SMOOTH_ALPHA, shared/microfacet.h): Mitsuba's smooth BSDFs.
-bool smoothLobe(float roughness) { return roughness * roughness < VKP_MICROFACET_SMOOTH_ALPHA; }
+bool smoothLobe(float roughness) {
+    return roughness * roughness < VKP_MICROFACET_SMOOTH_ALPHA;
+}
 
 // vkpath's diffuse, mirror, conductor and metallic-roughness surfaces reflect
 // on both sides (shared/lobes.h, shared/microfacet.h); Mitsuba's only on the
@@ -121,7 +134,8 @@ pugi::xml_node twoSided(pugi::xml_node scene, const std::string& id) {
 
 // One case per material kind (no default: a new kind fails to compile
 // until it has an export or a note).
-void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id, MaterialNotes& notes) {
+void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id,
+                 MaterialNotes& notes) {
     switch (m.kind) {
         case MaterialKind::Dielectric:
         case MaterialKind::RoughDielectric: {
@@ -135,7 +149,8 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id,
             }
             if (m.attenuation != glm::vec3(0.0f)) ++notes.absorbingGlass;
             addValue(bsdf, "float", "int_ior", num(m.ior));
-            addValue(bsdf, "float", "ext_ior", "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
+            addValue(bsdf, "float", "ext_ior",
+                     "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
             addRgb(bsdf, "specular_reflectance", m.reflectance);
             addRgb(bsdf, "specular_transmittance", m.transmittance);
             return;
@@ -229,7 +244,8 @@ void addSensor(pugi::xml_node scene, const Scene& s, const MitsubaExportSettings
     sceneBounds(s, lo, hi);
     float farthest = 1.0f;
     for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+        const glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y,
+                          (corner & 4) ? hi.z : lo.z);
         farthest = std::max(farthest, glm::length(p - gpu.origin));
     }
     addValue(sensor, "float", "near_clip", num(2.0f * farthest * 1e-6f));
@@ -265,8 +281,10 @@ void addLights(pugi::xml_node root, const Scene& s) {
         pugi::xml_node e = root.append_child("emitter");
         e.append_attribute("type") = "spot";
         // Mitsuba's spot points along its local +Z; any up not along the axis will do.
-        const glm::vec3 up = std::abs(light.direction.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-        addLookAt(child(e, "transform", "to_world"), light.position, light.position + light.direction, up);
+        const glm::vec3 up =
+            std::abs(light.direction.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+        addLookAt(child(e, "transform", "to_world"), light.position,
+                  light.position + light.direction, up);
         addRgb(e, "intensity", light.intensity);
         addValue(e, "float", "cutoff_angle", num(glm::degrees(light.outerConeAngle)));
         addValue(e, "float", "beam_width", num(glm::degrees(light.innerConeAngle)));
@@ -281,7 +299,8 @@ void addLights(pugi::xml_node root, const Scene& s) {
 
 }  // namespace
 
-MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& settings, const fs::path& outDir) {
+MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& settings,
+                                  const fs::path& outDir) {
     pugi::xml_document doc;
     pugi::xml_node root = doc.append_child("scene");
     root.append_attribute("version") = "3.0.0";
@@ -293,7 +312,8 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
     integrator.append_attribute("type") = "path";
     addValue(integrator, "integer", "max_depth", std::to_string(settings.maxDepth + 1));
     addValue(integrator, "integer", "rr_depth", std::to_string(settings.rouletteDepth));
-    addSensor(root, s, settings);  // first: it checks the camera and film before anything is written
+    addSensor(root, s,
+              settings);  // first: it checks the camera and film before anything is written
 
     MitsubaExportResult result;
     fs::create_directories(outDir / "meshes");
@@ -319,18 +339,21 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
         // normals gives too); without them both use face normals.
         addValue(shape, "boolean", "face_normals", mesh.normals.empty() ? "true" : "false");
         finishShape(shape, s, mesh.material);
-        normalMapped += mesh.material < s.materials.size() && s.materials[mesh.material].normalTexture.present();
+        normalMapped += mesh.material < s.materials.size() &&
+                        s.materials[mesh.material].normalTexture.present();
     }
     size_t emissiveSpheres = 0;
     for (size_t i = 0; i < s.spheres.size(); ++i) {
         const Sphere& sphere = s.spheres[i];
         pugi::xml_node shape = root.append_child("shape");
         shape.append_attribute("type") = "sphere";
-        shape.append_attribute("id") = fmt::format("sphere{:03}_{}", i, safeName(sphere.name)).c_str();
+        shape.append_attribute("id") =
+            fmt::format("sphere{:03}_{}", i, safeName(sphere.name)).c_str();
         addXyz(shape, "point", "center", sphere.center);
         addValue(shape, "float", "radius", num(sphere.radius));
         finishShape(shape, s, sphere.material);
-        emissiveSpheres += sphere.material < s.materials.size() && s.materials[sphere.material].emissive();
+        emissiveSpheres +=
+            sphere.material < s.materials.size() && s.materials[sphere.material].emissive();
     }
     addLights(root, s);
 
@@ -352,8 +375,10 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
             rotate.append_attribute("y") = "1";
             rotate.append_attribute("angle") = num(env.rotationDegrees).c_str();
             result.warnings.push_back(
-                "environment map: both interpolate bilinearly, but Mitsuba 3.9 places the map's rows at "
-                "v = j / (height - 1), vkpath at the texel centres (j + 0.5) / height: the sky shifts by up to "
+                "environment map: both interpolate bilinearly, but Mitsuba 3.9 places the map's "
+                "rows at "
+                "v = j / (height - 1), vkpath at the texel centres (j + 0.5) / height: the sky "
+                "shifts by up to "
                 "half a texel in elevation (docs/TRADEOFFS.md)");
         } else {
             e.append_attribute("type") = "constant";
@@ -362,44 +387,57 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
     }
 
     if (!s.spotLights.empty())
-        result.warnings.push_back(fmt::format(
-            "spot lights: Mitsuba's falloff is linear in angle from beam_width (inner cone) to cutoff_angle "
-            "(outer cone), vkpath's is KHR_lights_punctual's squared ramp in cosine: the cones' edges differ "
-            "({} spot lights)",
-            s.spotLights.size()));
+        result.warnings.push_back(
+            fmt::format("spot lights: Mitsuba's falloff is linear in angle from beam_width (inner "
+                        "cone) to cutoff_angle "
+                        "(outer cone), vkpath's is KHR_lights_punctual's squared ramp in cosine: "
+                        "the cones' edges differ "
+                        "({} spot lights)",
+                        s.spotLights.size()));
     if (notes.separableMasking > 0)
-        result.warnings.push_back(fmt::format(
-            "rough conductors and dielectrics: written as Mitsuba's roughconductor / roughdielectric with GGX, "
-            "the same alpha and visible-normal sampling, but Mitsuba masks with the separable G1(wo) G1(wi), "
-            "vkpath with the height-correlated G2 (Heitz 2014): Mitsuba's rough surfaces are slightly darker "
-            "({} materials)",
-            notes.separableMasking));
+        result.warnings.push_back(
+            fmt::format("rough conductors and dielectrics: written as Mitsuba's roughconductor / "
+                        "roughdielectric with GGX, "
+                        "the same alpha and visible-normal sampling, but Mitsuba masks with the "
+                        "separable G1(wo) G1(wi), "
+                        "vkpath with the height-correlated G2 (Heitz 2014): Mitsuba's rough "
+                        "surfaces are slightly darker "
+                        "({} materials)",
+                        notes.separableMasking));
     if (notes.schlickConductors > 0)
-        result.warnings.push_back(fmt::format(
-            "conductors with Schlick's Fresnel (glTF metals, F0 = base colour): Mitsuba has no Schlick conductor; "
-            "written as its perfect conductor tinted by F0, whose reflectance does not rise toward 1 at grazing "
-            "angles ({} materials)",
-            notes.schlickConductors));
+        result.warnings.push_back(
+            fmt::format("conductors with Schlick's Fresnel (glTF metals, F0 = base colour): "
+                        "Mitsuba has no Schlick conductor; "
+                        "written as its perfect conductor tinted by F0, whose reflectance does not "
+                        "rise toward 1 at grazing "
+                        "angles ({} materials)",
+                        notes.schlickConductors));
     if (notes.absorbingGlass > 0)
-        result.warnings.push_back(fmt::format(
-            "absorbing glass (KHR_materials_volume): written clear; Mitsuba's path tracer has no absorption inside "
-            "a dielectric without a medium ({} materials)",
-            notes.absorbingGlass));
+        result.warnings.push_back(
+            fmt::format("absorbing glass (KHR_materials_volume): written clear; Mitsuba's path "
+                        "tracer has no absorption inside "
+                        "a dielectric without a medium ({} materials)",
+                        notes.absorbingGlass));
     if (notes.metallicRoughness > 0)
-        result.warnings.push_back(fmt::format(
-            "glTF metallic-roughness materials: written as Mitsuba's principled BSDF (base colour, metallic, "
-            "roughness, eta), whose diffuse lobe (Disney's, with retro-reflection), Fresnel and masking differ "
-            "from glTF 2.0 Appendix B's, and which has no KHR_materials_specular weight or colour ({} materials)",
-            notes.metallicRoughness));
+        result.warnings.push_back(
+            fmt::format("glTF metallic-roughness materials: written as Mitsuba's principled BSDF "
+                        "(base colour, metallic, "
+                        "roughness, eta), whose diffuse lobe (Disney's, with retro-reflection), "
+                        "Fresnel and masking differ "
+                        "from glTF 2.0 Appendix B's, and which has no KHR_materials_specular "
+                        "weight or colour ({} materials)",
+                        notes.metallicRoughness));
     if (normalMapped > 0)
-        result.warnings.push_back(fmt::format(
-            "normal maps are not exported: Mitsuba shades those meshes with their vertex normals ({} meshes)",
-            normalMapped));
+        result.warnings.push_back(
+            fmt::format("normal maps are not exported: Mitsuba shades those meshes with their "
+                        "vertex normals ({} meshes)",
+                        normalMapped));
     if (emissiveSpheres > 0)
-        result.warnings.push_back(fmt::format(
-            "emissive spheres: Mitsuba's emit outward only, vkpath's to both sides (the same unless something "
-            "sees a sphere from inside; {} spheres)",
-            emissiveSpheres));
+        result.warnings.push_back(
+            fmt::format("emissive spheres: Mitsuba's emit outward only, vkpath's to both sides "
+                        "(the same unless something "
+                        "sees a sphere from inside; {} spheres)",
+                        emissiveSpheres));
 
     result.xml = outDir / "scene.xml";
     if (!doc.save_file(result.xml.c_str(), "    "))

@@ -7,11 +7,10 @@
 // taken as W/sr, a lux as W/m^2).
 #pragma once
 
-#include <glm/ext/vector_uint4_sized.hpp>
-#include <glm/glm.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <glm/ext/vector_uint4_sized.hpp>
+#include <glm/glm.hpp>
 #include <iterator>
 #include <optional>
 #include <string>
@@ -34,10 +33,10 @@ enum class MaterialKind : uint32_t {
 // A kind's row of the registry, as the host reads it.
 struct MaterialKindInfo {
     MaterialKind kind;
-    const char* key;    // scene-info's JSON key and FeatureSummary's field
-    const char* label;  // its name in scene-info's text and the kernels' feature list
-    uint32_t feature;   // VKP_FEATURE_* (shaders/shared/features.h)
-    uint32_t flags;     // VKP_KIND_*
+    const char* key;           // scene-info's JSON key and FeatureSummary's field
+    const char* label;         // its name in scene-info's text and the kernels' feature list
+    uint32_t feature;          // VKP_FEATURE_* (shaders/shared/features.h)
+    uint32_t flags;            // VKP_KIND_*
     MaterialKind regularized;  // the kind path regularisation turns it into
 };
 
@@ -51,7 +50,9 @@ static_assert(std::size(MATERIAL_KINDS) == VKP_MATERIAL_KIND_COUNT);
 
 // The row of `kind` (rows are in the order of their numbers:
 // tests/kernels/material_registry_test.cpp).
-inline const MaterialKindInfo& materialKindInfo(MaterialKind kind) { return MATERIAL_KINDS[uint32_t(kind)]; }
+inline const MaterialKindInfo& materialKindInfo(MaterialKind kind) {
+    return MATERIAL_KINDS[uint32_t(kind)];
+}
 
 // How a material's alpha covers its surface (glTF 2.0 section 3.9.4 "Alpha
 // Coverage", material.alphaMode); the same numbers as VKP_ALPHA_*
@@ -88,7 +89,7 @@ struct Texture {
 // uv' = offset + R(rotation) S(scale) uv, read at texture coordinate set
 // `texCoord`. `texture` < 0: none.
 struct TextureRef {
-    int32_t texture = -1;  // index into Scene::textures
+    int32_t texture = -1;   // index into Scene::textures
     uint32_t texCoord = 0;  // TEXCOORD_n
     glm::vec2 offset{0.0f};
     float rotation = 0.0f;  // radians, counter-clockwise in uv as KHR_texture_transform defines it
@@ -100,15 +101,16 @@ struct TextureRef {
 struct Material {
     std::string name;
     MaterialKind kind = MaterialKind::Diffuse;
-    glm::vec3 reflectance{0.8f};    // albedo (diffuse), specular tint (mirror, glass), F0 (conductor), base colour
-                                    // (metallic-roughness)
+    glm::vec3 reflectance{0.8f};    // albedo (diffuse), specular tint (mirror, glass), F0
+                                    // (conductor), base colour (metallic-roughness)
     glm::vec3 transmittance{1.0f};  // glass, rough glass: tint of refracted light
-    float ior = 1.5f;               // glass, rough glass, metallic-roughness: index of refraction inside / outside
-    glm::vec3 emission{0.0f};       // emitted radiance, W/(m^2 sr); > 0 makes the surface an area light
+    float ior =
+        1.5f;  // glass, rough glass, metallic-roughness: index of refraction inside / outside
+    glm::vec3 emission{0.0f};  // emitted radiance, W/(m^2 sr); > 0 makes the surface an area light
     // The microfacet kinds (Conductor, RoughDielectric, MetallicRoughness):
-    float roughness = 0.0f;         // glTF's perceptual roughness in [0, 1]; GGX alpha = roughness^2
-    float metallic = 0.0f;          // MetallicRoughness: metalness in [0, 1]
-    float specular = 1.0f;          // MetallicRoughness: KHR_materials_specular specularFactor, in [0, 1]
+    float roughness = 0.0f;  // glTF's perceptual roughness in [0, 1]; GGX alpha = roughness^2
+    float metallic = 0.0f;   // MetallicRoughness: metalness in [0, 1]
+    float specular = 1.0f;   // MetallicRoughness: KHR_materials_specular specularFactor, in [0, 1]
     glm::vec3 specularColor{1.0f};  // MetallicRoughness: KHR_materials_specular specularColorFactor
     // Conductor: a complex index of refraction eta + i k per channel, relative
     // to the outside; eta all 0 (the default): Schlick's Fresnel with F0 = reflectance.
@@ -138,15 +140,17 @@ struct Material {
 struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;  // world space
-    std::vector<glm::vec3> normals;    // world space shading normals, per vertex; empty: use face normals
-    std::vector<glm::vec2> texcoords0; // TEXCOORD_0 per vertex, glTF's convention ((0, 0) the image's top left);
-                                       // empty: none
-    std::vector<glm::vec2> texcoords1; // TEXCOORD_1 per vertex; empty: none
-    std::vector<glm::vec4> colors;     // COLOR_0 per vertex, linear RGBA; empty: none (white)
-    std::vector<glm::vec4> tangents;   // TANGENT per vertex: world space unit xyz, w = +-1 so that
-                                       // the bitangent is w (normal x tangent); empty: none
-    std::vector<glm::uvec3> triangles; // indices into positions, counter-clockwise seen from the front
-    uint32_t material = 0;             // index into Scene::materials
+    std::vector<glm::vec3>
+        normals;  // world space shading normals, per vertex; empty: use face normals
+    std::vector<glm::vec2> texcoords0;  // TEXCOORD_0 per vertex, glTF's convention ((0, 0) the
+                                        // image's top left); empty: none
+    std::vector<glm::vec2> texcoords1;  // TEXCOORD_1 per vertex; empty: none
+    std::vector<glm::vec4> colors;      // COLOR_0 per vertex, linear RGBA; empty: none (white)
+    std::vector<glm::vec4> tangents;    // TANGENT per vertex: world space unit xyz, w = +-1 so that
+                                        // the bitangent is w (normal x tangent); empty: none
+    std::vector<glm::uvec3>
+        triangles;          // indices into positions, counter-clockwise seen from the front
+    uint32_t material = 0;  // index into Scene::materials
 };
 
 struct Sphere {

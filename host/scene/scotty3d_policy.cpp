@@ -102,8 +102,8 @@ void reconcileScotty3dLights(const Scotty3dLights& lights, const glm::vec3& scen
             addAreaLightQuad(light, scene);
             continue;
         }
-        const std::string emitterName = match->sphere ? scene.spheres[match->index].name
-                                                      : scene.meshes[match->index].name;
+        const std::string emitterName =
+            match->sphere ? scene.spheres[match->index].name : scene.meshes[match->index].name;
         const char* emitterKind = match->sphere ? "sphere" : "mesh";
         warnings.addExample(
             "area-merged",

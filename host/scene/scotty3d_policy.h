@@ -40,7 +40,6 @@
 #pragma once
 
 #include <glm/glm.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>

@@ -37,10 +37,13 @@ struct VertexKeyHash {
 };
 
 VertexKey vertexKey(glm::vec3 p, glm::vec3 n, glm::vec2 uv) {
-    return {{p.x + 0.0f, p.y + 0.0f, p.z + 0.0f, n.x + 0.0f, n.y + 0.0f, n.z + 0.0f, uv.x + 0.0f, uv.y + 0.0f}};
+    return {{p.x + 0.0f, p.y + 0.0f, p.z + 0.0f, n.x + 0.0f, n.y + 0.0f, n.z + 0.0f, uv.x + 0.0f,
+             uv.y + 0.0f}};
 }
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // `v` made orthogonal to unit `n` and normalised; zero where nothing is left.
 glm::dvec3 tangentPart(const glm::dvec3& v, const glm::dvec3& n) {
@@ -58,16 +61,16 @@ glm::vec3 anyTangent(const glm::dvec3& n) {
 
 // The corners of one vertex (by VertexKey) and orientation.
 struct Group {
-    glm::dvec3 normal;       // unit, or zero when the corners have none
-    glm::dvec3 sum{0.0};     // of the corners' tangents, weighted by their angles
-    float sign = 1.0f;       // the orientation: w
+    glm::dvec3 normal;    // unit, or zero when the corners have none
+    glm::dvec3 sum{0.0};  // of the corners' tangents, weighted by their angles
+    float sign = 1.0f;    // the orientation: w
 };
 
 struct Triangle {
-    bool valid = false;       // its indices are in range
-    bool degenerate = true;   // no tangent: positions in a line or a UV area of 0
+    bool valid = false;      // its indices are in range
+    bool degenerate = true;  // no tangent: positions in a line or a UV area of 0
     float sign = 1.0f;
-    glm::dvec3 tangent{0.0};  // dP/ds
+    glm::dvec3 tangent{0.0};     // dP/ds
     glm::dvec3 faceNormal{0.0};  // unit
 };
 
@@ -86,14 +89,16 @@ class Generator {
         m_firstGroup.assign(m_positions.size(), -1);
         for (size_t i = 0; i < m_triangles.size(); ++i) {
             if (!triangles[i].valid || triangles[i].degenerate) continue;
-            for (int k = 0; k < 3; ++k) cornerGroup[3 * i + k] = addCorner(triangles[i], m_triangles[i], k);
+            for (int k = 0; k < 3; ++k)
+                cornerGroup[3 * i + k] = addCorner(triangles[i], m_triangles[i], k);
         }
         for (size_t i = 0; i < m_triangles.size(); ++i) {
             if (!triangles[i].valid || !triangles[i].degenerate) continue;
             for (int k = 0; k < 3; ++k) {
                 const uint32_t v = m_triangles[i][k];
-                cornerGroup[3 * i + k] =
-                    m_firstGroup[v] >= 0 ? m_firstGroup[v] : group(v, cornerNormal(triangles[i], v), 1.0f);
+                cornerGroup[3 * i + k] = m_firstGroup[v] >= 0
+                                             ? m_firstGroup[v]
+                                             : group(v, cornerNormal(triangles[i], v), 1.0f);
             }
         }
         return assemble(cornerGroup);
@@ -101,14 +106,16 @@ class Generator {
 
   private:
     bool inRange(uint32_t v) const {
-        return v < m_positions.size() && v < m_uvs.size() && (m_normals.empty() || v < m_normals.size());
+        return v < m_positions.size() && v < m_uvs.size() &&
+               (m_normals.empty() || v < m_normals.size());
     }
 
     Triangle triangle(const glm::uvec3& indices) const {
         Triangle t;
         t.valid = inRange(indices.x) && inRange(indices.y) && inRange(indices.z);
         if (!t.valid) return t;
-        const glm::dvec3 p0(m_positions[indices.x]), p1(m_positions[indices.y]), p2(m_positions[indices.z]);
+        const glm::dvec3 p0(m_positions[indices.x]), p1(m_positions[indices.y]),
+            p2(m_positions[indices.z]);
         const glm::dvec3 d1 = p1 - p0, d2 = p2 - p0;
         // Texture coordinates with v up, MikkTSpace's convention (see the header).
         const glm::dvec2 uv0(m_uvs[indices.x]), uv1(m_uvs[indices.y]), uv2(m_uvs[indices.z]);
@@ -121,8 +128,8 @@ class Generator {
         // d2 = s2 dP/ds + t2 dP/dt, solved for dP/ds (Mikkelsen 2008, eq. 4.2).
         const double area = s1 * t2 - s2 * t1;  // twice the signed UV area
         const glm::dvec3 tangent = (t2 * d1 - t1 * d2) / area;
-        t.degenerate = !(faceLength > 0.0) || !std::isfinite(faceLength) || !(area != 0.0) || !finite(tangent) ||
-                       !(glm::length(tangent) > 0.0);
+        t.degenerate = !(faceLength > 0.0) || !std::isfinite(faceLength) || !(area != 0.0) ||
+                       !finite(tangent) || !(glm::length(tangent) > 0.0);
         if (t.degenerate) return t;
         t.sign = area > 0.0 ? 1.0f : -1.0f;
         t.tangent = tangent;
@@ -136,8 +143,8 @@ class Generator {
 
     // The group of vertex `v` (with normal `normal`) and orientation `sign`.
     int64_t group(uint32_t v, glm::vec3 normal, float sign) {
-        const auto [weld, added] =
-            m_welds.try_emplace(vertexKey(m_positions[v], normal, m_uvs[v]), uint64_t(m_welds.size()));
+        const auto [weld, added] = m_welds.try_emplace(vertexKey(m_positions[v], normal, m_uvs[v]),
+                                                       uint64_t(m_welds.size()));
         const uint64_t key = weld->second * 2 + (sign < 0.0f ? 1 : 0);
         const auto [it, created] = m_groupOf.try_emplace(key, int64_t(m_groups.size()));
         if (created) {
@@ -174,16 +181,19 @@ class Generator {
         out.tangents.resize(n);
         for (uint32_t v = 0; v < n; ++v) {
             out.sourceVertex[v] = v;
-            const glm::dvec3 normal = v < m_normals.size() ? glm::dvec3(m_normals[v]) : glm::dvec3(0.0);
+            const glm::dvec3 normal =
+                v < m_normals.size() ? glm::dvec3(m_normals[v]) : glm::dvec3(0.0);
             out.tangents[v] = glm::vec4(anyTangent(normal), 1.0f);  // used by no triangle
         }
         std::vector<glm::vec4> groupTangent(m_groups.size());
         for (size_t g = 0; g < m_groups.size(); ++g) {
             const glm::dvec3 t = tangentPart(m_groups[g].sum, m_groups[g].normal);
-            const glm::vec3 unit = t != glm::dvec3(0.0) ? glm::vec3(t) : anyTangent(m_groups[g].normal);
+            const glm::vec3 unit =
+                t != glm::dvec3(0.0) ? glm::vec3(t) : anyTangent(m_groups[g].normal);
             groupTangent[g] = glm::vec4(unit, m_groups[g].sign);
         }
-        std::unordered_map<uint64_t, uint32_t> split;  // (input vertex, group) -> vertex, beyond the first group
+        std::unordered_map<uint64_t, uint32_t>
+            split;  // (input vertex, group) -> vertex, beyond the first group
         out.triangles.resize(m_triangles.size());
         for (size_t i = 0; i < m_triangles.size(); ++i)
             for (int k = 0; k < 3; ++k) {
@@ -191,8 +201,8 @@ class Generator {
                 const int64_t g = cornerGroup[3 * i + k];
                 uint32_t index = v;
                 if (g >= 0 && g != m_firstGroup[v]) {
-                    const auto [it, added] =
-                        split.try_emplace(uint64_t(v) << 32 | uint64_t(g), uint32_t(out.sourceVertex.size()));
+                    const auto [it, added] = split.try_emplace(uint64_t(v) << 32 | uint64_t(g),
+                                                               uint32_t(out.sourceVertex.size()));
                     if (added) {
                         out.sourceVertex.push_back(v);
                         out.tangents.push_back(groupTangent[size_t(g)]);
@@ -211,15 +221,16 @@ class Generator {
     std::span<const glm::vec2> m_uvs;
     std::span<const glm::uvec3> m_triangles;
     std::unordered_map<VertexKey, uint64_t, VertexKeyHash> m_welds;  // vertex -> weld id
-    std::unordered_map<uint64_t, int64_t> m_groupOf;                  // weld id x 2 + (w < 0) -> group
+    std::unordered_map<uint64_t, int64_t> m_groupOf;  // weld id x 2 + (w < 0) -> group
     std::vector<Group> m_groups;
     std::vector<int64_t> m_firstGroup;  // per input vertex: the group that keeps its index
 };
 
 }  // namespace
 
-MeshTangents generateTangents(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                              std::span<const glm::vec2> uvs, std::span<const glm::uvec3> triangles) {
+MeshTangents generateTangents(std::span<const glm::vec3> positions,
+                              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
+                              std::span<const glm::uvec3> triangles) {
     return Generator(positions, normals, uvs, triangles).run();
 }
 

@@ -34,9 +34,8 @@
 // with w = +1, never NaN.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <span>
 #include <vector>
 
@@ -56,7 +55,8 @@ struct MeshTangents {
 // each triangle's face normal is its corners' normal, as glTF has flat
 // shading without NORMAL). Triangles whose indices are out of range are kept
 // as they are and add nothing.
-MeshTangents generateTangents(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                              std::span<const glm::vec2> uvs, std::span<const glm::uvec3> triangles);
+MeshTangents generateTangents(std::span<const glm::vec3> positions,
+                              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
+                              std::span<const glm::uvec3> triangles);
 
 }  // namespace vkpath::scene

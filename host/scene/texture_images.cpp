@@ -11,7 +11,8 @@
 namespace vkpath::scene {
 namespace {
 
-bool startsWith(const std::vector<uint8_t>& bytes, std::initializer_list<int> magic, size_t at = 0) {
+bool startsWith(const std::vector<uint8_t>& bytes, std::initializer_list<int> magic,
+                size_t at = 0) {
     if (bytes.size() < at + magic.size()) return false;
     size_t i = at;
     for (int m : magic)
@@ -21,10 +22,12 @@ bool startsWith(const std::vector<uint8_t>& bytes, std::initializer_list<int> ma
 
 }  // namespace
 
-std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mimeType, const std::string& uri) {
+std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mimeType,
+                        const std::string& uri) {
     if (startsWith(bytes, {0x89, 'P', 'N', 'G'})) return "png";
     if (startsWith(bytes, {0xFF, 0xD8, 0xFF})) return "jpg";
-    if (startsWith(bytes, {'R', 'I', 'F', 'F'}) && startsWith(bytes, {'W', 'E', 'B', 'P'}, 8)) return "webp";
+    if (startsWith(bytes, {'R', 'I', 'F', 'F'}) && startsWith(bytes, {'W', 'E', 'B', 'P'}, 8))
+        return "webp";
     if (startsWith(bytes, {0xAB, 'K', 'T', 'X', ' ', '2', '0'})) return "ktx2";
     if (mimeType == "image/png") return "png";
     if (mimeType == "image/jpeg") return "jpg";
@@ -41,24 +44,27 @@ std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mi
 }
 
 int32_t addTextureImage(Scene& scene, const std::vector<uint8_t>& bytes, const std::string& format,
-                        const std::string& name, const std::string& file, ImportWarnings& warnings) {
+                        const std::string& name, const std::string& file,
+                        ImportWarnings& warnings) {
     image::Rgba16Image decoded;
     try {
         if (bytes.empty()) throw InputError("it has no data");
         if (format.empty()) throw InputError("its format is unknown");
         decoded = image::decodeImage(bytes, format, MAX_IMAGE_PIXELS);
     } catch (const InputError& e) {
-        warnings.addCounted(fmt::format("images that cannot be decoded ({}) leave their textures out",
-                                        format.empty() ? "unknown format" : format),
-                            "image", fmt::format("{} ({})", name, e.what()));
+        warnings.addCounted(
+            fmt::format("images that cannot be decoded ({}) leave their textures out",
+                        format.empty() ? "unknown format" : format),
+            "image", fmt::format("{} ({})", name, e.what()));
         return -1;
     }
     uint64_t texels = decoded.texels.size();
     for (const TextureImage& i : scene.images) texels += i.texels.size();
     if (texels > MAX_SCENE_TEXELS)
-        throw InputError(fmt::format("{}: textures need more than {} MiB on the device, vkpath's budget for "
-                                     "textures ({} texels); image '{}' is past it",
-                                     file, MAX_SCENE_TEXELS * 8 >> 20, MAX_SCENE_TEXELS, name));
+        throw InputError(
+            fmt::format("{}: textures need more than {} MiB on the device, vkpath's budget for "
+                        "textures ({} texels); image '{}' is past it",
+                        file, MAX_SCENE_TEXELS * 8 >> 20, MAX_SCENE_TEXELS, name));
     TextureImage image;
     image.name = name;
     image.width = decoded.width;

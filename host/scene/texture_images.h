@@ -21,7 +21,8 @@ constexpr uint64_t MAX_SCENE_TEXELS = uint64_t(1) << 28;
 // The format an image's bytes are in, as a file extension OpenImageIO knows
 // ("png", "jpg", "webp", "ktx2", "tga"): from their magic number, else the
 // MIME type, else the URI's extension; "" when none says.
-std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mimeType, const std::string& uri);
+std::string imageFormat(const std::vector<uint8_t>& bytes, const std::string& mimeType,
+                        const std::string& uri);
 
 // Decodes an image file's `bytes` (`format` as imageFormat names it) and
 // appends it to scene.images as `name`; returns its index. Bytes that cannot

@@ -21,7 +21,8 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
     create.size = allocated;
     create.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     if (kind == MemoryKind::DeviceLocal)
-        create.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+        create.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                        VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     const bool addressable = kind == MemoryKind::DeviceLocal && context.info().bufferDeviceAddress;
     if (addressable) create.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
@@ -46,7 +47,8 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
         }
         VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &m_memory));
         VK_CHECK(vkBindBufferMemory(device, m_buffer, m_memory, 0));
-        if (kind == MemoryKind::Staging) VK_CHECK(vkMapMemory(device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
+        if (kind == MemoryKind::Staging)
+            VK_CHECK(vkMapMemory(device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
     } catch (...) {
         release();
         throw;
@@ -64,11 +66,14 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
     }
 }
 
-Buffer::~Buffer() { release(); }
+Buffer::~Buffer() {
+    release();
+}
 
 VkDeviceAddress Buffer::deviceAddress() const {
     if (m_kind != MemoryKind::DeviceLocal || !m_context->info().bufferDeviceAddress)
-        throw std::logic_error("buffer device address: needs a device-local buffer and bufferDeviceAddress");
+        throw std::logic_error(
+            "buffer device address: needs a device-local buffer and bufferDeviceAddress");
     VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
     info.buffer = m_buffer;
     return vkGetBufferDeviceAddress(m_context->device(), &info);
@@ -80,18 +85,22 @@ VkBufferView Buffer::texelView() const {
     const VkDeviceSize texels =
         std::min<VkDeviceSize>(m_size / TEXEL_BYTES, m_context->info().maxTexelBufferElements);
     if (m_kind != MemoryKind::DeviceLocal || texels == 0)
-        throw std::logic_error(fmt::format("texel view: needs a device-local buffer of at least {} bytes (this one: {})",
-                                           TEXEL_BYTES, m_size));
+        throw std::logic_error(fmt::format(
+            "texel view: needs a device-local buffer of at least {} bytes (this one: {})",
+            TEXEL_BYTES, m_size));
     VkBufferViewCreateInfo create{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     create.buffer = m_buffer;
-    create.format = VK_FORMAT_R32G32B32A32_UINT;  // uniform texel buffers of it are required of every device
+    create.format =
+        VK_FORMAT_R32G32B32A32_UINT;  // uniform texel buffers of it are required of every device
     create.offset = 0;
     create.range = texels * TEXEL_BYTES;
     VK_CHECK(vkCreateBufferView(m_context->device(), &create, nullptr, &m_texelView));
     return m_texelView;
 }
 
-Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+Buffer::Buffer(Buffer&& other) noexcept {
+    *this = std::move(other);
+}
 
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
     if (this != &other) {
@@ -161,9 +170,8 @@ void Buffer::download(std::span<std::byte> bytes, VkDeviceSize offset) const {
 }
 
 void Buffer::clear() {
-    m_context->submit([&](VkCommandBuffer cmd) {
-        vkCmdFillBuffer(cmd, m_buffer, 0, VK_WHOLE_SIZE, 0);
-    });
+    m_context->submit(
+        [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, m_buffer, 0, VK_WHOLE_SIZE, 0); });
 }
 
 namespace {
@@ -179,13 +187,16 @@ std::string formatBytes(uint64_t bytes) {
 BufferLimits bufferLimits(const DeviceInfo& device) {
     // A bound array is read as a storage buffer or as a texel buffer of
     // 16-byte texels (Buffer::texelView), so it must fit both.
-    const uint64_t binding = std::min<uint64_t>(device.maxStorageBufferRange, uint64_t(device.maxTexelBufferElements) * 16);
-    BufferLimits limits{binding, std::min(device.maxBufferSize, device.maxMemoryAllocationSize), binding};
+    const uint64_t binding = std::min<uint64_t>(device.maxStorageBufferRange,
+                                                uint64_t(device.maxTexelBufferElements) * 16);
+    BufferLimits limits{binding, std::min(device.maxBufferSize, device.maxMemoryAllocationSize),
+                        binding};
     if (const char* text = std::getenv("VKPATH_MAX_BINDING_BYTES"); text && *text) {
         char* end = nullptr;
         const unsigned long long value = std::strtoull(text, &end, 10);
         if (*end != '\0' || value == 0)
-            throw InputError(fmt::format("VKPATH_MAX_BINDING_BYTES: '{}' is not a positive number of bytes", text));
+            throw InputError(fmt::format(
+                "VKPATH_MAX_BINDING_BYTES: '{}' is not a positive number of bytes", text));
         limits.binding = std::min<uint64_t>(limits.binding, value);
     }
     return limits;
@@ -195,10 +206,11 @@ bool chooseAddressAccess(std::span<const ArrayExtent> arrays, const BufferLimits
     bool byAddress = false;
     for (const ArrayExtent& a : arrays) {
         if (a.bytes > limits.address)
-            throw InputError(fmt::format(
-                "scene too large for the device: the {} array would be {} ({} elements), more than the {} "
-                "one buffer may hold (maxBufferSize, maxMemoryAllocationSize)",
-                a.name, formatBytes(a.bytes), a.count, formatBytes(limits.address)));
+            throw InputError(
+                fmt::format("scene too large for the device: the {} array would be {} ({} "
+                            "elements), more than the {} "
+                            "one buffer may hold (maxBufferSize, maxMemoryAllocationSize)",
+                            a.name, formatBytes(a.bytes), a.count, formatBytes(limits.address)));
         byAddress = byAddress || a.bytes > limits.binding;
     }
     return byAddress;

@@ -36,7 +36,8 @@ class Buffer {
 
     // A device-local buffer holding a copy of `data`.
     template <typename T, size_t Extent>
-    static Buffer fromSpan(Context& context, std::span<T, Extent> data, const char* debugName = nullptr) {
+    static Buffer fromSpan(Context& context, std::span<T, Extent> data,
+                           const char* debugName = nullptr) {
         Buffer buffer(context, data.size_bytes(), MemoryKind::DeviceLocal, debugName);
         buffer.upload(std::as_bytes(data));
         return buffer;
@@ -86,11 +87,13 @@ class Buffer {
 // The largest array a kernel may read, in bytes, in each of the two ways
 // kernels read scene data (shared/bvh_buffers.h):
 struct BufferLimits {
-    uint64_t binding;  // bound: as a storage buffer and as a texel buffer of 16-byte texels,
-                       // min(maxStorageBufferRange, 16 maxTexelBufferElements) (128 MiB on lavapipe)
-    uint64_t address;  // through its device address: one buffer, min(maxBufferSize, maxMemoryAllocationSize)
-    uint64_t deviceBinding;  // `binding` as the device has it, whatever VKPATH_MAX_BINDING_BYTES says:
-                             // what an array that is always bound must fit
+    uint64_t
+        binding;  // bound: as a storage buffer and as a texel buffer of 16-byte texels,
+                  // min(maxStorageBufferRange, 16 maxTexelBufferElements) (128 MiB on lavapipe)
+    uint64_t address;        // through its device address: one buffer, min(maxBufferSize,
+                             // maxMemoryAllocationSize)
+    uint64_t deviceBinding;  // `binding` as the device has it, whatever VKPATH_MAX_BINDING_BYTES
+                             // says: what an array that is always bound must fit
 };
 // The device's limits. The environment variable VKPATH_MAX_BINDING_BYTES, when
 // set, lowers `binding` (never raises it) so that tests take the address path

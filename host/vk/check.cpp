@@ -41,9 +41,9 @@ const char* resultName(VkResult result) {
 }
 
 void throwVulkanError(VkResult result, const char* call, const char* file, int line) {
-    throw VulkanError(result, fmt::format("{} failed with {} ({}) at {}:{}", call,
-                                          resultName(result), static_cast<int>(result), file,
-                                          line));
+    throw VulkanError(result,
+                      fmt::format("{} failed with {} ({}) at {}:{}", call, resultName(result),
+                                  static_cast<int>(result), file, line));
 }
 
 }  // namespace vkpath::vk

@@ -26,9 +26,9 @@ class VulkanError : public std::runtime_error {
 
 }  // namespace vkpath::vk
 
-#define VK_CHECK(call)                                                            \
-    do {                                                                          \
-        const VkResult vkCheckResult_ = (call);                                   \
-        if (vkCheckResult_ != VK_SUCCESS)                                         \
+#define VK_CHECK(call)                                                                 \
+    do {                                                                               \
+        const VkResult vkCheckResult_ = (call);                                        \
+        if (vkCheckResult_ != VK_SUCCESS)                                              \
             ::vkpath::vk::throwVulkanError(vkCheckResult_, #call, __FILE__, __LINE__); \
     } while (false)

@@ -22,17 +22,23 @@ bool hasLayer(const char* name) {
     VK_CHECK(vkEnumerateInstanceLayerProperties(&count, nullptr));
     std::vector<VkLayerProperties> layers(count);
     VK_CHECK(vkEnumerateInstanceLayerProperties(&count, layers.data()));
-    return std::any_of(layers.begin(), layers.end(),
-                       [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+    return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
+        return std::strcmp(l.layerName, name) == 0;
+    });
 }
 
 const char* deviceTypeName(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
-        default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "cpu";
+        default:
+            return "other";
     }
 }
 
@@ -70,14 +76,17 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceFloatControlsProperties floatControls{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES};
     driver.pNext = &floatControls;
-    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceSubgroupProperties subgroup{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     subgroup.pNext = &driver;
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     props.pNext = &subgroup;
     // Buffer size limits: maxMemoryAllocationSize (Vulkan 1.1 core) and
     // maxBufferSize (1.3 core; only chained where the device has 1.3).
-    VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
-    VkPhysicalDeviceMaintenance4Properties maintenance4{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES};
+    VkPhysicalDeviceMaintenance3Properties maintenance3{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+    VkPhysicalDeviceMaintenance4Properties maintenance4{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES};
     VkPhysicalDeviceProperties basic;
     vkGetPhysicalDeviceProperties(device, &basic);
     maintenance3.pNext = props.pNext;
@@ -89,7 +98,8 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     }
     vkGetPhysicalDeviceProperties2(device, &props);
 
-    VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceVulkan12Features features12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     const bool vulkan12 = props.properties.apiVersion >= VK_API_VERSION_1_2;
     if (vulkan12) features.pNext = &features12;
@@ -113,27 +123,30 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
               std::end(props.properties.pipelineCacheUUID), info.pipelineCacheUuid.begin());
     std::copy(std::begin(limits.maxComputeWorkGroupSize), std::end(limits.maxComputeWorkGroupSize),
               info.maxWorkgroupSize.begin());
-    std::copy(std::begin(limits.maxComputeWorkGroupCount), std::end(limits.maxComputeWorkGroupCount),
-              info.maxWorkgroupCount.begin());
+    std::copy(std::begin(limits.maxComputeWorkGroupCount),
+              std::end(limits.maxComputeWorkGroupCount), info.maxWorkgroupCount.begin());
     info.maxWorkgroupInvocations = limits.maxComputeWorkGroupInvocations;
     info.maxStorageBufferRange = limits.maxStorageBufferRange;
     info.maxTexelBufferElements = limits.maxTexelBufferElements;
     info.maxMemoryAllocationSize = maintenance3.maxMemoryAllocationSize;
-    info.maxBufferSize = vulkan13 ? maintenance4.maxBufferSize : maintenance3.maxMemoryAllocationSize;
+    info.maxBufferSize =
+        vulkan13 ? maintenance4.maxBufferSize : maintenance3.maxMemoryAllocationSize;
     info.maxPushConstantsSize = limits.maxPushConstantsSize;
     info.subgroupSize = subgroup.subgroupSize;
     info.shaderFloat64 = features.features.shaderFloat64;
     info.shaderInt64 = features.features.shaderInt64;
     info.scalarBlockLayout = vulkan12 && features12.scalarBlockLayout;
     info.bufferDeviceAddress = vulkan12 && features12.bufferDeviceAddress;
-    info.signedZeroInfNanPreserveFloat32 = vulkan12 && floatControls.shaderSignedZeroInfNanPreserveFloat32;
+    info.signedZeroInfNanPreserveFloat32 =
+        vulkan12 && floatControls.shaderSignedZeroInfNanPreserveFloat32;
     uint32_t timestampBits = 0;
     computeQueueFamily(device, &timestampBits);
     info.timestamps = timestampBits > 0;
     info.timestampPeriodNs = limits.timestampPeriod;
     for (uint32_t h = 0; h < memory.memoryHeapCount; ++h) {
         if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
-            info.deviceLocalMemory = std::max<uint64_t>(info.deviceLocalMemory, memory.memoryHeaps[h].size);
+            info.deviceLocalMemory =
+                std::max<uint64_t>(info.deviceLocalMemory, memory.memoryHeaps[h].size);
     }
     return info;
 }
@@ -147,7 +160,8 @@ std::string unsuitableReason(const DeviceInfo& info) {
     if (!info.bufferDeviceAddress) return "bufferDeviceAddress is required";
     // Without it a compiler may assume no NaN or infinity exists and fold away
     // the kernels' non-finite checks.
-    if (!info.signedZeroInfNanPreserveFloat32) return "shaderSignedZeroInfNanPreserveFloat32 is required";
+    if (!info.signedZeroInfNanPreserveFloat32)
+        return "shaderSignedZeroInfNanPreserveFloat32 is required";
     return {};
 }
 
@@ -202,8 +216,8 @@ std::optional<uint32_t> deviceIndexFromEnvironment() {
 }  // namespace
 
 std::string DeviceInfo::apiVersionString() const {
-    return fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(apiVersion), VK_API_VERSION_MINOR(apiVersion),
-                       VK_API_VERSION_PATCH(apiVersion));
+    return fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(apiVersion),
+                       VK_API_VERSION_MINOR(apiVersion), VK_API_VERSION_PATCH(apiVersion));
 }
 
 std::string driverAdvice(const DeviceInfo& device) {
@@ -214,7 +228,8 @@ std::string driverAdvice(const DeviceInfo& device) {
     const int major = std::atoi(device.driverInfo.c_str() + at + 5);
     if (major <= 0 || major >= 25) return "";
     return fmt::format(
-        "lavapipe from Mesa {}: Mesa 25 renders about 2.5x faster with the same image (on Debian 12, tools/install-deps "
+        "lavapipe from Mesa {}: Mesa 25 renders about 2.5x faster with the same image (on Debian "
+        "12, tools/install-deps "
         "installs it from bookworm-backports; docs/BENCHMARKS.md)",
         device.driverInfo.substr(at + 5, device.driverInfo.find(' ', at + 5) - (at + 5)));
 }
@@ -239,8 +254,10 @@ uint32_t preferredDeviceIndex(const std::vector<DeviceInfo>& devices) {
         if (!unsuitableReason(d).empty()) continue;
         if (!best || deviceTypeRank(d.type) > deviceTypeRank(devices[*best].type)) best = d.index;
     }
-    if (!best) throw std::runtime_error(
-            "no Vulkan 1.2 device with scalarBlockLayout and shaderSignedZeroInfNanPreserveFloat32 was found");
+    if (!best)
+        throw std::runtime_error(
+            "no Vulkan 1.2 device with scalarBlockLayout and shaderSignedZeroInfNanPreserveFloat32 "
+            "was found");
     return *best;
 }
 
@@ -268,7 +285,9 @@ Context::Context(const ContextOptions& options)
     }
 }
 
-Context::~Context() { destroy(); }
+Context::~Context() {
+    destroy();
+}
 
 void Context::destroy() {
     if (m_device) {
@@ -305,16 +324,18 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::debugCallback(
     auto* self = static_cast<Context*>(user);
     if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
         self->m_validationMessages.fetch_add(1);
-        std::fprintf(stderr, "vkpath: validation %s: %s\n",
-                     severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
-                     data->pMessage);
+        std::fprintf(
+            stderr, "vkpath: validation %s: %s\n",
+            severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
+            data->pMessage);
         if (self->m_onValidationMessage) self->m_onValidationMessage(data->pMessage);
     }
     return VK_FALSE;
 }
 
 void Context::createInstance() {
-    VkDebugUtilsMessengerCreateInfoEXT messenger{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    VkDebugUtilsMessengerCreateInfoEXT messenger{
+        VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
     messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
                                 VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
@@ -343,14 +364,15 @@ void Context::createInstance() {
 
 void Context::pickDevice(std::optional<uint32_t> requested) {
     const auto devices = physicalDevices(m_instance);
-    if (devices.empty()) throw std::runtime_error("no Vulkan device found (is mesa-vulkan-drivers installed?)");
+    if (devices.empty())
+        throw std::runtime_error("no Vulkan device found (is mesa-vulkan-drivers installed?)");
     std::vector<DeviceInfo> infos;
     for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
     uint32_t index = 0;
     if (requested) {
         if (*requested >= devices.size())
             throw InputError(fmt::format("device index {} is out of range: {} device(s) found",
-                                                 *requested, devices.size()));
+                                         *requested, devices.size()));
         if (auto why = unsuitableReason(infos[*requested]); !why.empty())
             throw std::runtime_error(fmt::format("device {} ({}) cannot run vkpath: {}", *requested,
                                                  infos[*requested].name, why));
@@ -366,7 +388,8 @@ void Context::pickDevice(std::optional<uint32_t> requested) {
 void Context::createDevice() {
     uint32_t timestampBits = 0;
     const auto family = computeQueueFamily(m_physicalDevice, &timestampBits);
-    if (!family) throw std::runtime_error(fmt::format("device {} has no compute queue", m_info.name));
+    if (!family)
+        throw std::runtime_error(fmt::format("device {} has no compute queue", m_info.name));
     m_queueFamily = *family;
 
     const float priority = 1.0f;
@@ -375,7 +398,8 @@ void Context::createDevice() {
     queue.queueCount = 1;
     queue.pQueuePriorities = &priority;
 
-    VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceVulkan12Features features12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     features12.scalarBlockLayout = VK_TRUE;
     features12.bufferDeviceAddress = m_info.bufferDeviceAddress;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
@@ -403,7 +427,8 @@ std::filesystem::path Context::pipelineCacheFile() const {
     if (dir.empty()) return {};
     std::string uuid;
     for (uint8_t b : m_info.pipelineCacheUuid) uuid += fmt::format("{:02x}", b);
-    return dir / fmt::format("pipelines-{:04x}-{:04x}-{}.bin", m_info.vendorId, m_info.deviceId, uuid);
+    return dir /
+           fmt::format("pipelines-{:04x}-{:04x}-{}.bin", m_info.vendorId, m_info.deviceId, uuid);
 }
 
 void Context::loadPipelineCache() {
@@ -414,10 +439,10 @@ void Context::loadPipelineCache() {
         if (in) data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
         // The header (Vulkan spec, vkGetPipelineCacheData): length, version,
         // vendor, device, UUID. A cache of another driver is dropped, not passed on.
-        const bool valid = data.size() >= 32 &&
-                           std::memcmp(data.data() + 8, &m_info.vendorId, 4) == 0 &&
-                           std::memcmp(data.data() + 12, &m_info.deviceId, 4) == 0 &&
-                           std::memcmp(data.data() + 16, m_info.pipelineCacheUuid.data(), VK_UUID_SIZE) == 0;
+        const bool valid =
+            data.size() >= 32 && std::memcmp(data.data() + 8, &m_info.vendorId, 4) == 0 &&
+            std::memcmp(data.data() + 12, &m_info.deviceId, 4) == 0 &&
+            std::memcmp(data.data() + 16, m_info.pipelineCacheUuid.data(), VK_UUID_SIZE) == 0;
         if (!valid) data.clear();
     }
     VkPipelineCacheCreateInfo create{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
@@ -475,7 +500,8 @@ void Context::submit(const std::function<void(VkCommandBuffer)>& record) {
 std::optional<uint32_t> Context::tryFindMemoryType(uint32_t typeBits,
                                                    VkMemoryPropertyFlags required) const {
     for (uint32_t i = 0; i < m_memory.memoryTypeCount; ++i) {
-        if ((typeBits & (1u << i)) && (m_memory.memoryTypes[i].propertyFlags & required) == required)
+        if ((typeBits & (1u << i)) &&
+            (m_memory.memoryTypes[i].propertyFlags & required) == required)
             return i;
     }
     return std::nullopt;
@@ -483,7 +509,8 @@ std::optional<uint32_t> Context::tryFindMemoryType(uint32_t typeBits,
 
 uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const {
     if (auto type = tryFindMemoryType(typeBits, required)) return *type;
-    throw std::runtime_error(fmt::format("no memory type with flags {:#x} among {:#x}", required, typeBits));
+    throw std::runtime_error(
+        fmt::format("no memory type with flags {:#x} among {:#x}", required, typeBits));
 }
 
 }  // namespace vkpath::vk

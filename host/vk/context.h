@@ -49,7 +49,7 @@ struct DeviceInfo {
     uint64_t maxStorageBufferRange = 0;    // bytes one storage-buffer binding may span
     uint32_t maxTexelBufferElements = 0;   // texels one texel-buffer view may span
     uint64_t maxMemoryAllocationSize = 0;  // bytes, one allocation
-    uint64_t maxBufferSize = 0;            // bytes, one buffer (maxMemoryAllocationSize before Vulkan 1.3)
+    uint64_t maxBufferSize = 0;  // bytes, one buffer (maxMemoryAllocationSize before Vulkan 1.3)
     uint32_t maxPushConstantsSize = 0;
     uint32_t subgroupSize = 0;
     bool shaderFloat64 = false;
@@ -59,8 +59,8 @@ struct DeviceInfo {
     // The kernels declare the SignedZeroInfNanPreserve execution mode for
     // 32-bit floats (shaders/stages/lib/float_controls.glsl): the device must honour it.
     bool signedZeroInfNanPreserveFloat32 = false;
-    bool timestamps = false;       // the compute queue has timestampValidBits > 0
-    float timestampPeriodNs = 0;   // nanoseconds per timestamp tick
+    bool timestamps = false;         // the compute queue has timestampValidBits > 0
+    float timestampPeriodNs = 0;     // nanoseconds per timestamp tick
     uint64_t deviceLocalMemory = 0;  // bytes, largest device-local heap
 
     std::string apiVersionString() const;

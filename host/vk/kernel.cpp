@@ -34,7 +34,8 @@ static VkDescriptorType descriptorType(DescriptorKind kind) {
 class DescriptorSetPool {
   public:
     // `perSet`: how many descriptors of each type one set holds.
-    DescriptorSetPool(VkDevice device, VkDescriptorSetLayout layout, std::map<VkDescriptorType, uint32_t> perSet)
+    DescriptorSetPool(VkDevice device, VkDescriptorSetLayout layout,
+                      std::map<VkDescriptorType, uint32_t> perSet)
         : m_device(device), m_layout(layout), m_perSet(std::move(perSet)) {}
     ~DescriptorSetPool() {
         for (VkDescriptorPool pool : m_pools) vkDestroyDescriptorPool(m_device, pool, nullptr);
@@ -71,7 +72,8 @@ class DescriptorSetPool {
         alloc.pSetLayouts = &m_layout;
         VkDescriptorSet set = VK_NULL_HANDLE;
         const VkResult result = vkAllocateDescriptorSets(m_device, &alloc, &set);
-        if (result == VK_ERROR_OUT_OF_POOL_MEMORY || result == VK_ERROR_FRAGMENTED_POOL) return VK_NULL_HANDLE;
+        if (result == VK_ERROR_OUT_OF_POOL_MEMORY || result == VK_ERROR_FRAGMENTED_POOL)
+            return VK_NULL_HANDLE;
         VK_CHECK(result);
         m_owner.insert({pool, set});
         return set;
@@ -123,11 +125,13 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
     const DeviceInfo& info = context.info();
     if (m_workgroupSize == 0 || m_workgroupSize > info.maxWorkgroupSize[0] ||
         m_workgroupSize > info.maxWorkgroupInvocations)
-        throw std::invalid_argument(fmt::format("kernel {}: workgroup size {} is not supported (max {})",
-                                                m_name, m_workgroupSize, info.maxWorkgroupSize[0]));
+        throw std::invalid_argument(
+            fmt::format("kernel {}: workgroup size {} is not supported (max {})", m_name,
+                        m_workgroupSize, info.maxWorkgroupSize[0]));
     if (m_reflection.pushConstantSize > info.maxPushConstantsSize)
-        throw std::invalid_argument(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",
-                                                m_name, m_reflection.pushConstantSize, info.maxPushConstantsSize));
+        throw std::invalid_argument(
+            fmt::format("kernel {}: {} bytes of push constants exceed the device's {}", m_name,
+                        m_reflection.pushConstantSize, info.maxPushConstantsSize));
 
     VkDevice device = context.device();
     try {
@@ -140,7 +144,8 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
         std::map<VkDescriptorType, uint32_t> perSet;
         for (const SpirvBinding& b : m_reflection.bindings) {
             if (b.set != 0)
-                throw std::invalid_argument(fmt::format("kernel {}: only descriptor set 0 is supported", m_name));
+                throw std::invalid_argument(
+                    fmt::format("kernel {}: only descriptor set 0 is supported", m_name));
             VkDescriptorSetLayoutBinding binding{};
             binding.binding = b.binding;
             binding.descriptorType = descriptorType(b.kind);
@@ -149,7 +154,8 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
             bindings.push_back(binding);
             ++perSet[binding.descriptorType];
         }
-        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        VkDescriptorSetLayoutCreateInfo setInfo{
+            VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         setInfo.bindingCount = static_cast<uint32_t>(bindings.size());
         setInfo.pBindings = bindings.data();
         VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout));
@@ -167,7 +173,8 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
         std::vector<VkSpecializationMapEntry> entries;
         std::vector<uint32_t> values;
         for (const SpecializationConstant& c : constants) {
-            entries.push_back({c.id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+            entries.push_back(
+                {c.id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
             values.push_back(c.value);
         }
         VkSpecializationInfo specialization{static_cast<uint32_t>(entries.size()), entries.data(),
@@ -180,8 +187,8 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
         pipelineInfo.stage.pName = "main";
         pipelineInfo.stage.pSpecializationInfo = &specialization;
         pipelineInfo.layout = m_pipelineLayout;
-        VK_CHECK(vkCreateComputePipelines(device, context.pipelineCache(), 1, &pipelineInfo, nullptr,
-                                          &m_pipeline));
+        VK_CHECK(vkCreateComputePipelines(device, context.pipelineCache(), 1, &pipelineInfo,
+                                          nullptr, &m_pipeline));
         m_pool = std::make_shared<DescriptorSetPool>(device, m_setLayout, std::move(perSet));
     } catch (...) {
         release();
@@ -189,7 +196,9 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
     }
 }
 
-Kernel::~Kernel() { release(); }
+Kernel::~Kernel() {
+    release();
+}
 
 void Kernel::release() {
     VkDevice device = m_context.device();
@@ -209,7 +218,8 @@ DescriptorSet Kernel::bindDeclared(const std::map<uint32_t, const Buffer*>& avai
     for (const SpirvBinding& b : m_reflection.bindings) {
         const auto it = available.find(b.binding);
         if (it == available.end())
-            throw std::invalid_argument(fmt::format("kernel {}: binding {} has no buffer", m_name, b.binding));
+            throw std::invalid_argument(
+                fmt::format("kernel {}: binding {} has no buffer", m_name, b.binding));
         buffers.push_back({b.binding, it->second});
     }
     return bind(buffers);
@@ -221,15 +231,19 @@ DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
     std::set<uint32_t> given;
     for (const BufferBinding& b : buffers) {
         if (!declared.contains(b.binding))
-            throw std::invalid_argument(fmt::format("kernel {} has no binding {}", m_name, b.binding));
+            throw std::invalid_argument(
+                fmt::format("kernel {} has no binding {}", m_name, b.binding));
         if (!given.insert(b.binding).second)
-            throw std::invalid_argument(fmt::format("kernel {}: binding {} given twice", m_name, b.binding));
+            throw std::invalid_argument(
+                fmt::format("kernel {}: binding {} given twice", m_name, b.binding));
         if (!b.buffer || !*b.buffer)
-            throw std::invalid_argument(fmt::format("kernel {}: binding {} has no buffer", m_name, b.binding));
+            throw std::invalid_argument(
+                fmt::format("kernel {}: binding {} has no buffer", m_name, b.binding));
     }
     for (uint32_t b : declared)
         if (!given.contains(b))
-            throw std::invalid_argument(fmt::format("kernel {}: binding {} is not bound", m_name, b));
+            throw std::invalid_argument(
+                fmt::format("kernel {}: binding {} is not bound", m_name, b));
 
     auto [set, pool] = m_pool->allocate();
     DescriptorSet result(m_pool, set);
@@ -255,18 +269,21 @@ DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
         }
         writes.push_back(write);
     }
-    vkUpdateDescriptorSets(m_context.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+    vkUpdateDescriptorSets(m_context.device(), static_cast<uint32_t>(writes.size()), writes.data(),
+                           0, nullptr);
     return result;
 }
 
 void Kernel::bindPipeline(VkCommandBuffer cmd, const DescriptorSet& set,
                           std::span<const std::byte> push) const {
     if (push.size() != m_reflection.pushConstantSize)
-        throw std::invalid_argument(fmt::format("kernel {}: {} bytes of push constants given, the kernel declares {}",
-                                                m_name, push.size(), m_reflection.pushConstantSize));
+        throw std::invalid_argument(
+            fmt::format("kernel {}: {} bytes of push constants given, the kernel declares {}",
+                        m_name, push.size(), m_reflection.pushConstantSize));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
     VkDescriptorSet handle = set.handle();
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipelineLayout, 0, 1, &handle, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipelineLayout, 0, 1, &handle, 0,
+                            nullptr);
     if (!push.empty())
         vkCmdPushConstants(cmd, m_pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                            static_cast<uint32_t>(push.size()), push.data());
@@ -276,8 +293,9 @@ void Kernel::record(VkCommandBuffer cmd, const DescriptorSet& set, uint32_t invo
                     std::span<const std::byte> push) const {
     const uint32_t groups = (invocations + m_workgroupSize - 1) / m_workgroupSize;
     if (groups > m_context.info().maxWorkgroupCount[0])
-        throw std::invalid_argument(fmt::format("kernel {}: {} invocations need {} workgroups, the device allows {}",
-                                                m_name, invocations, groups, m_context.info().maxWorkgroupCount[0]));
+        throw std::invalid_argument(
+            fmt::format("kernel {}: {} invocations need {} workgroups, the device allows {}",
+                        m_name, invocations, groups, m_context.info().maxWorkgroupCount[0]));
     bindPipeline(cmd, set, push);
     if (groups > 0) vkCmdDispatch(cmd, groups, 1, 1);
 }

@@ -71,7 +71,9 @@ class Kernel {
 
     // A descriptor set with every binding the kernel declares filled; throws
     // naming the kernel if one is missing, unknown or given twice.
-    DescriptorSet bind(std::initializer_list<BufferBinding> buffers) { return bind(std::span(buffers)); }
+    DescriptorSet bind(std::initializer_list<BufferBinding> buffers) {
+        return bind(std::span(buffers));
+    }
     DescriptorSet bind(std::span<const BufferBinding> buffers);
     // A descriptor set with every binding the kernel declares filled from
     // `available` (binding -> buffer), which may hold more; throws naming the
@@ -92,7 +94,8 @@ class Kernel {
     double dispatch(uint32_t invocations, std::initializer_list<BufferBinding> buffers,
                     std::span<const std::byte> push = {});
     template <typename Push>
-    double dispatch(uint32_t invocations, std::initializer_list<BufferBinding> buffers, const Push& push) {
+    double dispatch(uint32_t invocations, std::initializer_list<BufferBinding> buffers,
+                    const Push& push) {
         return dispatch(invocations, buffers, std::as_bytes(std::span(&push, 1)));
     }
 

@@ -33,18 +33,23 @@ bool isFloatArithmetic(uint32_t op) {
 // The annotation section: OpDecorate, OpMemberDecorate, OpDecorationGroup,
 // OpGroupDecorate, OpGroupMemberDecorate, OpDecorateId, OpDecorateString,
 // OpMemberDecorateString.
-bool isAnnotation(uint32_t op) { return (op >= 71 && op <= 75) || op == 332 || op == 5632 || op == 5633; }
+bool isAnnotation(uint32_t op) {
+    return (op >= 71 && op <= 75) || op == 332 || op == 5632 || op == 5633;
+}
 
 // Instructions of the sections before the annotations: debug information
 // (OpSourceContinued to OpLine, OpModuleProcessed), OpExtension to
 // OpCapability (imports, memory model, entry points, execution modes), and
 // OpExecutionModeId.
-bool isBeforeAnnotations(uint32_t op) { return (op >= 2 && op <= 8) || (op >= 10 && op <= 17) || op == 330 || op == 331; }
+bool isBeforeAnnotations(uint32_t op) {
+    return (op >= 2 && op <= 8) || (op >= 10 && op <= 17) || op == 330 || op == 331;
+}
 
 }  // namespace
 
 std::vector<uint32_t> decorateNoContraction(std::span<const uint32_t> module) {
-    if (module.size() < HEADER_WORDS || module[0] != 0x07230203u) throw std::runtime_error("not a SPIR-V module");
+    if (module.size() < HEADER_WORDS || module[0] != 0x07230203u)
+        throw std::runtime_error("not a SPIR-V module");
 
     // One pass to find the results to decorate, those already decorated, and
     // where the annotations end.
@@ -55,17 +60,23 @@ std::vector<uint32_t> decorateNoContraction(std::span<const uint32_t> module) {
     for (size_t i = HEADER_WORDS; i < module.size();) {
         const uint32_t count = module[i] >> 16;
         const uint32_t op = module[i] & 0xffffu;
-        if (count == 0 || i + count > module.size()) throw std::runtime_error("malformed SPIR-V module");
+        if (count == 0 || i + count > module.size())
+            throw std::runtime_error("malformed SPIR-V module");
         if (op == OP_DECORATE && count >= 3 && module[i + 2] == DECORATION_NO_CONTRACTION)
             decorated.insert(module[i + 1]);
-        if (isAnnotation(op)) annotationsEnd = i + count;
-        else if (firstLater == 0 && !isBeforeAnnotations(op)) firstLater = i;
+        if (isAnnotation(op))
+            annotationsEnd = i + count;
+        else if (firstLater == 0 && !isBeforeAnnotations(op))
+            firstLater = i;
         if (isFloatArithmetic(op) && count >= 3) results.push_back(module[i + 2]);
         i += count;
     }
-    const size_t insertAt = annotationsEnd ? annotationsEnd : firstLater ? firstLater : module.size();
+    const size_t insertAt = annotationsEnd ? annotationsEnd
+                            : firstLater   ? firstLater
+                                           : module.size();
 
-    std::vector<uint32_t> out(module.begin(), module.begin() + static_cast<std::ptrdiff_t>(insertAt));
+    std::vector<uint32_t> out(module.begin(),
+                              module.begin() + static_cast<std::ptrdiff_t>(insertAt));
     for (const uint32_t id : results) {
         if (!decorated.insert(id).second) continue;
         out.insert(out.end(), {(3u << 16) | OP_DECORATE, id, DECORATION_NO_CONTRACTION});

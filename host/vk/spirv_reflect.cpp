@@ -29,8 +29,19 @@ enum Op : uint32_t {
     OpDecorate = 71,
     OpMemberDecorate = 72,
 };
-enum Decoration : uint32_t { ArrayStride = 6, MatrixStride = 7, Binding = 33, DescriptorSet = 34, Offset = 35 };
-enum StorageClass : uint32_t { UniformConstant = 0, Uniform = 2, PushConstant = 9, StorageBuffer = 12 };
+enum Decoration : uint32_t {
+    ArrayStride = 6,
+    MatrixStride = 7,
+    Binding = 33,
+    DescriptorSet = 34,
+    Offset = 35
+};
+enum StorageClass : uint32_t {
+    UniformConstant = 0,
+    Uniform = 2,
+    PushConstant = 9,
+    StorageBuffer = 12
+};
 constexpr uint32_t DIM_BUFFER = 5;          // OpTypeImage's Dim operand
 constexpr uint32_t SAMPLED_BY_SAMPLER = 1;  // OpTypeImage's Sampled operand: not a storage image
 
@@ -54,7 +65,8 @@ struct Type {
 }  // namespace
 
 SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
-    if (words.size() < 5 || words[0] != 0x07230203u) throw std::runtime_error("not a SPIR-V module");
+    if (words.size() < 5 || words[0] != 0x07230203u)
+        throw std::runtime_error("not a SPIR-V module");
 
     std::unordered_map<uint32_t, std::string> names;
     std::unordered_map<uint32_t, Type> types;
@@ -71,7 +83,8 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
     for (size_t i = 5; i < words.size();) {
         const uint32_t count = words[i] >> 16;
         const uint32_t op = words[i] & 0xffff;
-        if (count == 0 || i + count > words.size()) throw std::runtime_error("truncated SPIR-V instruction");
+        if (count == 0 || i + count > words.size())
+            throw std::runtime_error("truncated SPIR-V instruction");
         std::span<const uint32_t> in = words.subspan(i + 1, count - 1);
         switch (op) {
             case OpName:
@@ -81,7 +94,8 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
                 result.capabilities.push_back(in[0]);
                 break;
             case OpExecutionMode:
-                result.executionModes.push_back({in[1], std::vector<uint32_t>(in.begin() + 2, in.end())});
+                result.executionModes.push_back(
+                    {in[1], std::vector<uint32_t>(in.begin() + 2, in.end())});
                 break;
             case OpTypeInt:
             case OpTypeFloat:
@@ -133,7 +147,8 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
                 return memberOffsets.at(id).at(last) + self(self, t.operands[last]);
             }
             default:
-                throw std::runtime_error(fmt::format("cannot size SPIR-V type with opcode {}", t.op));
+                throw std::runtime_error(
+                    fmt::format("cannot size SPIR-V type with opcode {}", t.op));
         }
     };
 
@@ -141,7 +156,8 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
         if (v.storage == PushConstant) {
             const uint32_t pointee = types.at(v.pointerType).operands[1];
             result.pushConstantSize = sizeOf(sizeOf, pointee);
-        } else if ((v.storage == StorageBuffer || v.storage == Uniform) && bindingOf.contains(v.id)) {
+        } else if ((v.storage == StorageBuffer || v.storage == Uniform) &&
+                   bindingOf.contains(v.id)) {
             // Storage buffers are StorageBuffer variables under SPIR-V 1.5
             // (--target-env vulkan1.2); Uniform ones are uniform buffers.
             result.bindings.push_back({setOf.contains(v.id) ? setOf[v.id] : 0, bindingOf[v.id],
@@ -152,9 +168,12 @@ SpirvReflection reflectSpirv(std::span<const uint32_t> words) {
             // textureBuffer) is a uniform texel buffer; vkpath's kernels
             // declare no other opaque type.
             const Type& image = types.at(types.at(v.pointerType).operands[1]);
-            const bool texelBuffer = image.op == OpTypeImage && image.operands.at(1) == DIM_BUFFER &&
+            const bool texelBuffer = image.op == OpTypeImage &&
+                                     image.operands.at(1) == DIM_BUFFER &&
                                      image.operands.at(5) == SAMPLED_BY_SAMPLER;
-            if (!texelBuffer) throw std::runtime_error("SPIR-V: a resource other than a buffer or a texel buffer");
+            if (!texelBuffer)
+                throw std::runtime_error(
+                    "SPIR-V: a resource other than a buffer or a texel buffer");
             result.bindings.push_back({setOf.contains(v.id) ? setOf[v.id] : 0, bindingOf[v.id],
                                        DescriptorKind::UniformTexelBuffer});
         }

@@ -33,13 +33,13 @@ struct SpirvStructLayout {
 };
 
 struct SpirvExecutionMode {
-    uint32_t mode = 0;               // SPIR-V ExecutionMode enumerant, e.g. 4461 SignedZeroInfNanPreserve
+    uint32_t mode = 0;  // SPIR-V ExecutionMode enumerant, e.g. 4461 SignedZeroInfNanPreserve
     std::vector<uint32_t> operands;  // its literals, e.g. the float width
 };
 
 struct SpirvReflection {
-    std::vector<SpirvBinding> bindings;          // sorted by (set, binding)
-    uint32_t pushConstantSize = 0;               // bytes; 0 if there is no push-constant block
+    std::vector<SpirvBinding> bindings;  // sorted by (set, binding)
+    uint32_t pushConstantSize = 0;       // bytes; 0 if there is no push-constant block
     std::map<std::string, SpirvStructLayout> structs;  // by the struct's GLSL name
     std::vector<uint32_t> capabilities;                // OpCapability operands, in module order
     std::vector<SpirvExecutionMode> executionModes;    // OpExecutionMode of the entry point(s)

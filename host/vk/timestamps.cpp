@@ -34,7 +34,8 @@ uint32_t TimestampPool::begin(VkCommandBuffer cmd, std::string name) {
 }
 
 void TimestampPool::end(VkCommandBuffer cmd, uint32_t interval) {
-    if (m_pool) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m_pool, 2 * interval + 1);
+    if (m_pool)
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m_pool, 2 * interval + 1);
 }
 
 std::vector<TimedInterval> TimestampPool::results() const {
@@ -42,13 +43,15 @@ std::vector<TimedInterval> TimestampPool::results() const {
     if (m_names.empty()) return intervals;
     std::vector<uint64_t> ticks(2 * m_names.size(), 0);
     if (m_pool) {
-        VK_CHECK(vkGetQueryPoolResults(m_context.device(), m_pool, 0, static_cast<uint32_t>(ticks.size()),
-                                       ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
-                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+        VK_CHECK(vkGetQueryPoolResults(
+            m_context.device(), m_pool, 0, static_cast<uint32_t>(ticks.size()),
+            ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
+            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     }
     const double msPerTick = m_context.info().timestampPeriodNs * 1e-6;
     for (size_t i = 0; i < m_names.size(); ++i) {
-        const uint64_t elapsed = ticks[2 * i + 1] >= ticks[2 * i] ? ticks[2 * i + 1] - ticks[2 * i] : 0;
+        const uint64_t elapsed =
+            ticks[2 * i + 1] >= ticks[2 * i] ? ticks[2 * i + 1] - ticks[2 * i] : 0;
         intervals.push_back({m_names[i], static_cast<double>(elapsed) * msPerTick});
     }
     return intervals;

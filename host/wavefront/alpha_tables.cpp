@@ -18,14 +18,16 @@ float smallestTextureAlpha(const scene::Scene& scene, const scene::Material& m) 
 
 }  // namespace
 
-std::vector<shared::MaterialAlpha> buildMaterialAlpha(const scene::Scene& scene, const TextureTables& textures) {
+std::vector<shared::MaterialAlpha> buildMaterialAlpha(const scene::Scene& scene,
+                                                      const TextureTables& textures) {
     // The smallest COLOR_0 alpha of the meshes of each material (1 without colours).
     std::vector<float> smallestVertexAlpha(scene.materials.size(), 1.0f);
     std::vector<bool> onTriangles(scene.materials.size(), false);
     for (const scene::Mesh& mesh : scene.meshes) {
         if (mesh.material >= scene.materials.size() || mesh.triangles.empty()) continue;
         onTriangles[mesh.material] = true;
-        if (mesh.colors.size() != mesh.positions.size()) continue;  // no COLOR_0 (surface_tables: white)
+        if (mesh.colors.size() != mesh.positions.size())
+            continue;  // no COLOR_0 (surface_tables: white)
         for (const glm::vec4& c : mesh.colors)
             smallestVertexAlpha[mesh.material] = std::min(smallestVertexAlpha[mesh.material], c.w);
     }
@@ -41,7 +43,8 @@ std::vector<shared::MaterialAlpha> buildMaterialAlpha(const scene::Scene& scene,
         if (m.baseColorTexture.present() && textures.materialSlots.at(i) != VKP_NO_TEXTURE)
             a.baseColorSlot = textures.materialSlots[i] + VKP_SLOT_BASE_COLOR;
         if (m.alphaMode != scene::AlphaMode::Opaque && onTriangles[i]) {
-            const float smallest = m.alpha * smallestTextureAlpha(scene, m) * smallestVertexAlpha[i];
+            const float smallest =
+                m.alpha * smallestTextureAlpha(scene, m) * smallestVertexAlpha[i];
             const float covers = m.alphaMode == scene::AlphaMode::Mask ? m.alphaCutoff : 1.0f;
             if (smallest < covers) {
                 a.mode = uint32_t(m.alphaMode);

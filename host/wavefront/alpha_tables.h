@@ -16,6 +16,7 @@ namespace vkpath::wavefront {
 // BLEND: the factor times the smallest alpha of its base-colour image's texels
 // and of the COLOR_0 of the meshes that use it) is recorded as opaque: the
 // test would pass every candidate. Spheres are opaque whatever their material.
-std::vector<shared::MaterialAlpha> buildMaterialAlpha(const scene::Scene& scene, const TextureTables& textures);
+std::vector<shared::MaterialAlpha> buildMaterialAlpha(const scene::Scene& scene,
+                                                      const TextureTables& textures);
 
 }  // namespace vkpath::wavefront

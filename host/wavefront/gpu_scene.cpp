@@ -114,7 +114,8 @@ LightEntry spotLight(const scene::SpotLight& s) {
     e.record.emission = s.intensity;
     e.record.cosInner = std::cos(s.innerConeAngle);
     e.record.cosOuter = std::cos(s.outerConeAngle);
-    e.power = 2.0 * PI * (1.0 - 0.5 * (e.record.cosInner + e.record.cosOuter)) * scene::luminance(s.intensity);
+    e.power = 2.0 * PI * (1.0 - 0.5 * (e.record.cosInner + e.record.cosOuter)) *
+              scene::luminance(s.intensity);
     return e;
 }
 
@@ -140,11 +141,14 @@ LightEntry environmentLight(double radiantIntensity, float strength, double scen
 // texels, at least one, since the kernels read most arrays as texel buffers
 // (stages/lib/scene_access.glsl) and an empty array still needs a buffer to
 // bind.
-uint64_t texelAligned(uint64_t bytes) { return std::max<uint64_t>(16, (bytes + 15) / 16 * 16); }
+uint64_t texelAligned(uint64_t bytes) {
+    return std::max<uint64_t>(16, (bytes + 15) / 16 * 16);
+}
 
 template <typename T>
 vk::Buffer uploadArray(vk::Context& context, const std::vector<T>& data, const char* name) {
-    vk::Buffer buffer(context, texelAligned(data.size() * sizeof(T)), vk::MemoryKind::DeviceLocal, name);
+    vk::Buffer buffer(context, texelAligned(data.size() * sizeof(T)), vk::MemoryKind::DeviceLocal,
+                      name);
     buffer.upload(std::as_bytes(std::span(data)));
     return buffer;
 }
@@ -185,7 +189,8 @@ std::vector<glm::vec4> guideSpheres(const std::vector<shared::BvhPrimitive>& pri
     for (const shared::BvhPrimitive& p : primitives)
         if (p.kind == VKP_PRIMITIVE_SPHERE && smoothSpecular(materials.at(p.material)))
             spheres.emplace_back(p.p0, p.p1.x);
-    std::stable_sort(spheres.begin(), spheres.end(), [](const glm::vec4& a, const glm::vec4& b) { return a.w > b.w; });
+    std::stable_sort(spheres.begin(), spheres.end(),
+                     [](const glm::vec4& a, const glm::vec4& b) { return a.w > b.w; });
     if (spheres.size() > VKP_MAX_GUIDE_SPHERES) spheres.resize(VKP_MAX_GUIDE_SPHERES);
     return spheres;
 }
@@ -223,13 +228,15 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             // the triangle, which the light's constant record cannot say): it
             // is found by BSDF samples alone, with weight 1, which is unbiased.
             // So is one with holes (alpha): a light sample could land in one.
-            const bool holes = !t.materialAlpha.empty() && t.materialAlpha[mesh.material].mode != VKP_ALPHA_OPAQUE;
+            const bool holes =
+                !t.materialAlpha.empty() && t.materialAlpha[mesh.material].mode != VKP_ALPHA_OPAQUE;
             if (!m.emissive()) continue;
             if (m.emissiveTexture.present() || holes) {
                 t.info.unsampledEmitters = 1;
                 continue;
             }
-            const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y), p2 = mesh.positions.at(tri.z);
+            const glm::vec3 p0 = mesh.positions.at(tri.x), p1 = mesh.positions.at(tri.y),
+                            p2 = mesh.positions.at(tri.z);
             if (bvh::isDegenerateTriangle(p0, p1, p2)) continue;
             surfaceLight[{VKP_PRIMITIVE_TRIANGLE, id}] = uint32_t(t.lights.size());
             addLight(triangleLight(p0, p1, p2, m.emission));
@@ -299,8 +306,10 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     // each is still a firefly (docs/TRADEOFFS.md, "Guiding toward specular
     // spheres", measured on material_spheres).
     const bool surfaceEmitters = !surfaceLight.empty() || t.info.unsampledEmitters != 0;
-    const bool environmentMap = scene.environment && scene.environment->map && scene.environment->strength > 0;
-    if (surfaceEmitters && !environmentMap) t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);
+    const bool environmentMap =
+        scene.environment && scene.environment->map && scene.environment->strength > 0;
+    if (surfaceEmitters && !environmentMap)
+        t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);
     return t;
 }
 
@@ -322,9 +331,10 @@ uint64_t GpuScene::bytes() const {
 }
 
 std::vector<std::pair<uint32_t, const vk::Buffer*>> GpuScene::bindings() const {
-    std::vector<std::pair<uint32_t, const vk::Buffer*>> b = {{VKP_WF_BVH_NODES, &bvh.nodeBinding()},
-                                                             {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
-                                                             {VKP_WF_SCENE_ADDRESSES, &addresses}};
+    std::vector<std::pair<uint32_t, const vk::Buffer*>> b = {
+        {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
+        {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
+        {VKP_WF_SCENE_ADDRESSES, &addresses}};
 #define VKP_BUFFER_BINDING(index, name, Record, access, member) \
     b.emplace_back(index, VKP_SCENE_ARRAY_SPANS_##access ? &binding(name) : &name);
     VKP_SCENE_ARRAYS(VKP_BUFFER_BINDING)
@@ -337,7 +347,8 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     std::vector<vk::ArrayExtent> extents;
     for (const vk::ArrayExtent& e : bvh::arrayExtents(t.bvh)) extents.push_back(e);
 #define VKP_ARRAY_EXTENT(index, name, Record, access, member) \
-    VKP_SCENE_ARRAY_IF_SPANS_##access(extents.push_back({#name, t.member.size() * sizeof(t.member[0]), t.member.size()});)
+    VKP_SCENE_ARRAY_IF_SPANS_##access(                        \
+        extents.push_back({#name, t.member.size() * sizeof(t.member[0]), t.member.size()});)
     VKP_SCENE_ARRAYS(VKP_ARRAY_EXTENT)
 #undef VKP_ARRAY_EXTENT
     const vk::BufferLimits limits = vk::bufferLimits(context.info());
@@ -345,15 +356,17 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     g.byAddress = vk::chooseAddressAccess(extents, limits);
     // The BOUND arrays grow with the materials and textures, not the
     // geometry: each must fit one of the device's bindings.
-#define VKP_BOUND_FITS(index, name, Record, access, member)                                                  \
-    if (!VKP_SCENE_ARRAY_SPANS_##access && t.member.size() * sizeof(t.member[0]) > limits.deviceBinding)            \
-        throw InputError(fmt::format("scene too large for the device: {} records of " #name                  \
-                                     " do not fit one binding",                                              \
+#define VKP_BOUND_FITS(index, name, Record, access, member)                                 \
+    if (!VKP_SCENE_ARRAY_SPANS_##access &&                                                  \
+        t.member.size() * sizeof(t.member[0]) > limits.deviceBinding)                       \
+        throw InputError(fmt::format("scene too large for the device: {} records of " #name \
+                                     " do not fit one binding",                             \
                                      t.member.size()));
     VKP_SCENE_ARRAYS(VKP_BOUND_FITS)
 #undef VKP_BOUND_FITS
     g.bvh = bvh::uploadBvh(context, t.bvh, g.byAddress);
-#define VKP_ARRAY_UPLOAD(index, name, Record, access, member) g.name = uploadArray(context, t.member, #name);
+#define VKP_ARRAY_UPLOAD(index, name, Record, access, member) \
+    g.name = uploadArray(context, t.member, #name);
     VKP_SCENE_ARRAYS(VKP_ARRAY_UPLOAD)
 #undef VKP_ARRAY_UPLOAD
     shared::SceneAddresses addresses{};
@@ -375,12 +388,14 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
 std::string describeMemory(const GpuScene& g, const SceneTables& t) {
     std::string surface;
     if (t.surface.attributes != 0)
-        surface = fmt::format("; vertex attributes: {} triangles, {} vertices ({:.1f} KiB)",
-                              t.surface.triangleVertices.size(),
-                              std::max({t.surface.vertexNormals.size(), t.surface.vertexTexcoords.size(),
-                                        t.surface.vertexColors.size(), t.surface.vertexTangents.size()}),
-                              (g.triangleVertices.size() + g.vertexNormals.size() + g.vertexTexcoords.size() +
-                               g.vertexColors.size() + g.vertexTangents.size()) / 1024.0);
+        surface = fmt::format(
+            "; vertex attributes: {} triangles, {} vertices ({:.1f} KiB)",
+            t.surface.triangleVertices.size(),
+            std::max({t.surface.vertexNormals.size(), t.surface.vertexTexcoords.size(),
+                      t.surface.vertexColors.size(), t.surface.vertexTangents.size()}),
+            (g.triangleVertices.size() + g.vertexNormals.size() + g.vertexTexcoords.size() +
+             g.vertexColors.size() + g.vertexTangents.size()) /
+                1024.0);
     if (!t.textures.textures.empty())
         surface += fmt::format("; textures: {} ({} texels, {:.1f} MiB)", t.textures.textures.size(),
                                t.textures.texels.size(), g.texels.size() / (1024.0 * 1024.0));

@@ -37,15 +37,17 @@ struct SceneTables {
     std::vector<uint32_t> primitiveLight;  // per leaf primitive; empty when nothing is emissive
     std::vector<shared::AliasEntry> envAlias;
     std::vector<glm::vec4> envRadiance;  // the map's texels, w 0: one 16-byte texel each
-    SurfaceTables surface;     // vertex attributes for shading (empty when the scene is flat)
-    TextureTables textures;    // empty when no material has a texture
-    std::vector<shared::MaterialAlpha> materialAlpha;  // per material; empty unless info.alphaTested
+    SurfaceTables surface;   // vertex attributes for shading (empty when the scene is flat)
+    TextureTables textures;  // empty when no material has a texture
+    std::vector<shared::MaterialAlpha>
+        materialAlpha;  // per material; empty unless info.alphaTested
     // (centre, radius) of the smooth specular spheres that diffuse samples
     // may be guided toward (shared/path_tracer.h sampleGuidedDiffuse), the
     // largest VKP_MAX_GUIDE_SPHERES of them; empty without emissive surfaces
     // and under an environment map (buildSceneTables says why).
     std::vector<glm::vec4> guideSpheres;
-    shared::SceneInfo info{};  // settings fields (samples, depth, seed, size) filled by the renderer
+    shared::SceneInfo
+        info{};  // settings fields (samples, depth, seed, size) filled by the renderer
     // Everything above is in render space: world space moved so that the
     // centre of the geometry's bounding box is the origin (computed in
     // double), so that float precision follows the scene's size, not its
@@ -55,12 +57,12 @@ struct SceneTables {
     glm::dvec3 worldOrigin{0.0};
 };
 
-// Builds the tables in render space (see SceneTables). Lights: one per emissive non-degenerate triangle and
-// sphere, each punctual light, and the environment when present, chosen in
-// proportion to their power in luminance: pi x area x L for surfaces (a
-// triangle's front face; a sphere's outside), 4 pi I for points, the cone's solid angle x I for
-// spots, and pi R^2 x E (directional) or pi R^2 x the integral of L over the
-// sphere (environment), R the radius of a sphere around the geometry.
+// Builds the tables in render space (see SceneTables). Lights: one per emissive non-degenerate
+// triangle and sphere, each punctual light, and the environment when present, chosen in proportion
+// to their power in luminance: pi x area x L for surfaces (a triangle's front face; a sphere's
+// outside), 4 pi I for points, the cone's solid angle x I for spots, and pi R^2 x E (directional)
+// or pi R^2 x the integral of L over the sphere (environment), R the radius of a sphere around the
+// geometry.
 SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions = {});
 
 struct GpuScene {
@@ -79,7 +81,9 @@ struct GpuScene {
 
     // What to bind in place of `array`: itself, or the placeholder when the
     // kernels read it by address.
-    const vk::Buffer& binding(const vk::Buffer& array) const { return byAddress ? bvh.placeholder : array; }
+    const vk::Buffer& binding(const vk::Buffer& array) const {
+        return byAddress ? bvh.placeholder : array;
+    }
     // Device memory of the scene's arrays (not counting placeholders).
     uint64_t bytes() const;
     // What the stage kernels bind, by binding index: every scene array (a

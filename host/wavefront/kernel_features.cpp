@@ -3,13 +3,13 @@
 #include <array>
 #include <utility>
 
+#include "scene/scene.h"
 #include "shared/alpha.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
 #include "shared/rng.h"
 #include "shared/texture.h"
-#include "scene/scene.h"
 
 namespace vkpath::wavefront {
 namespace {
@@ -19,10 +19,11 @@ namespace {
 constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATURE_NAMES = {{
     {VKP_FEATURE_TRIANGLES, "triangles"},
     {VKP_FEATURE_SPHERES, "spheres"},
-#define VKP_KIND_FEATURE_NAME(id, NAME, Type, key, label, feature, flags, regularized) {feature, label},
+#define VKP_KIND_FEATURE_NAME(id, NAME, Type, key, label, feature, flags, regularized) \
+    {feature, label},
     VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_NAME)
 #undef VKP_KIND_FEATURE_NAME
-    {VKP_FEATURE_EMISSIVE_SURFACES, "emissive-surfaces"},
+        {VKP_FEATURE_EMISSIVE_SURFACES, "emissive-surfaces"},
     {VKP_FEATURE_POINT_LIGHTS, "point-lights"},
     {VKP_FEATURE_SPOT_LIGHTS, "spot-lights"},
     {VKP_FEATURE_DIRECTIONAL_LIGHTS, "directional-lights"},
@@ -68,7 +69,8 @@ uint32_t sceneFeatures(const SceneTables& t) {
         f |= shared::materialFeature(m.kind);
         if (m.emission != glm::vec3(0.0f)) f |= VKP_FEATURE_EMISSIVE_SURFACES;
         if (m.attenuation != glm::vec3(0.0f)) f |= VKP_FEATURE_ABSORPTION;
-        if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE) f |= VKP_FEATURE_TEXTURES;
+        if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE)
+            f |= VKP_FEATURE_TEXTURES;
         if (!t.materialAlpha.empty() && t.materialAlpha[p.material].mode != VKP_ALPHA_OPAQUE &&
             p.kind == VKP_PRIMITIVE_TRIANGLE)
             f |= VKP_FEATURE_ALPHA;
@@ -76,7 +78,8 @@ uint32_t sceneFeatures(const SceneTables& t) {
     // Delta lights by their type's bit; area lights come with their
     // primitives above, the environment below.
     for (const shared::Light& light : t.lights)
-        if (shared::lightTypeFlags(light.type) & VKP_LIGHT_IS_DELTA) f |= shared::lightTypeFeature(light.type);
+        if (shared::lightTypeFlags(light.type) & VKP_LIGHT_IS_DELTA)
+            f |= shared::lightTypeFeature(light.type);
     f |= bvh::traversalFeatures(t.bvh);
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
@@ -84,20 +87,23 @@ uint32_t sceneFeatures(const SceneTables& t) {
     // The environment is seen by escaping rays whether or not it is bright
     // enough to be in the light list.
     if (t.info.hasEnvironment != 0)
-        f |= t.info.environment.width != 0 ? VKP_FEATURE_ENVIRONMENT_MAP : VKP_FEATURE_ENVIRONMENT_COLOR;
+        f |= t.info.environment.width != 0 ? VKP_FEATURE_ENVIRONMENT_MAP
+                                           : VKP_FEATURE_ENVIRONMENT_COLOR;
     return f;
 }
 
 uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info) {
     uint32_t f = sceneFeatures(tables);
-    f |= info.samplerKind == VKP_SAMPLER_SOBOL ? VKP_FEATURE_SAMPLER_SOBOL : VKP_FEATURE_SAMPLER_INDEPENDENT;
+    f |= info.samplerKind == VKP_SAMPLER_SOBOL ? VKP_FEATURE_SAMPLER_SOBOL
+                                               : VKP_FEATURE_SAMPLER_INDEPENDENT;
     if (info.lightSamples > 0) f |= VKP_FEATURE_LIGHT_SAMPLES;
     if (info.lightSamples > 1) f |= VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES;
     // continuePath runs at bounces < maxDepth and applies roulette from
     // bounce + 1 >= rouletteDepth on.
     if (info.rouletteDepth <= info.maxDepth) f |= VKP_FEATURE_ROULETTE;
     // Guiding happens at Lambertian vertices that scatter (bounces < maxDepth).
-    if (info.guideSphereCount > 0 && (f & VKP_FEATURE_DIFFUSE) && info.maxDepth > 0) f |= VKP_FEATURE_SPHERE_GUIDING;
+    if (info.guideSphereCount > 0 && (f & VKP_FEATURE_DIFFUSE) && info.maxDepth > 0)
+        f |= VKP_FEATURE_SPHERE_GUIDING;
     // Path regularisation (shared/bsdf.h regularizedMaterial) roughens the
     // delta and near-delta lobes: the mirror becomes a GGX conductor and the
     // smooth glass a rough one, so their kernels must hold those kinds too.
@@ -108,7 +114,8 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
         for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS) {
             if (!(f & kind.feature)) continue;
             regularized |= scene::materialKindInfo(kind.regularized).feature;
-            if (kind.regularized != kind.kind || (kind.flags & VKP_KIND_MICROFACET)) roughened |= kind.feature;
+            if (kind.regularized != kind.kind || (kind.flags & VKP_KIND_MICROFACET))
+                roughened |= kind.feature;
         }
         if (roughened != 0) f |= VKP_FEATURE_REGULARIZE | regularized;
     }

@@ -30,8 +30,8 @@ struct PathBuffers {
 // file, grown and mapped on demand, so an address-space limit makes it crash
 // later rather than fail an allocation. maxDeviceMemoryBytes bounds a render
 // up front instead: `pathStateBudget`.)
-PathBuffers allocatePathBuffers(vk::Context& context, const RenderSettings& settings, KernelForm form,
-                                uint32_t shadowSamples, uint64_t pathStateBudget);
+PathBuffers allocatePathBuffers(vk::Context& context, const RenderSettings& settings,
+                                KernelForm form, uint32_t shadowSamples, uint64_t pathStateBudget);
 
 // Adds each per-path binding to `bindings`: its buffer, or `placeholder`
 // where the render does not use the row.

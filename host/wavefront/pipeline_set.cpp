@@ -10,13 +10,15 @@
 namespace vkpath::wavefront {
 namespace {
 
-std::span<const std::byte> bytes(const shared::WavePush& p) { return std::as_bytes(std::span(&p, 1)); }
+std::span<const std::byte> bytes(const shared::WavePush& p) {
+    return std::as_bytes(std::span(&p, 1));
+}
 
 }  // namespace
 
 PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
-                         std::map<uint32_t, const vk::Buffer*> bindings, const std::vector<vk::Buffer>& film,
-                         vk::Buffer& counters)
+                         std::map<uint32_t, const vk::Buffer*> bindings,
+                         const std::vector<vk::Buffer>& film, vk::Buffer& counters)
     : m_setup(setup) {
     const vk::KernelOptions options{.workgroupSize = setup.workgroupSize};
     vk::KernelOptions sceneOptions = options;
@@ -27,7 +29,8 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
         m_built.emplace_back(kernel.get(), &set);
         return kernel;
     };
-    const vk::KernelOptions dispatchOptions{.workgroupSize = 1, .specialization = {{1, setup.workgroupSize}}};
+    const vk::KernelOptions dispatchOptions{.workgroupSize = 1,
+                                            .specialization = {{1, setup.workgroupSize}}};
     m_queueDispatch = build("queue_dispatch", dispatchOptions, m_queueDispatchSet);
     m_accumulate = std::make_unique<vk::Kernel>(context, "accumulate", options);
     for (const vk::Buffer& window : film) {
@@ -58,8 +61,9 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
 
 PipelineSet::~PipelineSet() = default;
 
-void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps, const shared::WavePush& wave,
-                             uint32_t bounces, const vk::Buffer& counters, const std::vector<vk::Buffer>& film,
+void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
+                             const shared::WavePush& wave, uint32_t bounces,
+                             const vk::Buffer& counters, const std::vector<vk::Buffer>& film,
                              uint32_t filmWindowPixels) const {
     timestamps.reset(cmd);
     vk::computeBarrier(cmd);
@@ -77,23 +81,35 @@ void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
         const shared::WavePush tally = pushFor(0, VKP_TALLY_RAYS);
         // Each invocation traces ceil(count / invocations) paths in turn;
         // lavapipe ends a shader loop after 65535 iterations, one bounce each.
-        const uint32_t perInvocation = std::clamp<uint32_t>(m_setup.megakernelPathsPerInvocation, 1, 65535 / bounces);
+        const uint32_t perInvocation =
+            std::clamp<uint32_t>(m_setup.megakernelPathsPerInvocation, 1, 65535 / bounces);
         const uint32_t invocations = (wave.pathCount + perInvocation - 1) / perInvocation;
-        timed("megakernel", [&] { m_megakernel->record(cmd, m_megakernelSet, invocations, bytes(p0)); });
-        timed("queue_dispatch", [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(tally)); });
+        timed("megakernel",
+              [&] { m_megakernel->record(cmd, m_megakernelSet, invocations, bytes(p0)); });
+        timed("queue_dispatch",
+              [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(tally)); });
     } else {
-        timed("generate", [&] { m_generate->record(cmd, m_generateSet, wave.pathCount, bytes(p0)); });
+        timed("generate",
+              [&] { m_generate->record(cmd, m_generateSet, wave.pathCount, bytes(p0)); });
         const VkDeviceSize rayArgs = offsetof(shared::QueueCounters, rayDispatch);
         const VkDeviceSize shadowArgs = offsetof(shared::QueueCounters, shadowDispatch);
         for (uint32_t bounce = 0; bounce < bounces; ++bounce) {
             const shared::WavePush rays = pushFor(bounce, VKP_PREPARE_RAYS);
             const shared::WavePush shadows = pushFor(bounce, VKP_PREPARE_SHADOWS);
-            timed("queue_dispatch", [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(rays)); });
-            timed("intersect", [&] { m_intersect->recordIndirect(cmd, m_intersectSet, counters, rayArgs, bytes(rays)); });
-            timed("shade", [&] { m_shade->recordIndirect(cmd, m_shadeSet, counters, rayArgs, bytes(rays)); });
+            timed("queue_dispatch",
+                  [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(rays)); });
+            timed("intersect", [&] {
+                m_intersect->recordIndirect(cmd, m_intersectSet, counters, rayArgs, bytes(rays));
+            });
+            timed("shade", [&] {
+                m_shade->recordIndirect(cmd, m_shadeSet, counters, rayArgs, bytes(rays));
+            });
             if (!m_setup.shadowStage) continue;
-            timed("queue_dispatch", [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(shadows)); });
-            timed("shadow", [&] { m_shadow->recordIndirect(cmd, m_shadowSet, counters, shadowArgs, bytes(shadows)); });
+            timed("queue_dispatch",
+                  [&] { m_queueDispatch->record(cmd, m_queueDispatchSet, 1, bytes(shadows)); });
+            timed("shadow", [&] {
+                m_shadow->recordIndirect(cmd, m_shadowSet, counters, shadowArgs, bytes(shadows));
+            });
         }
     }
     timed("accumulate", [&] {

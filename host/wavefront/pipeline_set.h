@@ -39,8 +39,9 @@ class PipelineSet {
     // its first dispatch (lavapipe from Mesa 25 does, for seconds), and that
     // time belongs here, not to the first wave. `counters` is cleared
     // before (with no paths every kernel returns at once).
-    PipelineSet(vk::Context& context, const PipelineSetup& setup, std::map<uint32_t, const vk::Buffer*> bindings,
-                const std::vector<vk::Buffer>& film, vk::Buffer& counters);
+    PipelineSet(vk::Context& context, const PipelineSetup& setup,
+                std::map<uint32_t, const vk::Buffer*> bindings, const std::vector<vk::Buffer>& film,
+                vk::Buffer& counters);
     ~PipelineSet();
 
     uint32_t count() const { return uint32_t(m_built.size()); }
@@ -49,15 +50,16 @@ class PipelineSet {
     // `bounces` shading passes, then their accumulation into every window of
     // `film` (windows of `filmWindowPixels`). Each kernel's dispatch is timed
     // by its name in `timestamps`.
-    void recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps, const shared::WavePush& wave,
-                    uint32_t bounces, const vk::Buffer& counters, const std::vector<vk::Buffer>& film,
-                    uint32_t filmWindowPixels) const;
+    void recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
+                    const shared::WavePush& wave, uint32_t bounces, const vk::Buffer& counters,
+                    const std::vector<vk::Buffer>& film, uint32_t filmWindowPixels) const;
 
   private:
     PipelineSetup m_setup;
-    std::unique_ptr<vk::Kernel> m_generate, m_queueDispatch, m_intersect, m_shade, m_shadow, m_megakernel,
-        m_accumulate;
-    vk::DescriptorSet m_generateSet, m_queueDispatchSet, m_intersectSet, m_shadeSet, m_shadowSet, m_megakernelSet;
+    std::unique_ptr<vk::Kernel> m_generate, m_queueDispatch, m_intersect, m_shade, m_shadow,
+        m_megakernel, m_accumulate;
+    vk::DescriptorSet m_generateSet, m_queueDispatchSet, m_intersectSet, m_shadeSet, m_shadowSet,
+        m_megakernelSet;
     std::vector<vk::DescriptorSet> m_accumulateSets;  // one per film window
     std::vector<std::pair<const vk::Kernel*, const vk::DescriptorSet*>> m_built;
 };

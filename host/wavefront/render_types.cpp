@@ -20,7 +20,9 @@ std::optional<KernelForm> parseKernelForm(const std::string& name) {
     return std::nullopt;
 }
 
-const char* kernelFormName(KernelForm form) { return form == KernelForm::Megakernel ? "megakernel" : "wavefront"; }
+const char* kernelFormName(KernelForm form) {
+    return form == KernelForm::Megakernel ? "megakernel" : "wavefront";
+}
 
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings) {
     shared::SceneInfo info = tables.info;
@@ -43,21 +45,23 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
 void checkResumable(const RenderState& state, const char* format, uint32_t width, uint32_t height,
                     const SampleRange& samples, const std::string& what) {
     auto writer = [](const std::string& f) {
-        return f == GPU_FILM_FORMAT ? "the GPU renderer" : f == CPU_FILM_FORMAT ? "the CPU reference (--device cpu)" : "?";
+        return f == GPU_FILM_FORMAT   ? "the GPU renderer"
+               : f == CPU_FILM_FORMAT ? "the CPU reference (--device cpu)"
+                                      : "?";
     };
     if (state.filmFormat != format)
-        throw InputError(fmt::format("{}: written by {}; this render runs on {}", what, writer(state.filmFormat),
-                                     writer(format)));
+        throw InputError(fmt::format("{}: written by {}; this render runs on {}", what,
+                                     writer(state.filmFormat), writer(format)));
     if (state.width != width || state.height != height)
-        throw InputError(fmt::format("{}: a {}x{} film; this render is {}x{}", what, state.width, state.height, width,
-                                     height));
+        throw InputError(fmt::format("{}: a {}x{} film; this render is {}x{}", what, state.width,
+                                     state.height, width, height));
     if (state.samplesDone > samples.count)
         throw InputError(fmt::format("{}: holds {} samples per pixel, more than the {} asked", what,
                                      state.samplesDone, samples.count));
 }
 
-RenderState resumedState(const RenderControl& control, const char* format, uint32_t width, uint32_t height,
-                         const SampleRange& samples, size_t filmBytes) {
+RenderState resumedState(const RenderControl& control, const char* format, uint32_t width,
+                         uint32_t height, const SampleRange& samples, size_t filmBytes) {
     RenderState before;
     if (control.resume) {
         checkResumable(*control.resume, format, width, height, samples, "the state to resume");
@@ -78,8 +82,8 @@ RenderState resumedState(const RenderControl& control, const char* format, uint3
     return before;
 }
 
-RenderState continuedState(const RenderState& before, uint32_t samplesDone, std::vector<std::byte> film,
-                           const RunTally& run) {
+RenderState continuedState(const RenderState& before, uint32_t samplesDone,
+                           std::vector<std::byte> film, const RunTally& run) {
     RenderState now = before;
     now.samplesDone = samplesDone;
     now.film = std::move(film);
@@ -93,8 +97,11 @@ RenderState continuedState(const RenderState& before, uint32_t samplesDone, std:
     return now;
 }
 
-WholeSampleGate::WholeSampleGate(const RenderControl& control, std::optional<double> timeBudgetSeconds)
-    : m_control(control), m_timeBudget(timeBudgetSeconds), m_lastCheckpoint(std::chrono::steady_clock::now()) {}
+WholeSampleGate::WholeSampleGate(const RenderControl& control,
+                                 std::optional<double> timeBudgetSeconds)
+    : m_control(control),
+      m_timeBudget(timeBudgetSeconds),
+      m_lastCheckpoint(std::chrono::steady_clock::now()) {}
 
 bool WholeSampleGate::ends(uint32_t done, uint32_t total, double seconds, bool& stopped) const {
     if (m_control.stopRequested && m_control.stopRequested()) {
@@ -106,11 +113,13 @@ bool WholeSampleGate::ends(uint32_t done, uint32_t total, double seconds, bool& 
 
 bool WholeSampleGate::checkpointDue(uint32_t done, uint32_t total) const {
     return m_control.checkpoint && done < total &&
-           std::chrono::duration<double>(std::chrono::steady_clock::now() - m_lastCheckpoint).count() >=
-               m_control.checkpointEverySeconds;
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - m_lastCheckpoint)
+                   .count() >= m_control.checkpointEverySeconds;
 }
 
-void WholeSampleGate::checkpointed() { m_lastCheckpoint = std::chrono::steady_clock::now(); }
+void WholeSampleGate::checkpointed() {
+    m_lastCheckpoint = std::chrono::steady_clock::now();
+}
 
 PixelEstimate estimatePixel(double sum, double sumSquares, double samples) {
     PixelEstimate e;

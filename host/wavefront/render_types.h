@@ -21,7 +21,10 @@ namespace vkpath::wavefront {
 
 // Where a path's random numbers come from (shared/rng.h): independent hashes,
 // or Owen-scrambled Sobol' points stratified per pair of dimensions.
-enum class SamplerKind : uint32_t { Independent = VKP_SAMPLER_INDEPENDENT, Sobol = VKP_SAMPLER_SOBOL };
+enum class SamplerKind : uint32_t {
+    Independent = VKP_SAMPLER_INDEPENDENT,
+    Sobol = VKP_SAMPLER_SOBOL
+};
 
 // The sampler named "independent" or "sobol" (--sampler, --sweep sampler=);
 // nullopt for any other name.
@@ -39,8 +42,8 @@ struct RenderSettings {
     uint32_t width = 640;
     uint32_t height = 480;
     uint32_t samplesPerPixel = 16;
-    uint32_t maxDepth = 8;          // pbrt-v4's meaning: 0 = emitters seen directly only
-    uint32_t lightSamples = 1;      // light samples per diffuse vertex (-l)
+    uint32_t maxDepth = 8;      // pbrt-v4's meaning: 0 = emitters seen directly only
+    uint32_t lightSamples = 1;  // light samples per diffuse vertex (-l)
     // Russian roulette from this bounce on. 5 (Mitsuba 3's default, counted
     // the same way) and the Sobol' sampler were chosen by time to error on the
     // bundled and shared scenes: docs/TRADEOFFS.md, "The defaults".
@@ -66,7 +69,7 @@ struct RenderSettings {
     // GPU: kernels specialised to the scene's features (shared/features.h);
     // false builds the general kernels (--no-specialize).
     bool specialize = true;
-    uint32_t workgroupSize = 64;              // GPU: threads per workgroup of the stage kernels
+    uint32_t workgroupSize = 64;  // GPU: threads per workgroup of the stage kernels
     // GPU megakernel: paths each invocation traces one after another (path
     // regeneration); 1: one path per invocation, measured the faster on
     // lavapipe (docs/BENCHMARKS.md, "Kernel forms and specialisation").
@@ -86,7 +89,7 @@ struct RenderSettings {
     // allows, shared/wavefront.h WavePush.filmFirstPixel); smaller only to
     // test windows on small films.
     uint32_t filmWindowPixels = 0;
-    uint32_t threads = 0;                     // CPU reference: worker threads, 0 = every hardware thread
+    uint32_t threads = 0;  // CPU reference: worker threads, 0 = every hardware thread
 };
 
 // Samples [first, first + count) of every pixel. Random numbers are keyed by
@@ -99,7 +102,7 @@ struct SampleRange {
 };
 
 struct RenderProgress {
-    uint32_t samplesDone;   // per pixel
+    uint32_t samplesDone;  // per pixel
     uint32_t samplesTotal;
     double seconds;
 };
@@ -139,7 +142,7 @@ struct RenderState {
 struct RenderControl {
     std::function<void(const RenderProgress&)> progress;  // after every wave (pass)
     std::function<bool()> stopRequested;                  // true: stop at the next whole sample
-    const RenderState* resume = nullptr;                  // go on from this state (same film format and size)
+    const RenderState* resume = nullptr;  // go on from this state (same film format and size)
     // Called with the state every `checkpointEverySeconds` of rendering and
     // once at the end (done, stopped or out of time budget).
     std::function<void(const RenderState&)> checkpoint;
@@ -158,8 +161,8 @@ void checkResumable(const RenderState& state, const char* format, uint32_t width
 // What a render of `format` sums (`filmBytes` of them) starts from:
 // control.resume, checked (checkResumable, the film's size) and copied
 // without its film, or an empty state of that format and size.
-RenderState resumedState(const RenderControl& control, const char* format, uint32_t width, uint32_t height,
-                         const SampleRange& samples, size_t filmBytes);
+RenderState resumedState(const RenderControl& control, const char* format, uint32_t width,
+                         uint32_t height, const SampleRange& samples, size_t filmBytes);
 
 // What one run of a renderer added to the state it started from.
 struct RunTally {
@@ -172,8 +175,8 @@ struct RunTally {
 };
 
 // `before` with `film` (the sums now) and `run` added, `samplesDone` whole samples in.
-RenderState continuedState(const RenderState& before, uint32_t samplesDone, std::vector<std::byte> film,
-                           const RunTally& run);
+RenderState continuedState(const RenderState& before, uint32_t samplesDone,
+                           std::vector<std::byte> film, const RunTally& run);
 
 // The decisions both renderers take at each whole sample: end there (a stop
 // request, or the time budget spent) or write a checkpoint first.
@@ -194,23 +197,27 @@ class WholeSampleGate {
 };
 
 struct RenderResult {
-    image::Image image;          // mean radiance per pixel
-    image::Image varianceOfMean; // per channel: sample variance / samples (the variance AOV)
-    uint32_t samplesPerPixel = 0;  // reached (less than asked when the time budget ran out or a stop came)
-    bool stopped = false;          // RenderControl::stopRequested ended it early
+    image::Image image;           // mean radiance per pixel
+    image::Image varianceOfMean;  // per channel: sample variance / samples (the variance AOV)
+    uint32_t samplesPerPixel =
+        0;                 // reached (less than asked when the time budget ran out or a stop came)
+    bool stopped = false;  // RenderControl::stopRequested ended it early
     uint64_t nonFiniteSamples = 0;
-    uint64_t fireflySamples = 0;  // samples that alone add more than 1 to their pixel's mean (> spp)
-    uint64_t rejectedLightSamples = 0;  // light samples skipped because their pdf was 0 (shared/path_tracer.h)
-    uint64_t paths = 0;          // traced in this run (not those of a resumed state)
-    RayCounts rays;              // this run's
-    uint32_t waves = 0;          // GPU: command buffers; CPU: passes over the image
+    uint64_t fireflySamples =
+        0;  // samples that alone add more than 1 to their pixel's mean (> spp)
+    uint64_t rejectedLightSamples =
+        0;               // light samples skipped because their pdf was 0 (shared/path_tracer.h)
+    uint64_t paths = 0;  // traced in this run (not those of a resumed state)
+    RayCounts rays;      // this run's
+    uint32_t waves = 0;  // GPU: command buffers; CPU: passes over the image
     uint32_t pathsInFlight = 0;  // paths per wave (pass)
     // GPU, RenderSettings::maxWaveMilliseconds: the wave size the cap held
     // the waves to at the end; 0 when it let them hold every path in flight.
     uint32_t cappedWavePaths = 0;
-    double seconds = 0;                         // wall clock of this run's waves
-    double priorSeconds = 0;                    // rendering before it, by the runs a resumed state came from
-    std::map<std::string, double> stageMilliseconds;  // GPU: device time per stage (empty on the CPU)
+    double seconds = 0;       // wall clock of this run's waves
+    double priorSeconds = 0;  // rendering before it, by the runs a resumed state came from
+    std::map<std::string, double>
+        stageMilliseconds;  // GPU: device time per stage (empty on the CPU)
 
     // The image's totals from the state the render ended in: spp and the counts.
     void takeTotals(const RenderState& end) {

@@ -30,7 +30,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-uint64_t join64(glm::uvec2 lowHigh) { return uint64_t(lowHigh.x) | uint64_t(lowHigh.y) << 32; }
+uint64_t join64(glm::uvec2 lowHigh) {
+    return uint64_t(lowHigh.x) | uint64_t(lowHigh.y) << 32;
+}
 
 }  // namespace
 
@@ -51,9 +53,14 @@ struct GpuRenderer::Resources {
     }
 };
 
-GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings)
-    : m_context(context), m_settings(settings), m_constructed(Clock::now()), m_tables(buildSceneTables(scene)) {
-    const shared::Camera camera = scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
+GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
+                         const RenderSettings& settings)
+    : m_context(context),
+      m_settings(settings),
+      m_constructed(Clock::now()),
+      m_tables(buildSceneTables(scene)) {
+    const shared::Camera camera =
+        scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
     m_scene = uploadScene(context, m_tables);
 
     shared::SceneInfo& info = m_tables.info;
@@ -75,15 +82,18 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
                     info.guideSphereCount * sizeof(glm::vec4));
     r->sceneInfo = vk::Buffer::fromSpan(context, std::span(sceneInfoBytes), "sceneInfo");
     r->camera = vk::Buffer::fromSpan(context, std::span(&camera, 1), "camera");
-    r->counters = vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
+    r->counters =
+        vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
     r->filmWindowPixels = filmWindowPixels(settings, context.info());
     for (uint64_t first = 0; first < pixels; first += r->filmWindowPixels) {
         const uint64_t windowPixels = std::min<uint64_t>(r->filmWindowPixels, pixels - first);
-        r->film.emplace_back(context, windowPixels * sizeof(shared::FilmPixel), vk::MemoryKind::DeviceLocal, "film");
+        r->film.emplace_back(context, windowPixels * sizeof(shared::FilmPixel),
+                             vk::MemoryKind::DeviceLocal, "film");
     }
     r->placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
     r->paths = allocatePathBuffers(context, settings, m_form, shadowSamples, budget);
-    m_memory = {{"scene", m_scene.bytes()}, {"path state", r->paths.bytes}, {"film", r->filmBytes()}};
+    m_memory = {
+        {"scene", m_scene.bytes()}, {"path state", r->paths.bytes}, {"film", r->filmBytes()}};
 
     std::map<uint32_t, const vk::Buffer*> bindings = {
         {VKP_WF_SCENE_INFO, &r->sceneInfo},
@@ -103,28 +113,36 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene, const 
                         .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation};
     r->pipelines = std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->counters);
     m_pipelines = r->pipelines->count();
-    m_pipelineMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-    m_setupMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - m_constructed).count();
+    m_pipelineMilliseconds =
+        std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    m_setupMilliseconds =
+        std::chrono::duration<double, std::milli>(Clock::now() - m_constructed).count();
     m_resources = std::move(r);
 }
 
 GpuRenderer::~GpuRenderer() = default;
 
-uint32_t GpuRenderer::pathsInFlight() const { return m_resources->paths.pathCount; }
+uint32_t GpuRenderer::pathsInFlight() const {
+    return m_resources->paths.pathCount;
+}
 
 std::string GpuRenderer::describe() const {
     std::string memory;
     uint64_t total = 0;
     for (const MemoryGroup& group : m_memory) {
-        memory += fmt::format("{}{} {:.1f} MiB", memory.empty() ? "" : ", ", group.name, group.bytes / (1024.0 * 1024.0));
+        memory += fmt::format("{}{} {:.1f} MiB", memory.empty() ? "" : ", ", group.name,
+                              group.bytes / (1024.0 * 1024.0));
         total += group.bytes;
     }
     return fmt::format(
-        "kernels: {}, {} ({} pipelines in {:.0f} ms, ready {:.0f} ms after the scene was loaded); device memory {:.1f} "
+        "kernels: {}, {} ({} pipelines in {:.0f} ms, ready {:.0f} ms after the scene was loaded); "
+        "device memory {:.1f} "
         "MiB: {} ({} paths in flight)",
         kernelFormName(m_form),
-        m_settings.specialize ? "specialised to " + describeFeatures(m_features) : std::string("general (--no-specialize)"),
-        m_pipelines, m_pipelineMilliseconds, m_setupMilliseconds, total / (1024.0 * 1024.0), memory, pathsInFlight());
+        m_settings.specialize ? "specialised to " + describeFeatures(m_features)
+                              : std::string("general (--no-specialize)"),
+        m_pipelines, m_pipelineMilliseconds, m_setupMilliseconds, total / (1024.0 * 1024.0), memory,
+        pathsInFlight());
 }
 
 RenderResult GpuRenderer::render(const std::function<void(const RenderProgress&)>& progress) {
@@ -143,14 +161,16 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     const uint64_t totalPaths = pixels * samples.count;
     // Sample indices are 32-bit (pixels and samples are separate: shared/wavefront.h WavePush).
     if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
-        throw std::out_of_range(fmt::format("samples [{}, {}): sample indices beyond 32 bits", samples.first,
+        throw std::out_of_range(fmt::format("samples [{}, {}): sample indices beyond 32 bits",
+                                            samples.first,
                                             uint64_t(samples.first) + samples.count));
     const uint32_t bounces = s.maxDepth + 1;  // shading passes: hits at depth 0..maxDepth
     vk::TimestampPool timestamps(m_context, 3 + 5 * bounces);
 
     RenderResult result;
     result.pathsInFlight = r.paths.pathCount;
-    const RenderState before = resumedState(control, GPU_FILM_FORMAT, s.width, s.height, samples, r.filmBytes());
+    const RenderState before =
+        resumedState(control, GPU_FILM_FORMAT, s.width, s.height, samples, r.filmBytes());
     if (control.resume) {  // its film goes to the device
         size_t offset = 0;
         for (vk::Buffer& window : r.film) {
@@ -164,8 +184,8 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     result.priorSeconds = before.seconds;
 
     // The state now: the device's film and counters on top of what came before.
-    auto state = [&](std::vector<std::byte> film, const shared::QueueCounters& counters, uint64_t done,
-                     double seconds) {
+    auto state = [&](std::vector<std::byte> film, const shared::QueueCounters& counters,
+                     uint64_t done, double seconds) {
         const RunTally run{counters.nonFinite,
                            counters.fireflies,
                            counters.rejectedLightSamples,
@@ -194,12 +214,15 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     // paths in flight. The first is one workgroup's worth: a whole one might
     // already run over (and a watchdog end it).
     const uint32_t fewest = std::min(s.workgroupSize, r.paths.pathCount);
-    uint32_t wave = s.maxWaveMilliseconds ? fewest : r.paths.pathCount;  // the most paths the next wave may hold
+    uint32_t wave = s.maxWaveMilliseconds
+                        ? fewest
+                        : r.paths.pathCount;  // the most paths the next wave may hold
     auto nextWave = [&](uint32_t count, double milliseconds) {
         const double cap = *s.maxWaveMilliseconds;
         const double aimed = count * (0.75 * cap / std::max(milliseconds, 1e-3));
         if (milliseconds > cap) return uint32_t(std::clamp<double>(aimed, fewest, wave));
-        if (milliseconds < cap / 2) return uint32_t(std::clamp<double>(aimed, wave, r.paths.pathCount));
+        if (milliseconds < cap / 2)
+            return uint32_t(std::clamp<double>(aimed, wave, r.paths.pathCount));
         return wave;
     };
     while (done < totalPaths) {
@@ -207,17 +230,22 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         // sample, so that each whole sample ends a wave (stops, the time
         // budget and checkpoints come there) whatever the wave sizes.
         const uint64_t intoSample = done % pixels;
-        const uint64_t fits = intoSample == 0 && wave >= pixels ? wave / pixels * pixels
-                                                                : std::min<uint64_t>(wave, pixels - intoSample);
+        const uint64_t fits = intoSample == 0 && wave >= pixels
+                                  ? wave / pixels * pixels
+                                  : std::min<uint64_t>(wave, pixels - intoSample);
         const uint32_t count = uint32_t(std::min<uint64_t>(fits, totalPaths - done));
         const auto waveStart = Clock::now();
-        const shared::WavePush first{uint32_t(samples.first + done / pixels), uint32_t(done % pixels), count};
+        const shared::WavePush first{uint32_t(samples.first + done / pixels),
+                                     uint32_t(done % pixels), count};
         m_context.submit([&](VkCommandBuffer cmd) {
-            r.pipelines->recordWave(cmd, timestamps, first, bounces, r.counters, r.film, r.filmWindowPixels);
+            r.pipelines->recordWave(cmd, timestamps, first, bounces, r.counters, r.film,
+                                    r.filmWindowPixels);
         });
         if (s.maxWaveMilliseconds)
-            wave = nextWave(count, std::chrono::duration<double, std::milli>(Clock::now() - waveStart).count());
-        for (const vk::TimedInterval& t : timestamps.results()) result.stageMilliseconds[t.name] += t.milliseconds;
+            wave = nextWave(
+                count, std::chrono::duration<double, std::milli>(Clock::now() - waveStart).count());
+        for (const vk::TimedInterval& t : timestamps.results())
+            result.stageMilliseconds[t.name] += t.milliseconds;
         done += count;
         ++result.waves;
         const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -227,7 +255,8 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         if (done % pixels != 0) continue;
         if (gate.ends(samplesDone, samples.count, seconds, result.stopped)) break;
         if (gate.checkpointDue(samplesDone, samples.count)) {
-            control.checkpoint(state(filmBytes(), r.counters.download<shared::QueueCounters>().at(0), done, seconds));
+            control.checkpoint(state(
+                filmBytes(), r.counters.download<shared::QueueCounters>().at(0), done, seconds));
             gate.checkpointed();
         }
     }

@@ -28,7 +28,7 @@
 namespace vkpath::vk {
 class Context;
 struct DeviceInfo;
-}
+}  // namespace vkpath::vk
 
 namespace vkpath::wavefront {
 
@@ -52,7 +52,8 @@ class GpuRenderer {
     // The given samples of every pixel; sample indices are 32-bit, so first +
     // count must be at most 2^32 (std::out_of_range otherwise). The result
     // holds their mean.
-    RenderResult render(const SampleRange& samples, const std::function<void(const RenderProgress&)>& progress = {});
+    RenderResult render(const SampleRange& samples,
+                        const std::function<void(const RenderProgress&)>& progress = {});
     // The same with stops, checkpoints and resuming (RenderControl); throws
     // InputError for a state this renderer cannot continue.
     RenderResult render(const SampleRange& samples, const RenderControl& control);
@@ -62,7 +63,9 @@ class GpuRenderer {
     const GpuScene& scene() const { return m_scene; }
     KernelForm form() const { return m_form; }
     uint32_t features() const { return m_features; }  // VKP_FEATURE_* bits of the pipelines
-    double pipelineMilliseconds() const { return m_pipelineMilliseconds; }  // creating them (cached or not)
+    double pipelineMilliseconds() const {
+        return m_pipelineMilliseconds;
+    }  // creating them (cached or not)
     // From the constructor's start (the scene loaded) to ready for the first
     // wave: scene tables and BVH, upload, buffers, pipelines.
     double setupMilliseconds() const { return m_setupMilliseconds; }

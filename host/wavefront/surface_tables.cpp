@@ -14,9 +14,11 @@ bool usable(const glm::vec3& n) {
 
 }  // namespace
 
-bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::vec3 n1, glm::vec3 n2) {
+bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::vec3 n1,
+                  glm::vec3 n2) {
     if (!usable(n0) || !usable(n1) || !usable(n2)) return true;
-    const glm::dvec3 face = glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
+    const glm::dvec3 face =
+        glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
     const double area2 = glm::dot(face, face);
     if (!(area2 > 0.0) || !std::isfinite(area2)) return true;  // degenerate: never hit
     const glm::dvec3 unitFace = face / std::sqrt(area2);
@@ -25,7 +27,8 @@ bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::v
         const double c = glm::dot(unitFace, glm::normalize(glm::dvec3(n)));
         if (std::abs(c) < 1.0 - FLAT_NORMAL_TOLERANCE) return false;
         const int s = c > 0 ? 1 : -1;
-        if (side != 0 && s != side) return false;  // opposite normals would cancel when interpolated
+        if (side != 0 && s != side)
+            return false;  // opposite normals would cancel when interpolated
         side = s;
     }
     return true;
@@ -37,8 +40,10 @@ namespace {
 uint32_t meshAttributes(const scene::Scene& scene, const scene::Mesh& mesh) {
     uint32_t bits = 0;
     const size_t n = mesh.positions.size();
-    const bool hasTexcoords = (mesh.texcoords0.size() == n && n > 0) || (mesh.texcoords1.size() == n && n > 0);
-    if (hasTexcoords && mesh.material < scene.materials.size() && usesTextures(scene.materials[mesh.material]))
+    const bool hasTexcoords =
+        (mesh.texcoords0.size() == n && n > 0) || (mesh.texcoords1.size() == n && n > 0);
+    if (hasTexcoords && mesh.material < scene.materials.size() &&
+        usesTextures(scene.materials[mesh.material]))
         bits |= VKP_TRIANGLE_TEXCOORDS;
     if (mesh.colors.size() == n)
         for (const glm::vec4& c : mesh.colors)
@@ -52,11 +57,15 @@ uint32_t meshAttributes(const scene::Scene& scene, const scene::Mesh& mesh) {
 // A mesh's vertices as the tables hold them: its own, or as tangent
 // generation split them, with tangents where its material has a normal map.
 struct MeshVertices {
-    std::vector<uint32_t> source;       // per table vertex its mesh vertex; empty: the mesh's own, in order
-    std::vector<glm::uvec3> triangles;  // the mesh's triangles over the table vertices; empty: its own
-    std::vector<glm::vec4> tangents;    // per table vertex; empty: no normal map
+    std::vector<uint32_t>
+        source;  // per table vertex its mesh vertex; empty: the mesh's own, in order
+    std::vector<glm::uvec3>
+        triangles;  // the mesh's triangles over the table vertices; empty: its own
+    std::vector<glm::vec4> tangents;  // per table vertex; empty: no normal map
 
-    size_t count(const scene::Mesh& mesh) const { return source.empty() ? mesh.positions.size() : source.size(); }
+    size_t count(const scene::Mesh& mesh) const {
+        return source.empty() ? mesh.positions.size() : source.size();
+    }
     uint32_t vertex(size_t i) const { return source.empty() ? uint32_t(i) : source[i]; }
 };
 
@@ -74,9 +83,10 @@ MeshVertices meshVertices(const scene::Scene& scene, const scene::Mesh& mesh) {
         v.tangents = mesh.tangents;
         return v;
     }
-    scene::MeshTangents generated =
-        scene::generateTangents(mesh.positions, hasNormals ? std::span<const glm::vec3>(mesh.normals)
-                                                           : std::span<const glm::vec3>(), uvs, mesh.triangles);
+    scene::MeshTangents generated = scene::generateTangents(
+        mesh.positions,
+        hasNormals ? std::span<const glm::vec3>(mesh.normals) : std::span<const glm::vec3>(), uvs,
+        mesh.triangles);
     v.tangents = std::move(generated.tangents);
     if (generated.sourceVertex.size() > n) {  // some vertices were split
         v.source = std::move(generated.sourceVertex);
@@ -103,14 +113,16 @@ SurfaceTables buildSurfaceTables(const scene::Scene& scene) {
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const scene::Mesh& mesh = scene.meshes[m];
         const MeshVertices& layout = layouts[m];
-        const bool hasNormals = mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty();
+        const bool hasNormals =
+            mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty();
         const uint32_t attributes =
             meshAttributes(scene, mesh) | (layout.tangents.empty() ? 0u : VKP_TRIANGLE_TANGENTS);
         for (size_t i = 0; i < mesh.triangles.size(); ++i) {
             const glm::uvec3& tri = mesh.triangles[i];
             shared::TriangleVertices v{};
             v.attributes = attributes;
-            v.vertex = glm::uvec3(firstVertex) + (layout.triangles.empty() ? tri : layout.triangles[i]);
+            v.vertex =
+                glm::uvec3(firstVertex) + (layout.triangles.empty() ? tri : layout.triangles[i]);
             const bool inRange = tri.x < mesh.positions.size() && tri.y < mesh.positions.size() &&
                                  tri.z < mesh.positions.size();
             if (hasNormals && inRange &&
@@ -133,11 +145,13 @@ SurfaceTables buildSurfaceTables(const scene::Scene& scene) {
     };
     if (t.attributes & VKP_TRIANGLE_SHADING_NORMALS)
         fill(t.vertexNormals, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {
-            const glm::vec3 n = mesh.normals.size() == mesh.positions.size() ? mesh.normals[i] : glm::vec3(0.0f);
+            const glm::vec3 n =
+                mesh.normals.size() == mesh.positions.size() ? mesh.normals[i] : glm::vec3(0.0f);
             return glm::vec4(usable(n) ? glm::normalize(n) : glm::vec3(0.0f), 0.0f);
         });
     if (t.attributes & VKP_TRIANGLE_TEXCOORDS)
-        fill(t.vertexTexcoords, [](const scene::Mesh& mesh, const MeshVertices&, size_t, uint32_t i) {
+        fill(t.vertexTexcoords, [](const scene::Mesh& mesh, const MeshVertices&, size_t,
+                                   uint32_t i) {
             const size_t n = mesh.positions.size();
             return glm::vec4(mesh.texcoords0.size() == n ? mesh.texcoords0[i] : glm::vec2(0.0f),
                              mesh.texcoords1.size() == n ? mesh.texcoords1[i] : glm::vec2(0.0f));
@@ -147,9 +161,10 @@ SurfaceTables buildSurfaceTables(const scene::Scene& scene) {
             return mesh.colors.size() == mesh.positions.size() ? mesh.colors[i] : glm::vec4(1.0f);
         });
     if (t.attributes & VKP_TRIANGLE_TANGENTS)
-        fill(t.vertexTangents, [](const scene::Mesh&, const MeshVertices& layout, size_t k, uint32_t) {
-            return layout.tangents.empty() ? glm::vec4(0.0f) : layout.tangents[k];
-        });
+        fill(t.vertexTangents,
+             [](const scene::Mesh&, const MeshVertices& layout, size_t k, uint32_t) {
+                 return layout.tangents.empty() ? glm::vec4(0.0f) : layout.tangents[k];
+             });
     return t;
 }
 

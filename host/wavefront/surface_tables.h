@@ -9,9 +9,8 @@
 // ones from host/scene/tangents, whose vertex splits the tables follow).
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
 
 #include "scene/scene.h"
@@ -24,10 +23,12 @@ struct SurfaceTables {
     std::vector<shared::TriangleVertices> triangleVertices;  // by triangle id (BvhPrimitive::id)
     // World space, unit (w 0: one 16-byte texel); zero for vertices of meshes without normals.
     std::vector<glm::vec4> vertexNormals;
-    std::vector<glm::vec4> vertexTexcoords;  // (TEXCOORD_0, TEXCOORD_1); zero where a mesh lacks a set
-    std::vector<glm::vec4> vertexColors;     // COLOR_0, linear RGBA
-    std::vector<glm::vec4> vertexTangents;   // world space unit xyz, w = +-1 (B = w (N x T)); zero without a map
-    uint32_t attributes = 0;               // VKP_TRIANGLE_* bits that some triangle has
+    std::vector<glm::vec4>
+        vertexTexcoords;                  // (TEXCOORD_0, TEXCOORD_1); zero where a mesh lacks a set
+    std::vector<glm::vec4> vertexColors;  // COLOR_0, linear RGBA
+    std::vector<glm::vec4>
+        vertexTangents;       // world space unit xyz, w = +-1 (B = w (N x T)); zero without a map
+    uint32_t attributes = 0;  // VKP_TRIANGLE_* bits that some triangle has
 };
 
 // Vertex normals within this angle of the face normal (1 - cos) shade like it:
@@ -39,7 +40,8 @@ constexpr double FLAT_NORMAL_TOLERANCE = 1e-6;
 // it as its face normal does: all within FLAT_NORMAL_TOLERANCE of it, on one
 // side. Invalid normals (zero, non-finite) count as flat: there is nothing to
 // interpolate.
-bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::vec3 n1, glm::vec3 n2);
+bool isFlatShaded(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 n0, glm::vec3 n1,
+                  glm::vec3 n2);
 
 // The tables of `scene` (render space or world space alike: normals do not
 // move with a translation).

@@ -15,8 +15,8 @@ double srgbToLinear(double encoded) {
 }
 
 bool usesTextures(const scene::Material& m) {
-    return m.baseColorTexture.present() || m.emissiveTexture.present() || m.metallicRoughnessTexture.present() ||
-           m.normalTexture.present();
+    return m.baseColorTexture.present() || m.emissiveTexture.present() ||
+           m.metallicRoughnessTexture.present() || m.normalTexture.present();
 }
 
 namespace {
@@ -43,7 +43,8 @@ class Builder {
             m_tables.slots.resize(first + VKP_SLOTS_PER_MATERIAL, emptySlot());
             m_tables.slots[first + VKP_SLOT_BASE_COLOR] = slot(m.baseColorTexture, true, m.name);
             m_tables.slots[first + VKP_SLOT_EMISSIVE] = slot(m.emissiveTexture, true, m.name);
-            m_tables.slots[first + VKP_SLOT_METALLIC_ROUGHNESS] = slot(m.metallicRoughnessTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_METALLIC_ROUGHNESS] =
+                slot(m.metallicRoughnessTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_NORMAL] = slot(m.normalTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_NORMAL].scale = m.normalScale;
             m_tables.materialSlots[i] = first;
@@ -78,13 +79,15 @@ class Builder {
         if (const auto it = m_records.find(key); it != m_records.end()) return it->second;
         const scene::Texture& t = m_scene.textures[texture];
         if (t.image >= m_scene.images.size())
-            throw InputError(fmt::format("texture {}: image {} of {}", texture, t.image, m_scene.images.size()));
+            throw InputError(
+                fmt::format("texture {}: image {} of {}", texture, t.image, m_scene.images.size()));
         const scene::TextureImage& image = m_scene.images[t.image];
         shared::TextureInfo info{};
         info.firstTexel = storedImage(t.image, srgb);
         info.width = image.width;
         info.height = image.height;
-        info.sampling = uint32_t(t.wrapU) | uint32_t(t.wrapV) << 2 | (t.nearest ? VKP_TEXTURE_NEAREST : 0u);
+        info.sampling =
+            uint32_t(t.wrapU) | uint32_t(t.wrapV) << 2 | (t.nearest ? VKP_TEXTURE_NEAREST : 0u);
         m_records[key] = uint32_t(m_tables.textures.size());
         m_tables.textures.push_back(info);
         return m_records[key];
@@ -95,12 +98,14 @@ class Builder {
         const auto key = std::make_pair(index, srgb);
         if (const auto it = m_images.find(key); it != m_images.end()) return it->second;
         const scene::TextureImage& image = m_scene.images[index];
-        if (image.width == 0 || image.height == 0 || image.texels.size() != size_t(image.width) * image.height)
-            throw InputError(fmt::format("image '{}': {} texels for {}x{}", image.name, image.texels.size(),
-                                         image.width, image.height));
+        if (image.width == 0 || image.height == 0 ||
+            image.texels.size() != size_t(image.width) * image.height)
+            throw InputError(fmt::format("image '{}': {} texels for {}x{}", image.name,
+                                         image.texels.size(), image.width, image.height));
         const uint64_t first = m_tables.texels.size();
         if (first + image.texels.size() > UINT32_MAX)
-            throw InputError(fmt::format("image '{}': the scene's textures pass 2^32 texels", image.name));
+            throw InputError(
+                fmt::format("image '{}': the scene's textures pass 2^32 texels", image.name));
         // 65536 entries: each 16-bit value decoded once.
         std::vector<float> decode(65536);
         for (uint32_t v = 0; v < decode.size(); ++v)
@@ -121,6 +126,8 @@ class Builder {
 
 }  // namespace
 
-TextureTables buildTextureTables(const scene::Scene& scene) { return Builder(scene).build(); }
+TextureTables buildTextureTables(const scene::Scene& scene) {
+    return Builder(scene).build();
+}
 
 }  // namespace vkpath::wavefront

@@ -4,9 +4,8 @@
 // textured material. Empty when no material has a texture.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
 
 #include "scene/scene.h"

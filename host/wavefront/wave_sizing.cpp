@@ -26,7 +26,9 @@ constexpr PathBufferRow PATH_BUFFERS[] = {
 
 }  // namespace
 
-std::span<const PathBufferRow> pathBufferRows() { return PATH_BUFFERS; }
+std::span<const PathBufferRow> pathBufferRows() {
+    return PATH_BUFFERS;
+}
 
 uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples) {
     if (form == KernelForm::Megakernel && !row.megakernel) return 0;
@@ -35,7 +37,8 @@ uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadow
 
 uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex) {
     uint64_t total = 0;
-    for (const PathBufferRow& row : PATH_BUFFERS) total += bytesPerPath(row, form, shadowRaysPerVertex);
+    for (const PathBufferRow& row : PATH_BUFFERS)
+        total += bytesPerPath(row, form, shadowRaysPerVertex);
     return total;
 }
 
@@ -52,25 +55,28 @@ uint32_t defaultPathsInFlight(const vk::DeviceInfo& device) {
     return device.type == "discrete" ? 1u << 24 : 1u << 20;
 }
 
-uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelForm form, uint32_t shadowSamples) {
+uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelForm form,
+                         uint32_t shadowSamples) {
     if (!s.maxDeviceMemoryBytes) return UINT64_MAX;
     const uint64_t pixels = uint64_t(s.width) * s.height;
     const uint64_t taken = sceneBytes + pixels * sizeof(shared::FilmPixel);
     const uint64_t left = *s.maxDeviceMemoryBytes - std::min(taken, *s.maxDeviceMemoryBytes);
     const uint64_t fewest = std::min<uint64_t>(s.workgroupSize, pixels * s.samplesPerPixel);
     if (left / pathStateBytes(form, shadowSamples) < fewest)
-        throw InputError(
-            fmt::format("--max-device-memory {:.3g} MiB: the scene and the film take {:.3g} MiB, leaving room for "
-                        "fewer than {} paths in flight",
-                        *s.maxDeviceMemoryBytes / (1024.0 * 1024.0), taken / (1024.0 * 1024.0), fewest));
+        throw InputError(fmt::format(
+            "--max-device-memory {:.3g} MiB: the scene and the film take {:.3g} MiB, leaving room "
+            "for "
+            "fewer than {} paths in flight",
+            *s.maxDeviceMemoryBytes / (1024.0 * 1024.0), taken / (1024.0 * 1024.0), fewest));
     return left;
 }
 
-uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowSamples, const vk::DeviceInfo& device,
-                      uint64_t pixels, uint64_t pathStateBudget) {
+uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowSamples,
+                      const vk::DeviceInfo& device, uint64_t pixels, uint64_t pathStateBudget) {
     const uint64_t total = pathStateBytes(form, shadowSamples);
     uint64_t largest = 1;
-    for (const PathBufferRow& row : PATH_BUFFERS) largest = std::max(largest, bytesPerPath(row, form, shadowSamples));
+    for (const PathBufferRow& row : PATH_BUFFERS)
+        largest = std::max(largest, bytesPerPath(row, form, shadowSamples));
     uint64_t limit = s.maxPathsInFlight.value_or(defaultPathsInFlight(device));
     limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / total);
     limit = std::min<uint64_t>(limit, pathStateBudget / total);
@@ -85,7 +91,8 @@ uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowS
     // lavapipe cuts every shader loop at 65535 iterations.
     constexpr uint64_t MAX_SAMPLES_PER_WAVE = 65535;
     if (pixels <= limit)
-        return uint32_t(pixels * std::min<uint64_t>({limit / pixels, s.samplesPerPixel, MAX_SAMPLES_PER_WAVE}));
+        return uint32_t(
+            pixels * std::min<uint64_t>({limit / pixels, s.samplesPerPixel, MAX_SAMPLES_PER_WAVE}));
     const uint64_t wavesPerSample = (pixels + limit - 1) / limit;
     return uint32_t((pixels + wavesPerSample - 1) / wavesPerSample);
 }

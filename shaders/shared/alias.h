@@ -27,8 +27,8 @@
 #define VKPATH_SHARED_ALIAS_H
 
 #include "shared/compat.h"
-#include "shared/records.h"
 #include "shared/constants.h"
+#include "shared/records.h"
 
 VKP_NAMESPACE_BEGIN
 
@@ -42,7 +42,7 @@ VKP_NAMESPACE_BEGIN
     /* this element's exact probability under the quantised table */                 \
     F(float, probability, 2)                                                         \
     /* 0: an entry is one 16-byte texel (stages/lib/scene_access.glsl) */            \
-    F(uint, padding, 3)                                                             
+    F(uint, padding, 3)
 struct AliasEntry {
     VKP_ALIAS_ENTRY_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -65,7 +65,9 @@ VKP_FN uint aliasResolve(AliasEntry entry, uint bucket, uint bits) {
 
 // bits * count mod 2^32: where `bits` lies within its bucket (aliasBucket),
 // uniform over the 2^32 words when `bits` is uniform.
-VKP_FN uint aliasBucketFraction(uint bits, uint count) { return bits * count; }
+VKP_FN uint aliasBucketFraction(uint bits, uint count) {
+    return bits * count;
+}
 
 // The fewest words a part of a bucket must hold for the rescaled fraction to
 // serve as a number in [0, 1): below it (an element of tiny probability, or
@@ -75,7 +77,8 @@ VKP_FN uint aliasBucketFraction(uint bits, uint count) { return bits * count; }
 struct AliasChoice {
     uint element;
     float u;        // in [0, 1): the word's fraction within the element's part of the bucket
-    bool reusable;  // the part held at least VKP_ALIAS_REUSE_MIN_WORDS words (else u has fewer values)
+    bool reusable;  // the part held at least VKP_ALIAS_REUSE_MIN_WORDS words (else u has fewer
+                    // values)
 };
 
 // The element of `bucket` (whose entry is `entry`) that the fraction

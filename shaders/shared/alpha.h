@@ -72,14 +72,16 @@ VKP_NAMESPACE_BEGIN
     F(float, alpha, 2)                                                                       \
     /* the material's VKP_SLOT_BASE_COLOR TextureSlot (shared/texture.h), whose texture's */ \
     /* alpha multiplies; VKP_NO_TEXTURE when it has none */                                  \
-    F(uint, baseColorSlot, 3)                                                               
+    F(uint, baseColorSlot, 3)
 struct MaterialAlpha {
     VKP_MATERIAL_ALPHA_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // The number of the closest-hit ray of bounce `bounce`, and of the shadow ray
 // of its light sample `index` (of lightSamples), among the rays of one path.
-VKP_FN uint alphaClosestRay(uint bounce, uint lightSamples) { return bounce * (lightSamples + 1u); }
+VKP_FN uint alphaClosestRay(uint bounce, uint lightSamples) {
+    return bounce * (lightSamples + 1u);
+}
 VKP_FN uint alphaShadowRay(uint bounce, uint lightSamples, uint index) {
     return bounce * (lightSamples + 1u) + 1u + index;
 }

@@ -57,7 +57,8 @@ VKP_FN vec3 adaptShadingNormal(vec3 ng, vec3 ns, vec3 wo) {
     float length2 = dot(tangential, tangential);
     vec3 lifted = nf;
     if (length2 > 0.0f)
-        lifted = tangential * (sqrt(max(0.0f, 1.0f - threshold * threshold)) / sqrt(length2)) + threshold * nf;
+        lifted = tangential * (sqrt(max(0.0f, 1.0f - threshold * threshold)) / sqrt(length2)) +
+                 threshold * nf;
     vec3 bent = normalize(wo + lifted);
     return dot(bent, ng) < 0.0f ? -bent : bent;
 }
@@ -105,7 +106,8 @@ VKP_FN Material regularizeMicrofacetMaterial(Material material, float roughness)
 // ns (microfacet.h, metallic_roughness.h).
 
 // Diffuse: Lambertian (lobes.h).
-VKP_FN BsdfSample sampleDiffuseMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float /*uc*/) {
+VKP_FN BsdfSample sampleDiffuseMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
+                                        float /*uc*/) {
     return sampleLambertian(material.reflectance, ns, wo, u);
 }
 VKP_FN vec3 evalDiffuseMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
@@ -114,16 +116,27 @@ VKP_FN vec3 evalDiffuseMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec
 VKP_FN float pdfDiffuseMaterial(VKP_IN(Material) /*material*/, vec3 ns, vec3 wo, vec3 wi) {
     return lambertianPdf(ns, wo, wi);
 }
-VKP_FN bool nonDeltaDiffuseMaterial(VKP_IN(Material) /*material*/) { return true; }
-VKP_FN Material regularizeDiffuseMaterial(Material material, float /*roughness*/) { return material; }
+VKP_FN bool nonDeltaDiffuseMaterial(VKP_IN(Material) /*material*/) {
+    return true;
+}
+VKP_FN Material regularizeDiffuseMaterial(Material material, float /*roughness*/) {
+    return material;
+}
 
 // Mirror: one delta lobe (lobes.h).
-VKP_FN BsdfSample sampleMirrorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 /*u*/, float /*uc*/) {
+VKP_FN BsdfSample sampleMirrorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 /*u*/,
+                                       float /*uc*/) {
     return sampleMirror(material.reflectance, ns, wo);
 }
-VKP_FN vec3 evalMirrorMaterial(VKP_IN(Material), vec3, vec3, vec3) { return vec3(0.0f); }
-VKP_FN float pdfMirrorMaterial(VKP_IN(Material), vec3, vec3, vec3) { return 0.0f; }
-VKP_FN bool nonDeltaMirrorMaterial(VKP_IN(Material)) { return false; }
+VKP_FN vec3 evalMirrorMaterial(VKP_IN(Material), vec3, vec3, vec3) {
+    return vec3(0.0f);
+}
+VKP_FN float pdfMirrorMaterial(VKP_IN(Material), vec3, vec3, vec3) {
+    return 0.0f;
+}
+VKP_FN bool nonDeltaMirrorMaterial(VKP_IN(Material)) {
+    return false;
+}
 // The conductor of the same constant reflectance.
 VKP_FN Material regularizeMirrorMaterial(Material material, float roughness) {
     material.kind = VKP_MATERIAL_CONDUCTOR;
@@ -133,12 +146,20 @@ VKP_FN Material regularizeMirrorMaterial(Material material, float roughness) {
 }
 
 // Smooth glass: delta reflection and refraction (lobes.h).
-VKP_FN BsdfSample sampleDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float /*uc*/) {
-    return sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo, u.x);
+VKP_FN BsdfSample sampleDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
+                                           float /*uc*/) {
+    return sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo,
+                            u.x);
 }
-VKP_FN vec3 evalDielectricMaterial(VKP_IN(Material), vec3, vec3, vec3) { return vec3(0.0f); }
-VKP_FN float pdfDielectricMaterial(VKP_IN(Material), vec3, vec3, vec3) { return 0.0f; }
-VKP_FN bool nonDeltaDielectricMaterial(VKP_IN(Material)) { return false; }
+VKP_FN vec3 evalDielectricMaterial(VKP_IN(Material), vec3, vec3, vec3) {
+    return vec3(0.0f);
+}
+VKP_FN float pdfDielectricMaterial(VKP_IN(Material), vec3, vec3, vec3) {
+    return 0.0f;
+}
+VKP_FN bool nonDeltaDielectricMaterial(VKP_IN(Material)) {
+    return false;
+}
 // The rough dielectric of the same index and tints.
 VKP_FN Material regularizeDielectricMaterial(Material material, float roughness) {
     material.kind = VKP_MATERIAL_ROUGH_DIELECTRIC;
@@ -148,30 +169,36 @@ VKP_FN Material regularizeDielectricMaterial(Material material, float roughness)
 
 // Rough conductor (microfacet.h); alpha = roughness^2 (glTF 2.0 Appendix B,
 // and the Disney convention).
-VKP_FN vec2 materialAlpha(VKP_IN(Material) material) { return vec2(material.roughness * material.roughness); }
+VKP_FN vec2 materialAlpha(VKP_IN(Material) material) {
+    return vec2(material.roughness * material.roughness);
+}
 
 VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
     Conductor c;
     c.alpha = materialAlpha(material);
     c.fresnel = (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) != 0u    ? VKP_FRESNEL_COMPLEX
                 : (material.flags & VKP_MATERIAL_CONSTANT_FRESNEL) != 0u ? VKP_FRESNEL_CONSTANT
-                                                                          : VKP_FRESNEL_SCHLICK;
+                                                                         : VKP_FRESNEL_SCHLICK;
     c.f0 = material.reflectance;
     c.eta = material.reflectance;
     c.k = material.transmittance;
     return c;
 }
-VKP_FN BsdfSample sampleConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float /*uc*/) {
+VKP_FN BsdfSample sampleConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
+                                          float /*uc*/) {
     Frame frame = makeFrame(ns);
-    return sampleToWorld(frame, sampleConductor(materialConductor(material), frameToLocal(frame, wo), u));
+    return sampleToWorld(frame,
+                         sampleConductor(materialConductor(material), frameToLocal(frame, wo), u));
 }
 VKP_FN vec3 evalConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
     Frame frame = makeFrame(ns);
-    return evalConductor(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+    return evalConductor(materialConductor(material), frameToLocal(frame, wo),
+                         frameToLocal(frame, wi));
 }
 VKP_FN float pdfConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
     Frame frame = makeFrame(ns);
-    return conductorPdf(materialConductor(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+    return conductorPdf(materialConductor(material), frameToLocal(frame, wo),
+                        frameToLocal(frame, wi));
 }
 // A delta below VKP_MICROFACET_SMOOTH_ALPHA.
 VKP_FN bool nonDeltaConductorMaterial(VKP_IN(Material) material) {
@@ -190,18 +217,21 @@ VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
     d.transmittance = material.transmittance;
     return d;
 }
-VKP_FN BsdfSample sampleRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float uc) {
+VKP_FN BsdfSample sampleRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
+                                                float uc) {
     Frame frame = makeFrame(ns);
-    return sampleToWorld(frame,
-                         sampleRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo), u, uc));
+    return sampleToWorld(frame, sampleRoughDielectric(materialRoughDielectric(material),
+                                                      frameToLocal(frame, wo), u, uc));
 }
 VKP_FN vec3 evalRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
     Frame frame = makeFrame(ns);
-    return evalRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+    return evalRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo),
+                               frameToLocal(frame, wi));
 }
 VKP_FN float pdfRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
     Frame frame = makeFrame(ns);
-    return roughDielectricPdf(materialRoughDielectric(material), frameToLocal(frame, wo), frameToLocal(frame, wi));
+    return roughDielectricPdf(materialRoughDielectric(material), frameToLocal(frame, wo),
+                              frameToLocal(frame, wi));
 }
 // A delta below VKP_MICROFACET_SMOOTH_ALPHA, and no lobe at all at index 1.
 VKP_FN bool nonDeltaRoughDielectricMaterial(VKP_IN(Material) material) {
@@ -221,7 +251,8 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.specularF90 = material.specular;
     return p;
 }
-VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u, float uc) {
+VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo,
+                                                  vec2 u, float uc) {
     Frame frame = makeFrame(ns);
     return sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material),
                                                         frameToLocal(frame, wo), u, uc));
@@ -255,16 +286,18 @@ VKP_FN Material regularizeMetallicRoughnessMaterial(Material material, float rou
 // Samples wi for `material`; u uniform in [0, 1)^2 picks the direction, uc
 // uniform in [0, 1) the lobe where a kind chooses between lobes with a number
 // of its own (VKP_KIND_LOBE_CHOICE).
-VKP_FN BsdfSample sampleBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec2 u, float uc) {
+VKP_FN BsdfSample sampleBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec2 u,
+                             float uc) {
     BsdfSample s = invalidBsdfSample();
     switch (materialKind(material)) {
-#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)         \
-    case id:                                                                            \
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)      \
+    case id:                                                                        \
         if (materialMayBe(id)) s = sample##Type##Material(material, ns, wo, u, uc); \
         break;
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: break;
+        default:
+            break;
     }
     if (s.valid && !bsdfSidesAgree(ng, ns, wo, s.direction)) return invalidBsdfSample();
     return s;
@@ -274,10 +307,12 @@ VKP_FN BsdfSample sampleBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 w
 VKP_FN bool bsdfNeedsLobeChoice(VKP_IN(Material) material) {
     switch (materialKind(material)) {
 #define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
-    case id: return ((flags) & VKP_KIND_LOBE_CHOICE) != 0u && materialMayBe(id);
+    case id:                                                                   \
+        return ((flags)&VKP_KIND_LOBE_CHOICE) != 0u && materialMayBe(id);
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: return false;
+        default:
+            return false;
     }
 }
 
@@ -285,13 +320,14 @@ VKP_FN bool bsdfNeedsLobeChoice(VKP_IN(Material) material) {
 VKP_FN vec3 evalBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     if (!bsdfSidesAgree(ng, ns, wo, wi)) return vec3(0.0f);
     switch (materialKind(material)) {
-#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
-    case id:                                                                    \
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)    \
+    case id:                                                                      \
         if (materialMayBe(id)) return eval##Type##Material(material, ns, wo, wi); \
         break;
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: break;
+        default:
+            break;
     }
     return vec3(0.0f);
 }
@@ -300,13 +336,14 @@ VKP_FN vec3 evalBsdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 
 VKP_FN float bsdfPdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 wi) {
     if (!bsdfSidesAgree(ng, ns, wo, wi)) return 0.0f;
     switch (materialKind(material)) {
-#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
-    case id:                                                                    \
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)   \
+    case id:                                                                     \
         if (materialMayBe(id)) return pdf##Type##Material(material, ns, wo, wi); \
         break;
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: break;
+        default:
+            break;
     }
     return 0.0f;
 }
@@ -317,10 +354,13 @@ VKP_FN float bsdfPdf(VKP_IN(Material) material, vec3 ng, vec3 ns, vec3 wo, vec3 
 VKP_FN bool hasNonDeltaLobe(VKP_IN(Material) material) {
     switch (materialKind(material)) {
 #define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
-    case id: return ((flags) & VKP_KIND_NON_DELTA) != 0u && materialMayBe(id) && nonDelta##Type##Material(material);
+    case id:                                                                   \
+        return ((flags)&VKP_KIND_NON_DELTA) != 0u && materialMayBe(id) &&      \
+               nonDelta##Type##Material(material);
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: return false;
+        default:
+            return false;
     }
 }
 
@@ -330,13 +370,14 @@ VKP_FN Material regularizedMaterial(Material material, float alpha) {
     if (!(alpha > 0.0f)) return material;
     float roughness = sqrt(alpha);
     switch (materialKind(material)) {
-#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)          \
-    case id:                                                                             \
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized)         \
+    case id:                                                                           \
         if (materialMayBe(id)) return regularize##Type##Material(material, roughness); \
         break;
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: break;
+        default:
+            break;
     }
     return material;
 }

@@ -15,8 +15,8 @@
 #define VKPATH_SHARED_BVH_H
 
 #include "shared/compat.h"
-#include "shared/records.h"
 #include "shared/features.h"
+#include "shared/records.h"
 
 // The deepest a leaf may be (root at depth 0). Traversal pushes at most one
 // node per level, so this is also the size of its stack.
@@ -60,13 +60,15 @@
 #define VKP_TRACE_BINDING_NODES 0       // BvhNode[], read (a placeholder when read by address)
 #define VKP_TRACE_BINDING_PRIMITIVES 1  // BvhPrimitive[], read (a placeholder when read by address)
 #define VKP_TRACE_BINDING_RAYS 2        // Ray[count], read
-#define VKP_TRACE_BINDING_RESULTS 3     // bvh_closest: Hit[count]; bvh_anyhit: uint[count], 1 = occluded
+#define VKP_TRACE_BINDING_RESULTS \
+    3  // bvh_closest: Hit[count]; bvh_anyhit: uint[count], 1 = occluded
 
 VKP_NAMESPACE_BEGIN
 
 struct BvhNode {
     vec3 boundsMin;  // world space, padded outward so it strictly contains its subtree (host/bvh)
-    uint offset;     // interior: index of the second child (the first is this node + 1); leaf: first primitive
+    uint offset;  // interior: index of the second child (the first is this node + 1); leaf: first
+                  // primitive
     vec3 boundsMax;  // world space, rounded outward
     uint count;      // leaf: number of primitives (>= 1); interior: 0
 };
@@ -89,15 +91,16 @@ struct BvhNode {
     /* world space. triangle: vertex 2; sphere: unused (0) */                                  \
     F(vec3, p2, 8)                                                                             \
     /* index into Scene::materials */                                                          \
-    F(uint, material, 11)                                                                     
+    F(uint, material, 11)
 struct BvhPrimitive {
     VKP_BVH_PRIMITIVE_FIELDS(VKP_FIELD_DECLARE)
 };
 
 // The result of closest-hit traversal.
 struct Hit {
-    float t;            // ray parameter of the hit, 0 <= t < ray.tMax; ray.tMax when nothing was hit
-    uint primitive;     // index into the leaf-ordered BvhPrimitive array; VKP_NO_HIT when nothing was hit
+    float t;         // ray parameter of the hit, 0 <= t < ray.tMax; ray.tMax when nothing was hit
+    uint primitive;  // index into the leaf-ordered BvhPrimitive array; VKP_NO_HIT when nothing was
+                     // hit
     vec2 barycentrics;  // triangle: weights of p1 and p2 (p0's is 1 - x - y); sphere: (0, 0)
 };
 
@@ -105,8 +108,8 @@ struct Hit {
 // minimum, then maximum), as packed by host/bvh/traversal_nodes.cpp.
 VKP_FN uint bvhChildWord(uvec3 boxMin, uvec3 boxMax) {
     const uint m = (1u << VKP_BVH_WORD_BITS) - 1u;
-    return (boxMin.x & m) | ((boxMin.y & m) << 6u) | ((boxMin.z & m) << 12u) | ((boxMax.x & m) << 18u) |
-           ((boxMax.y & m) << 24u) | ((boxMax.z & 3u) << 30u);
+    return (boxMin.x & m) | ((boxMin.y & m) << 6u) | ((boxMin.z & m) << 12u) |
+           ((boxMax.x & m) << 18u) | ((boxMax.y & m) << 24u) | ((boxMax.z & 3u) << 30u);
 }
 
 // Where the BVH's two arrays lie in device memory, for kernels that read it by

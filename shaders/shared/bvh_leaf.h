@@ -31,8 +31,8 @@
 
 // Tests leaf primitive `index`; when it is hit in [0, hit.t), or at exactly
 // hit.t with an index below hit.primitive, makes it `hit` and returns true.
-VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index, uint alphaKey,
-                             VKP_INOUT(Hit) hit) VKP_BVH_CONST {
+VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index,
+                             uint alphaKey, VKP_INOUT(Hit) hit) VKP_BVH_CONST {
     float tLimit = bvhIntervalEnd(hit, index);
     BvhPrimitive primitive = bvhPrimitive(index);
     float t;
@@ -41,8 +41,10 @@ VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, u
     if (isSphere(primitive)) {
         found = intersectSphere(ray.origin, ray.direction, primitive.p0, primitive.p1.x, tLimit, t);
     } else {
-        found = intersectTriangle(triangleRay, primitive.p0, primitive.p1, primitive.p2, tLimit, t, barycentrics);
-        if (found && hasFeature(VKP_FEATURE_ALPHA)) found = bvhAlphaTest(primitive, barycentrics, alphaKey);
+        found = intersectTriangle(triangleRay, primitive.p0, primitive.p1, primitive.p2, tLimit, t,
+                                  barycentrics);
+        if (found && hasFeature(VKP_FEATURE_ALPHA))
+            found = bvhAlphaTest(primitive, barycentrics, alphaKey);
     }
     if (!found) return false;
     hit.t = t;

@@ -84,10 +84,10 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
             uvec3 minA = uvec3(t0.x, t0.y, t0.z), maxA = uvec3(t0.w, t1.x, t1.y);
             uvec3 minB = uvec3(t1.z, t1.w, t2.x), maxB = uvec3(t2.y, t2.z, t2.w);
             float entryA, entryB;
-            bool hitA = intersectBox(uintBitsToFloat(minA), uintBitsToFloat(maxA), ray.origin, inverseDirection,
-                                     hit.t, entryA);
-            bool hitB = intersectBox(uintBitsToFloat(minB), uintBitsToFloat(maxB), ray.origin, inverseDirection,
-                                     hit.t, entryB);
+            bool hitA = intersectBox(uintBitsToFloat(minA), uintBitsToFloat(maxA), ray.origin,
+                                     inverseDirection, hit.t, entryA);
+            bool hitB = intersectBox(uintBitsToFloat(minB), uintBitsToFloat(maxB), ray.origin,
+                                     inverseDirection, hit.t, entryB);
             uint first = bvhChildWord(minA, maxA);
             uint second = bvhChildWord(minB, maxB);
             // The next node is one of the two just tested, or from the stack.
@@ -139,5 +139,9 @@ VKP_FN bool bvhOccluded(VKP_IN(Ray) ray, uint alphaKey) VKP_BVH_CONST {
 
 // The same for rays that belong to no path (the BVH tests and benchmarks,
 // whose geometry is opaque): alpha key 0.
-VKP_FN Hit bvhClosestHit(VKP_IN(Ray) ray) VKP_BVH_CONST { return bvhTrace(ray, false, 0u); }
-VKP_FN bool bvhOccluded(VKP_IN(Ray) ray) VKP_BVH_CONST { return bvhOccluded(ray, 0u); }
+VKP_FN Hit bvhClosestHit(VKP_IN(Ray) ray) VKP_BVH_CONST {
+    return bvhTrace(ray, false, 0u);
+}
+VKP_FN bool bvhOccluded(VKP_IN(Ray) ray) VKP_BVH_CONST {
+    return bvhOccluded(ray, 0u);
+}

@@ -13,8 +13,8 @@
 #include <immintrin.h>
 #endif
 
-#define VKP_NAMESPACE_BEGIN \
-    namespace vkpath::shared {  \
+#define VKP_NAMESPACE_BEGIN    \
+    namespace vkpath::shared { \
     using namespace glm;
 #define VKP_NAMESPACE_END }
 // Functions defined in shared headers: `inline` in C++ (one definition in many

@@ -36,7 +36,8 @@ VKP_FN vec3 equirectDirection(float u, float v) {
 VKP_FN vec2 equirectUv(vec3 direction) {
     float u = 0.0f;
     if (direction.x != 0.0f || direction.z != 0.0f) {
-        u = preciseAtan2(direction.x, -direction.z) * 0.15915494309189533577f;  // / (2 pi): [-1/2, 1/2]
+        u = preciseAtan2(direction.x, -direction.z) *
+            0.15915494309189533577f;  // / (2 pi): [-1/2, 1/2]
         if (u < 0.0f) u += 1.0f;
         if (u >= 1.0f) u = 0.0f;  // -tiny + 1 rounds to 1
     }

@@ -31,20 +31,20 @@
 #ifndef VKPATH_SHARED_ENVIRONMENT_SAMPLING_H
 #define VKPATH_SHARED_ENVIRONMENT_SAMPLING_H
 
-#include "shared/compat.h"
 #include "shared/alias.h"
+#include "shared/compat.h"
 #include "shared/constants.h"
 #include "shared/environment_map.h"
 
 VKP_NAMESPACE_BEGIN
 
 struct EnvironmentInfo {
-    uint width;         // map size in texels
+    uint width;  // map size in texels
     uint height;
     float strength;     // radiance multiplier
     float cosRotation;  // rotation about +Y applied to the map (world = R * map)
     float sinRotation;
-    vec3 color;         // constant radiance when there is no map (width = 0)
+    vec3 color;  // constant radiance when there is no map (width = 0)
 };
 
 // Map direction of a world direction (undoing the rotation), and back.
@@ -129,7 +129,8 @@ VKP_FN EnvSample envSampleInTexel(VKP_IN(EnvironmentInfo) info, uint texel, vec2
     uint x = texel % info.width;
     uint y = texel / info.width;
     EnvSample s;
-    s.uv = vec2((float(x) + jitter.x) / float(info.width), (float(y) + jitter.y) / float(info.height));
+    s.uv =
+        vec2((float(x) + jitter.x) / float(info.width), (float(y) + jitter.y) / float(info.height));
     // Keep the point inside the map: a jitter of 1 - 2^-24 can round up to
     // the texel's far edge, which for the last column or row is 1. (There the
     // point may fall in the neighbouring texel, which pdfTexel then names.)
@@ -142,7 +143,8 @@ VKP_FN EnvSample envSampleInTexel(VKP_IN(EnvironmentInfo) info, uint texel, vec2
 
 // The pdf of a world direction, given the probability of its texel
 // (the texel is envTexelOfUv(info, equirectUv(envWorldToMap(info, d)))).
-VKP_FN float envDirectionPdf(VKP_IN(EnvironmentInfo) info, float texelProbability, vec3 worldDirection) {
+VKP_FN float envDirectionPdf(VKP_IN(EnvironmentInfo) info, float texelProbability,
+                             vec3 worldDirection) {
     return envPdf(info, texelProbability, envWorldToMap(info, worldDirection));
 }
 

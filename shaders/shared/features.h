@@ -27,7 +27,7 @@
 
 #define VKP_FEATURE_TRIANGLES (1u << 0)
 #define VKP_FEATURE_SPHERES (1u << 1)
-#define VKP_FEATURE_DIFFUSE (1u << 2)            // a primitive with a Lambertian material
+#define VKP_FEATURE_DIFFUSE (1u << 2)  // a primitive with a Lambertian material
 #define VKP_FEATURE_MIRROR (1u << 3)
 #define VKP_FEATURE_GLASS (1u << 4)
 #define VKP_FEATURE_EMISSIVE_SURFACES (1u << 5)  // a primitive with a material that emits
@@ -38,27 +38,31 @@
 #define VKP_FEATURE_ENVIRONMENT_MAP (1u << 10)   // an environment map
 #define VKP_FEATURE_SAMPLER_INDEPENDENT (1u << 11)
 #define VKP_FEATURE_SAMPLER_SOBOL (1u << 12)
-#define VKP_FEATURE_LIGHT_SAMPLES (1u << 13)           // SceneInfo::lightSamples > 0: next-event estimation
+#define VKP_FEATURE_LIGHT_SAMPLES (1u << 13)  // SceneInfo::lightSamples > 0: next-event estimation
 #define VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES (1u << 14)  // SceneInfo::lightSamples > 1
-#define VKP_FEATURE_ROULETTE (1u << 15)                // rouletteDepth <= maxDepth: roulette can end a path
-#define VKP_FEATURE_SHADING_NORMALS (1u << 16)        // a triangle with interpolated vertex normals
-#define VKP_FEATURE_TEXTURES (1u << 17)               // a material with a texture
-#define VKP_FEATURE_VERTEX_COLORS (1u << 18)          // a triangle with vertex colours
-#define VKP_FEATURE_NORMAL_MAPS (1u << 19)            // a triangle with a normal map and tangents
-#define VKP_FEATURE_CONDUCTOR (1u << 20)              // a primitive with a rough conductor
-#define VKP_FEATURE_ROUGH_GLASS (1u << 21)            // ... with a rough dielectric
-#define VKP_FEATURE_METALLIC_ROUGHNESS (1u << 22)     // ... with glTF's metallic-roughness material
-#define VKP_FEATURE_ALPHA (1u << 23)                  // a triangle whose material may leave holes (alphaMode)
-#define VKP_FEATURE_REGULARIZE (1u << 24)             // path regularisation (SceneInfo::regularizeAlpha > 0)
-#define VKP_FEATURE_ABSORPTION (1u << 25)             // a primitive of glass that absorbs inside (attenuation > 0)
-#define VKP_FEATURE_DEEP_BVH (1u << 26)               // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
-#define VKP_FEATURE_SPHERE_GUIDING (1u << 27)         // diffuse samples guided toward smooth specular spheres
+#define VKP_FEATURE_ROULETTE (1u << 15)  // rouletteDepth <= maxDepth: roulette can end a path
+#define VKP_FEATURE_SHADING_NORMALS (1u << 16)     // a triangle with interpolated vertex normals
+#define VKP_FEATURE_TEXTURES (1u << 17)            // a material with a texture
+#define VKP_FEATURE_VERTEX_COLORS (1u << 18)       // a triangle with vertex colours
+#define VKP_FEATURE_NORMAL_MAPS (1u << 19)         // a triangle with a normal map and tangents
+#define VKP_FEATURE_CONDUCTOR (1u << 20)           // a primitive with a rough conductor
+#define VKP_FEATURE_ROUGH_GLASS (1u << 21)         // ... with a rough dielectric
+#define VKP_FEATURE_METALLIC_ROUGHNESS (1u << 22)  // ... with glTF's metallic-roughness material
+#define VKP_FEATURE_ALPHA (1u << 23)       // a triangle whose material may leave holes (alphaMode)
+#define VKP_FEATURE_REGULARIZE (1u << 24)  // path regularisation (SceneInfo::regularizeAlpha > 0)
+#define VKP_FEATURE_ABSORPTION \
+    (1u << 25)  // a primitive of glass that absorbs inside (attenuation > 0)
+#define VKP_FEATURE_DEEP_BVH \
+    (1u << 26)  // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
+#define VKP_FEATURE_SPHERE_GUIDING \
+    (1u << 27)  // diffuse samples guided toward smooth specular spheres
 #define VKP_FEATURE_COUNT 28u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 // The material kinds' bits, from their registry (shared/material_kinds.h).
 #define VKP_FEATURES_MATERIALS (0u VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_TERM))
-// The materials with a GGX lobe: they read Material::roughness (and the metallic-roughness texture).
+// The materials with a GGX lobe: they read Material::roughness (and the metallic-roughness
+// texture).
 #define VKP_FEATURES_MICROFACET (0u VKP_MATERIAL_KINDS(VKP_KIND_MICROFACET_TERM))
 // The materials that may have a non-delta lobe: light samples may be traced from them.
 #define VKP_FEATURES_NON_DELTA (0u VKP_MATERIAL_KINDS(VKP_KIND_NON_DELTA_TERM))
@@ -85,11 +89,15 @@ layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeatures = VKP_FEATURES
 #endif
 
 // Whether any of `features` may occur.
-VKP_FN bool hasFeature(uint features) { return (kernelFeatures & features) != 0u; }
+VKP_FN bool hasFeature(uint features) {
+    return (kernelFeatures & features) != 0u;
+}
 
 // Whether `feature` is the only one of `group` that may occur (so a test
 // between the members of the group is known without reading data).
-VKP_FN bool onlyFeature(uint group, uint feature) { return (kernelFeatures & group) == feature; }
+VKP_FN bool onlyFeature(uint group, uint feature) {
+    return (kernelFeatures & group) == feature;
+}
 
 VKP_NAMESPACE_END
 

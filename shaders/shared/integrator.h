@@ -26,17 +26,20 @@ struct Shading {
     Material material;
     SurfacePoint surface;
     vec3 wo;  // toward the previous vertex
-    GuideSpheres guide;  // the spheres its BSDF samples may be drawn toward (guideSpheresAt), found once
+    GuideSpheres
+        guide;  // the spheres its BSDF samples may be drawn toward (guideSpheresAt), found once
 };
 
 // Stage "shade", first part: adds what the ray of bounce `bounce` sees at
 // `hit` (emission with its MIS weight, or the environment on a miss).
 // Returns whether the path scatters there (it hit something and is below
 // the maximum depth); then `shading` describes the hit.
-VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Shading) shading) VKP_SCENE_CONST {
+VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
+                     VKP_OUT(Shading) shading) VKP_SCENE_CONST {
     if (hit.primitive == VKP_NO_HIT) {
         if (hasFeature(VKP_FEATURES_ENVIRONMENT))
-            path.radiance += path.throughput * escapedRadiance(path.ray.direction, path.specular, path.bsdfPdf);
+            path.radiance +=
+                path.throughput * escapedRadiance(path.ray.direction, path.specular, path.bsdfPdf);
         return false;
     }
     BvhPrimitive primitive = bvhPrimitive(hit.primitive);
@@ -50,9 +53,10 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
-        path.radiance += path.throughput * emittedRadiance(shading.material, primitive, hit.primitive,
-                                                           shading.surface, path.ray.direction,
-                                                           path.previousPosition, path.specular, path.bsdfPdf);
+        path.radiance +=
+            path.throughput * emittedRadiance(shading.material, primitive, hit.primitive,
+                                              shading.surface, path.ray.direction,
+                                              path.previousPosition, path.specular, path.bsdfPdf);
     if (bounce >= sceneInfo().maxDepth) return false;
     // A last vertex whose light samples stand alone draws no BSDF sample and
     // weighs them against none: it needs no guide spheres.
@@ -67,9 +71,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce, VKP_OUT(Sh
 // bounce. Returns whether the path goes on; then path.ray is its next ray.
 VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey key,
                     uint bounce) VKP_SCENE_CONST {
-    PathStep step =
-        continuePath(shading.material, shading.surface, shading.wo, shading.guide, path.throughput, path.etaScale,
-                     key, bounce);
+    PathStep step = continuePath(shading.material, shading.surface, shading.wo, shading.guide,
+                                 path.throughput, path.etaScale, key, bounce);
     if (!step.alive) return false;
     path.ray = step.ray;
     path.throughput = step.throughput;
@@ -84,9 +87,11 @@ VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey k
 // One bounce of the loop: traces path.ray, adds what it finds (emission or
 // the environment, then the unoccluded light samples) and samples the next
 // ray. Returns whether the path goes on to bounce + 1.
-VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce, VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
+VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce,
+                        VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
     // ---- intersect ------------------------------------------------------------------
-    Hit hit = bvhClosestHit(path.ray, pathAlphaKey(key, alphaClosestRay(bounce, lightSampleCount())));
+    Hit hit =
+        bvhClosestHit(path.ray, pathAlphaKey(key, alphaClosestRay(bounce, lightSampleCount())));
     tally.closestRays += 1u;
 
     // ---- shade: what the ray sees ------------------------------------------------------
@@ -98,9 +103,8 @@ VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce, VKP_
     vec3 unoccluded = vec3(0.0f);
     bool queued = false;
     for (uint j = 0u; j < lightSampleCount(); ++j) {
-        ShadowRequest request =
-            sampleDirectLight(shading.material, shading.surface, shading.wo, shading.guide, path.throughput, key,
-                              bounce, j);
+        ShadowRequest request = sampleDirectLight(shading.material, shading.surface, shading.wo,
+                                                  shading.guide, path.throughput, key, bounce, j);
         if (request.rejected) tally.rejectedLightSamples += 1u;
         queued = queued || request.valid;
         if (!request.valid || request.contribution == vec3(0.0f)) continue;

@@ -109,7 +109,9 @@ struct TriangleRay {
     vec3 direction;  // permuted: (d[kx], d[ky], d[kz])
 };
 
-VKP_FN vec3 permuteAxes(vec3 v, uint kx, uint ky, uint kz) { return vec3(v[kx], v[ky], v[kz]); }
+VKP_FN vec3 permuteAxes(vec3 v, uint kx, uint ky, uint kz) {
+    return vec3(v[kx], v[ky], v[kz]);
+}
 
 VKP_FN TriangleRay makeTriangleRay(vec3 origin, vec3 direction) {
     TriangleRay ray;
@@ -192,10 +194,11 @@ VKP_FN bool intersectSphere(vec3 origin, vec3 direction, vec3 center, float radi
                             VKP_OUT(float) tHit) {
     VKP_PRECISE vec3 f = origin - center;
     VKP_PRECISE float a = exactDot(direction, direction);
-    VKP_PRECISE float b = -exactDot(f, direction);  // -b/2 in the textbook's notation
+    VKP_PRECISE float b = -exactDot(f, direction);           // -b/2 in the textbook's notation
     VKP_PRECISE vec3 scaledClosest = a * f + b * direction;  // a l: the closest approach times a
     VKP_PRECISE float scaledRadius = a * radius;
-    VKP_PRECISE float discriminant = scaledRadius * scaledRadius - exactDot(scaledClosest, scaledClosest);
+    VKP_PRECISE float discriminant =
+        scaledRadius * scaledRadius - exactDot(scaledClosest, scaledClosest);
     if (discriminant < 0.0f) return false;  // = a^2 (r^2 - |l|^2)
 
     VKP_PRECISE float c = exactDot(f, f) - radius * radius;
@@ -256,12 +259,15 @@ VKP_FN vec3 offsetRayOrigin(vec3 p, vec3 n, float magnitude) {
 struct SurfacePoint {
     vec3 position;    // world space
     float magnitude;  // largest absolute coordinate the position was computed from
-    vec3 normal;      // world space, unit, geometric: triangles (p1 - p0) x (p2 - p0), spheres outward
-    vec3 shadingNormal;  // world space, unit, oriented like `normal`: the BSDF's frame. surfacePoint
-                         // sets it to `normal`; the path tracer interpolates vertex normals into it
+    vec3 normal;  // world space, unit, geometric: triangles (p1 - p0) x (p2 - p0), spheres outward
+    vec3
+        shadingNormal;  // world space, unit, oriented like `normal`: the BSDF's frame. surfacePoint
+                        // sets it to `normal`; the path tracer interpolates vertex normals into it
 };
 
-VKP_FN float maxComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
+VKP_FN float maxComponent(vec3 v) {
+    return max(max(v.x, v.y), v.z);
+}
 
 VKP_FN SurfacePoint surfacePoint(VKP_IN(BvhPrimitive) primitive, VKP_IN(Ray) ray, Hit hit) {
     SurfacePoint s;
@@ -276,10 +282,12 @@ VKP_FN SurfacePoint surfacePoint(VKP_IN(BvhPrimitive) primitive, VKP_IN(Ray) ray
         float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
         // p0 plus multiples of the edges: edges of nearby float vertices are
         // exact, so the only rounding of note is the final addition.
-        s.position = primitive.p0 + (b1 * (primitive.p1 - primitive.p0) + b2 * (primitive.p2 - primitive.p0));
+        s.position = primitive.p0 +
+                     (b1 * (primitive.p1 - primitive.p0) + b2 * (primitive.p2 - primitive.p0));
         s.normal = normalize(cross(primitive.p1 - primitive.p0, primitive.p2 - primitive.p0));
         s.shadingNormal = s.normal;
-        s.magnitude = maxComponent(max(max(abs(primitive.p0), abs(primitive.p1)), abs(primitive.p2)));
+        s.magnitude =
+            maxComponent(max(max(abs(primitive.p0), abs(primitive.p1)), abs(primitive.p2)));
     }
     return s;
 }

@@ -29,17 +29,20 @@
 #ifndef VKPATH_SHARED_LIGHT_TYPES_H
 #define VKPATH_SHARED_LIGHT_TYPES_H
 
-#define VKP_LIGHT_IS_AREA 1u   // an emissive primitive: sampled by area, hit by BSDF samples (MIS)
-#define VKP_LIGHT_IS_DELTA 2u  // a point or a direction: never hit, no MIS; listed in the scene's lights
+#define VKP_LIGHT_IS_AREA 1u  // an emissive primitive: sampled by area, hit by BSDF samples (MIS)
+#define VKP_LIGHT_IS_DELTA \
+    2u  // a point or a direction: never hit, no MIS; listed in the scene's lights
 
-#define VKP_LIGHT_TYPES(X)                                                                                \
-    X(0u, TRIANGLE, Triangle, "triangle", VKP_FEATURE_EMISSIVE_SURFACES, VKP_FEATURE_TRIANGLES,           \
-      VKP_LIGHT_IS_AREA)                                                                                  \
-    X(1u, SPHERE, Sphere, "sphere", VKP_FEATURE_EMISSIVE_SURFACES, VKP_FEATURE_SPHERES, VKP_LIGHT_IS_AREA) \
-    X(2u, POINT, Point, "point", VKP_FEATURE_POINT_LIGHTS, 0u, VKP_LIGHT_IS_DELTA)                        \
-    X(3u, SPOT, Spot, "spot", VKP_FEATURE_SPOT_LIGHTS, 0u, VKP_LIGHT_IS_DELTA)                            \
-    X(4u, DIRECTIONAL, Directional, "directional", VKP_FEATURE_DIRECTIONAL_LIGHTS, 0u, VKP_LIGHT_IS_DELTA) \
-    /* sampled by its caller, which holds its table (shared/environment_sampling.h) */                    \
+#define VKP_LIGHT_TYPES(X)                                                                      \
+    X(0u, TRIANGLE, Triangle, "triangle", VKP_FEATURE_EMISSIVE_SURFACES, VKP_FEATURE_TRIANGLES, \
+      VKP_LIGHT_IS_AREA)                                                                        \
+    X(1u, SPHERE, Sphere, "sphere", VKP_FEATURE_EMISSIVE_SURFACES, VKP_FEATURE_SPHERES,         \
+      VKP_LIGHT_IS_AREA)                                                                        \
+    X(2u, POINT, Point, "point", VKP_FEATURE_POINT_LIGHTS, 0u, VKP_LIGHT_IS_DELTA)              \
+    X(3u, SPOT, Spot, "spot", VKP_FEATURE_SPOT_LIGHTS, 0u, VKP_LIGHT_IS_DELTA)                  \
+    X(4u, DIRECTIONAL, Directional, "directional", VKP_FEATURE_DIRECTIONAL_LIGHTS, 0u,          \
+      VKP_LIGHT_IS_DELTA)                                                                       \
+    /* sampled by its caller, which holds its table (shared/environment_sampling.h) */          \
     X(5u, ENVIRONMENT, Environment, "environment", VKP_FEATURES_ENVIRONMENT, 0u, 0u)
 
 #define VKP_LIGHT_TYPE_COUNT 6u

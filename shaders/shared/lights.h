@@ -1,17 +1,17 @@
 // Lights as the kernels see them, and sampling them from a surface point.
 // Emissive triangles and spheres are area lights (their emission comes from
 // their material; a triangle emits from its front face, as pbrt's and
-// Scotty3D's area lights do, a sphere to both sides); point, spot and directional lights are delta lights; the
-// environment is one light whose directions come from its own alias table.
-// One alias table over all lights picks a light in proportion to its power.
+// Scotty3D's area lights do, a sphere to both sides); point, spot and directional lights are delta
+// lights; the environment is one light whose directions come from its own alias table. One alias
+// table over all lights picks a light in proportion to its power.
 #ifndef VKPATH_SHARED_LIGHTS_H
 #define VKPATH_SHARED_LIGHTS_H
 
 #include "shared/compat.h"
-#include "shared/records.h"
 #include "shared/constants.h"
 #include "shared/features.h"
 #include "shared/light_types.h"
+#include "shared/records.h"
 #include "shared/sampling.h"
 
 // Values of Light::type, one per row of the registry (shared/light_types.h):
@@ -20,7 +20,8 @@
 #define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) \
     inline constexpr unsigned VKP_LIGHT_##NAME = id;
 #else
-#define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) const uint VKP_LIGHT_##NAME = id;
+#define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) \
+    const uint VKP_LIGHT_##NAME = id;
 #endif
 VKP_LIGHT_TYPES(VKP_LIGHT_CONSTANT)
 #undef VKP_LIGHT_CONSTANT
@@ -52,7 +53,7 @@ VKP_NAMESPACE_BEGIN
     F(vec3, normal, 16)                                                                       \
     /* triangle: length(triangleArea3(p0, p1, p2)); both computed once by the host */         \
     /* (wavefront/gpu_scene.cpp), not at every light sample */                                \
-    F(float, area, 19)                                                                       
+    F(float, area, 19)
 struct Light {
     VKP_LIGHT_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -60,8 +61,10 @@ struct Light {
 // What a light sample brings to a point.
 struct LightSample {
     vec3 direction;  // unit, from the point toward the light
-    float distance;  // to the sampled point on the light; VKP_FLOAT_MAX for directional and environment
-    vec3 radiance;   // incident radiance (area), or intensity / distance^2 (point, spot), or irradiance
+    float distance;  // to the sampled point on the light; VKP_FLOAT_MAX for directional and
+                     // environment
+    vec3 radiance;   // incident radiance (area), or intensity / distance^2 (point, spot), or
+                     // irradiance
     float pdf;       // solid-angle density of `direction` for area lights; 1 for delta lights
                      // (neither includes the probability of choosing the light)
     vec3 normal;     // area lights: unit surface normal at the sampled point (else 0)
@@ -83,10 +86,12 @@ VKP_FN uint possibleLightTypes() {
 VKP_FN uint lightTypeFeature(uint type) {
     switch (type) {
 #define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
-    case id: return feature;
+    case id:                                                         \
+        return feature;
         VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
 #undef VKP_LIGHT_CASE
-        default: return 0u;
+        default:
+            return 0u;
     }
 }
 
@@ -94,10 +99,12 @@ VKP_FN uint lightTypeFeature(uint type) {
 VKP_FN uint lightTypeFlags(uint type) {
     switch (type) {
 #define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
-    case id: return flags;
+    case id:                                                         \
+        return flags;
         VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
 #undef VKP_LIGHT_CASE
-        default: return 0u;
+        default:
+            return 0u;
     }
 }
 
@@ -190,7 +197,8 @@ VKP_FN LightSample sampleSphereLight(VKP_IN(Light) light, vec3 p, vec2 u) {
     SphereCone cone = sphereCone(light.p0, light.radius, p);
     if (cone.inside) {
         vec3 n = sampleUniformSphere(u);
-        s = areaLightSample(p, light.p0 + light.radius * n, n, 4.0f * VKP_PI * light.radius * light.radius);
+        s = areaLightSample(p, light.p0 + light.radius * n, n,
+                            4.0f * VKP_PI * light.radius * light.radius);
     } else {
         vec3 toCenter = light.p0 - p;
         float centerDistance = length(toCenter);
@@ -250,13 +258,14 @@ VKP_FN LightSample sampleEnvironmentLight(VKP_IN(Light) /*light*/, vec3 /*p*/, v
 VKP_FN LightSample sampleLight(VKP_IN(Light) light, vec3 p, vec2 u) {
     uint types = possibleLightTypes();
     switch (lightType(light)) {
-#define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
-    case id:                                                          \
+#define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags)               \
+    case id:                                                                       \
         if ((types & (1u << (id))) != 0u) return sample##Type##Light(light, p, u); \
         break;
         VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
 #undef VKP_LIGHT_CASE
-        default: break;
+        default:
+            break;
     }
     return noLightSample();
 }

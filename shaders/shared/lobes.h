@@ -41,11 +41,11 @@ VKP_FN float fresnelDielectric(float cosThetaI, float eta) {
 }
 
 struct BsdfSample {
-    vec3 direction;  // wi, world space, unit
-    vec3 weight;     // f * |cos| / pdf: the factor on the path throughput
-    float pdf;       // solid-angle density; for delta lobes the discrete probability
-    bool delta;      // a specular lobe: no light sampling, no MIS
-    bool valid;      // false: the path ends (e.g. sampled below the surface)
+    vec3 direction;    // wi, world space, unit
+    vec3 weight;       // f * |cos| / pdf: the factor on the path throughput
+    float pdf;         // solid-angle density; for delta lobes the discrete probability
+    bool delta;        // a specular lobe: no light sampling, no MIS
+    bool valid;        // false: the path ends (e.g. sampled below the surface)
     float etaSquared;  // refraction: eta'^2, the factor `weight` divided radiance by; else 1
 };
 
@@ -63,7 +63,9 @@ VKP_FN BsdfSample invalidBsdfSample() {
 // ---- Lambertian ---------------------------------------------------------------
 
 // The normal turned to the side of wo (two-sided diffuse and mirror).
-VKP_FN vec3 faceForward(vec3 n, vec3 wo) { return dot(n, wo) < 0.0f ? -n : n; }
+VKP_FN vec3 faceForward(vec3 n, vec3 wo) {
+    return dot(n, wo) < 0.0f ? -n : n;
+}
 
 VKP_FN BsdfSample sampleLambertian(vec3 albedo, vec3 n, vec3 wo, vec2 u) {
     vec3 nf = faceForward(n, wo);
@@ -95,7 +97,9 @@ VKP_FN float lambertianPdf(vec3 n, vec3 wo, vec3 wi) {
 
 // ---- perfect mirror -------------------------------------------------------------
 
-VKP_FN vec3 reflectAbout(vec3 wo, vec3 n) { return 2.0f * dot(wo, n) * n - wo; }
+VKP_FN vec3 reflectAbout(vec3 wo, vec3 n) {
+    return 2.0f * dot(wo, n) * n - wo;
+}
 
 VKP_FN BsdfSample sampleMirror(vec3 reflectance, vec3 n, vec3 wo) {
     BsdfSample s;

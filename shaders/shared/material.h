@@ -3,8 +3,8 @@
 #define VKPATH_SHARED_MATERIAL_H
 
 #include "shared/compat.h"
-#include "shared/records.h"
 #include "shared/features.h"
+#include "shared/records.h"
 #include "shared/texture.h"
 
 // Values of Material::kind, one per row of the registry
@@ -63,7 +63,7 @@ VKP_NAMESPACE_BEGIN
     /* KHR_materials_volume); 0: clear */                                                        \
     F(vec3, attenuation, 16)                                                                     \
     /* 0: fills the fifth texel */                                                               \
-    F(uint, padding, 19)                                                                        
+    F(uint, padding, 19)
 struct Material {
     VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -72,10 +72,12 @@ struct Material {
 VKP_FN uint materialFeature(uint kind) {
     switch (kind) {
 #define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
-    case id: return feature;
+    case id:                                                                   \
+        return feature;
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: return 0u;
+        default:
+            return 0u;
     }
 }
 
@@ -83,15 +85,19 @@ VKP_FN uint materialFeature(uint kind) {
 VKP_FN uint materialKindFlags(uint kind) {
     switch (kind) {
 #define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
-    case id: return flags;
+    case id:                                                                   \
+        return flags;
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
-        default: return 0u;
+        default:
+            return 0u;
     }
 }
 
 // Whether the kernel may meet material kind `kind`.
-VKP_FN bool materialMayBe(uint kind) { return hasFeature(materialFeature(kind)); }
+VKP_FN bool materialMayBe(uint kind) {
+    return hasFeature(materialFeature(kind));
+}
 
 // material.kind, or the constant kind when the kernel meets only one (so a
 // switch over it folds to that case).

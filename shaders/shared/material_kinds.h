@@ -36,32 +36,35 @@
 
 // FLAGS: what the kernels and the host may assume of a kind without reading
 // its parameters.
-#define VKP_KIND_NON_DELTA 1u    // may have a non-delta lobe: light sampling can reach it
-#define VKP_KIND_MICROFACET 2u   // a GGX lobe of Material::roughness (and the metallic-roughness texture)
-#define VKP_KIND_TRANSMITS 4u    // glass: refracts into a closed inside (absorption, the base colour tints
-                                 // Material::transmittance)
+#define VKP_KIND_NON_DELTA 1u  // may have a non-delta lobe: light sampling can reach it
+#define VKP_KIND_MICROFACET \
+    2u  // a GGX lobe of Material::roughness (and the metallic-roughness texture)
+#define VKP_KIND_TRANSMITS \
+    4u  // glass: refracts into a closed inside (absorption, the base colour tints
+        // Material::transmittance)
 #define VKP_KIND_LOBE_CHOICE 8u  // sampleTypeMaterial reads its own number uc to choose a lobe
 
-#define VKP_MATERIAL_KINDS(X)                                                                          \
-    /* Lambertian of albedo reflectance */                                                             \
-    X(0u, DIFFUSE, Diffuse, diffuse, "diffuse", VKP_FEATURE_DIFFUSE, VKP_KIND_NON_DELTA, DIFFUSE)      \
-    /* perfect specular reflection scaled by reflectance */                                            \
-    X(1u, MIRROR, Mirror, mirror, "mirror", VKP_FEATURE_MIRROR, 0u, CONDUCTOR)                         \
-    /* smooth glass: exact Fresnel between index 1 and ior, tinted by reflectance and transmittance */ \
-    X(2u, DIELECTRIC, Dielectric, glass, "glass", VKP_FEATURE_GLASS, VKP_KIND_TRANSMITS,               \
-      ROUGH_DIELECTRIC)                                                                                \
-    /* GGX reflection of roughness (shared/microfacet.h): Schlick's Fresnel of F0 reflectance, or the  \
-       exact Fresnel of a complex index */                                                             \
-    X(3u, CONDUCTOR, Conductor, conductor, "conductor", VKP_FEATURE_CONDUCTOR,                         \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET, CONDUCTOR)                                             \
-    /* GGX reflection and refraction of roughness between index 1 and ior (Walter et al. 2007) */      \
-    X(4u, ROUGH_DIELECTRIC, RoughDielectric, roughGlass, "rough-glass", VKP_FEATURE_ROUGH_GLASS,       \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_TRANSMITS | VKP_KIND_LOBE_CHOICE,             \
-      ROUGH_DIELECTRIC)                                                                                \
-    /* glTF 2.0's material (Appendix B, shared/metallic_roughness.h) */                                \
-    X(5u, METALLIC_ROUGHNESS, MetallicRoughness, metallicRoughness, "metallic-roughness",              \
-      VKP_FEATURE_METALLIC_ROUGHNESS, VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_LOBE_CHOICE, \
-      METALLIC_ROUGHNESS)
+#define VKP_MATERIAL_KINDS(X)                                                                     \
+    /* Lambertian of albedo reflectance */                                                        \
+    X(0u, DIFFUSE, Diffuse, diffuse, "diffuse", VKP_FEATURE_DIFFUSE, VKP_KIND_NON_DELTA, DIFFUSE) \
+    /* perfect specular reflection scaled by reflectance */                                       \
+    X(1u, MIRROR, Mirror, mirror, "mirror", VKP_FEATURE_MIRROR, 0u, CONDUCTOR)                    \
+    /* smooth glass: exact Fresnel between index 1 and ior, tinted by reflectance and             \
+     * transmittance */                                                                           \
+    X(2u, DIELECTRIC, Dielectric, glass, "glass", VKP_FEATURE_GLASS, VKP_KIND_TRANSMITS,          \
+      ROUGH_DIELECTRIC)                                                                           \
+    /* GGX reflection of roughness (shared/microfacet.h): Schlick's Fresnel of F0 reflectance, or \
+       the exact Fresnel of a complex index */                                                    \
+    X(3u, CONDUCTOR, Conductor, conductor, "conductor", VKP_FEATURE_CONDUCTOR,                    \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET, CONDUCTOR)                                        \
+    /* GGX reflection and refraction of roughness between index 1 and ior (Walter et al. 2007) */ \
+    X(4u, ROUGH_DIELECTRIC, RoughDielectric, roughGlass, "rough-glass", VKP_FEATURE_ROUGH_GLASS,  \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_TRANSMITS | VKP_KIND_LOBE_CHOICE,       \
+      ROUGH_DIELECTRIC)                                                                           \
+    /* glTF 2.0's material (Appendix B, shared/metallic_roughness.h) */                           \
+    X(5u, METALLIC_ROUGHNESS, MetallicRoughness, metallicRoughness, "metallic-roughness",         \
+      VKP_FEATURE_METALLIC_ROUGHNESS,                                                             \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_LOBE_CHOICE, METALLIC_ROUGHNESS)
 
 #define VKP_MATERIAL_KIND_COUNT 6u
 
@@ -69,10 +72,10 @@
 // with F expanding to `| term` per row.
 #define VKP_KIND_FEATURE_TERM(id, NAME, Type, key, label, feature, flags, regularized) | (feature)
 #define VKP_KIND_NON_DELTA_TERM(id, NAME, Type, key, label, feature, flags, regularized) \
-    | (((flags) & VKP_KIND_NON_DELTA) != 0u ? (feature) : 0u)
+    | (((flags)&VKP_KIND_NON_DELTA) != 0u ? (feature) : 0u)
 #define VKP_KIND_MICROFACET_TERM(id, NAME, Type, key, label, feature, flags, regularized) \
-    | (((flags) & VKP_KIND_MICROFACET) != 0u ? (feature) : 0u)
+    | (((flags)&VKP_KIND_MICROFACET) != 0u ? (feature) : 0u)
 #define VKP_KIND_TRANSMITS_TERM(id, NAME, Type, key, label, feature, flags, regularized) \
-    | (((flags) & VKP_KIND_TRANSMITS) != 0u ? (feature) : 0u)
+    | (((flags)&VKP_KIND_TRANSMITS) != 0u ? (feature) : 0u)
 
 #endif  // VKPATH_SHARED_MATERIAL_KINDS_H

@@ -35,7 +35,7 @@ VKP_NAMESPACE_BEGIN
     /* indices into the vertex attribute arrays, in the triangle's own order (p0, p1, p2) */ \
     F(uvec3, vertex, 0)                                                                      \
     /* VKP_TRIANGLE_* bits */                                                                \
-    F(uint, attributes, 3)                                                                  
+    F(uint, attributes, 3)
 struct TriangleVertices {
     VKP_TRIANGLE_VERTICES_FIELDS(VKP_FIELD_DECLARE)
 };

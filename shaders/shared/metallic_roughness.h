@@ -39,15 +39,19 @@
 VKP_NAMESPACE_BEGIN
 
 struct MetallicRoughness {
-    vec3 baseColor;   // diffuse albedo of the dielectric, F0 of the metal
-    float metallic;   // 0: dielectric, 1: metal, between: the mix
-    vec2 alpha;       // GGX roughness (alpha = roughness^2)
-    vec3 specularF0;  // the dielectric layer's Fresnel at normal incidence, weight included
+    vec3 baseColor;     // diffuse albedo of the dielectric, F0 of the metal
+    float metallic;     // 0: dielectric, 1: metal, between: the mix
+    vec2 alpha;         // GGX roughness (alpha = roughness^2)
+    vec3 specularF0;    // the dielectric layer's Fresnel at normal incidence, weight included
     float specularF90;  // ... and at grazing incidence (the layer's weight)
 };
 
-VKP_FN float largestComponent(vec3 v) { return max(max(v.x, v.y), v.z); }
-VKP_FN float meanComponent(vec3 v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
+VKP_FN float largestComponent(vec3 v) {
+    return max(max(v.x, v.y), v.z);
+}
+VKP_FN float meanComponent(vec3 v) {
+    return (v.x + v.y + v.z) * (1.0f / 3.0f);
+}
 
 // F_d above, at cosine c = |wo.h|.
 VKP_FN vec3 dielectricLayerFresnel(MetallicRoughness p, float c) {
@@ -89,7 +93,8 @@ VKP_FN vec3 evalMetallicRoughnessUpper(MetallicRoughness p, vec3 o, vec3 i) {
     vec3 h = normalize(o + i);
     float c = dot(o, h);
     vec3 fd = dielectricLayerFresnel(p, c);
-    vec3 f = ((1.0f - p.metallic) * (1.0f - largestComponent(fd)) * (i.z * VKP_INV_PI)) * p.baseColor;
+    vec3 f =
+        ((1.0f - p.metallic) * (1.0f - largestComponent(fd)) * (i.z * VKP_INV_PI)) * p.baseColor;
     if (microfacetIsSmooth(p.alpha)) return f;
     // D G2 / (4 zo zi) x zi = D zi / (2 (zi Lo + zo Li)), as evalConductor.
     float d = i.z * ggxStretchedLength(o, p.alpha) + o.z * ggxStretchedLength(i, p.alpha);

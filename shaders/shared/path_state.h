@@ -25,7 +25,7 @@ struct PathState {
     vec3 previousPosition;  // world space: the last scattering point (the camera for the first ray)
     float bsdfPdf;          // density of the direction sampled there (MIS at the next hit)
     bool specular;          // the camera or a delta BSDF produced the ray (no MIS)
-    bool afterNonDelta;     // a non-delta lobe scattered the path before (path regularisation applies)
+    bool afterNonDelta;  // a non-delta lobe scattered the path before (path regularisation applies)
 };
 
 // What a path's rays were, for RenderResult's counters.

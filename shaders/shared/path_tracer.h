@@ -12,15 +12,13 @@
 //   AliasEntry sceneEnvAlias(uint texel);
 //   vec3 sceneEnvRadiance(uint texel);              // linear RGB, before strength
 //   BvhPrimitive bvhPrimitive(uint index);          // from the BVH
-//   TriangleVertices sceneTriangleVertices(uint triangle);  // by BvhPrimitive::id (shared/mesh_attributes.h)
-//   vec3 sceneVertexNormal(uint vertex);
-//   vec4 sceneVertexTexcoords(uint vertex);         // (TEXCOORD_0, TEXCOORD_1)
-//   vec4 sceneVertexColor(uint vertex);
-//   vec4 sceneVertexTangent(uint vertex);           // unit xyz, w = +-1: B = w (N x T)
-//   TextureInfo sceneTexture(uint index);           // shared/texture.h
-//   TextureSlot sceneTextureSlot(uint index);
-//   vec4 sceneTexel(uint index);                    // linear RGBA
-//   MaterialAlpha sceneMaterialAlpha(uint index);   // shared/alpha.h; read only when SceneInfo::alphaTested
+//   TriangleVertices sceneTriangleVertices(uint triangle);  // by BvhPrimitive::id
+//   (shared/mesh_attributes.h) vec3 sceneVertexNormal(uint vertex); vec4 sceneVertexTexcoords(uint
+//   vertex);         // (TEXCOORD_0, TEXCOORD_1) vec4 sceneVertexColor(uint vertex); vec4
+//   sceneVertexTangent(uint vertex);           // unit xyz, w = +-1: B = w (N x T) TextureInfo
+//   sceneTexture(uint index);           // shared/texture.h TextureSlot sceneTextureSlot(uint
+//   index); vec4 sceneTexel(uint index);                    // linear RGBA MaterialAlpha
+//   sceneMaterialAlpha(uint index);   // shared/alpha.h; read only when SceneInfo::alphaTested
 //
 // It defines the alpha test that shared/bvh_traverse.h asks (bvhAlphaTest).
 //
@@ -48,14 +46,18 @@
 // with a number of their own (sampleBsdf's uc) and with the component of a
 // guided Lambertian vertex's mixture (sampleGuidedDiffuse), which no other
 // material draws, so adding them changed no other material's numbers.
-#define VKP_DIMS_PER_BOUNCE_BASE 4u  // BSDF direction (2), Russian roulette (1), lobe or component choice (1)
+#define VKP_DIMS_PER_BOUNCE_BASE \
+    4u  // BSDF direction (2), Russian roulette (1), lobe or component choice (1)
 #define VKP_DIMS_PER_LIGHT_SAMPLE 4u  // environment texel (2 words), light choice and position (2)
 
 // SceneInfo::lightSamples, a constant when the kernel's features fix it.
-VKP_FN uint lightSampleCount() VKP_SCENE_CONST { return featureLightSamples(sceneInfo().lightSamples); }
+VKP_FN uint lightSampleCount() VKP_SCENE_CONST {
+    return featureLightSamples(sceneInfo().lightSamples);
+}
 
 VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
-    return 2u + bounce * (VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * lightSampleCount());
+    return 2u +
+           bounce * (VKP_DIMS_PER_BOUNCE_BASE + VKP_DIMS_PER_LIGHT_SAMPLE * lightSampleCount());
 }
 
 // The per-vertex math, one file per concern, in the order each needs the

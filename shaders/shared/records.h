@@ -19,8 +19,8 @@
 #include <cstddef>
 
 // Inside VKP_RECORD_CHECK: the record the field belongs to.
-#define VKP_FIELD_CHECK(T, name, word)                                                    \
-    static_assert(offsetof(vkpath::shared::VKP_RECORD, name) == 4u * (word),              \
+#define VKP_FIELD_CHECK(T, name, word)                                       \
+    static_assert(offsetof(vkpath::shared::VKP_RECORD, name) == 4u * (word), \
                   "a field's word in its list is not where C++ lays it out");
 // Checks the struct `Record` against its field list `FIELDS` and its size of
 // `texels` 16-byte texels. Use at file scope after the struct:
@@ -29,14 +29,15 @@
 //   #undef VKP_RECORD
 #define VKP_RECORD_CHECK(FIELDS, texels) \
     FIELDS(VKP_FIELD_CHECK)              \
-    static_assert(sizeof(vkpath::shared::VKP_RECORD) == 16u * (texels), "a record is whole texels");
+    static_assert(sizeof(vkpath::shared::VKP_RECORD) == 16u * (texels), "whole texels");
 #else
 // Word `word` of the texels t[] (uvec4 each, read in order).
 #define VKP_TEXEL_WORD(t, word) t[(word) / 4][(word) % 4]
 #define VKP_DECODE_uint(t, w) VKP_TEXEL_WORD(t, w)
 #define VKP_DECODE_float(t, w) uintBitsToFloat(VKP_TEXEL_WORD(t, w))
 #define VKP_DECODE_uvec2(t, w) uvec2(VKP_TEXEL_WORD(t, w), VKP_TEXEL_WORD(t, (w) + 1))
-#define VKP_DECODE_uvec3(t, w) uvec3(VKP_TEXEL_WORD(t, w), VKP_TEXEL_WORD(t, (w) + 1), VKP_TEXEL_WORD(t, (w) + 2))
+#define VKP_DECODE_uvec3(t, w) \
+    uvec3(VKP_TEXEL_WORD(t, w), VKP_TEXEL_WORD(t, (w) + 1), VKP_TEXEL_WORD(t, (w) + 2))
 #define VKP_DECODE_vec3(t, w) uintBitsToFloat(VKP_DECODE_uvec3(t, w))
 // Inside VKP_RECORD_DECODE: the record `r` and the texels `t` it is read from.
 #define VKP_FIELD_DECODE(T, name, word) r.name = VKP_DECODE_##T(t, word);

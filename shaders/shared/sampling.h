@@ -28,7 +28,9 @@ VKP_FN Frame makeFrame(vec3 n) {
     return f;
 }
 
-VKP_FN vec3 frameToWorld(Frame f, vec3 local) { return local.x * f.s + local.y * f.t + local.z * f.n; }
+VKP_FN vec3 frameToWorld(Frame f, vec3 local) {
+    return local.x * f.s + local.y * f.t + local.z * f.n;
+}
 
 VKP_FN vec3 frameToLocal(Frame f, vec3 world) {
     return vec3(dot(world, f.s), dot(world, f.t), dot(world, f.n));
@@ -43,8 +45,10 @@ VKP_FN vec3 frameToLocal(Frame f, vec3 world) {
 // "What each part of its design buys").
 VKP_FN vec2 cosSinQuarterPi(float a) {
     float a2 = a * a;
-    float c = 1.0f - 0.5f * a2 +
-              a2 * a2 * (4.166664568298827e-2f + a2 * (-1.388731625493765e-3f + a2 * 2.443315711809948e-5f));
+    float c =
+        1.0f - 0.5f * a2 +
+        a2 * a2 *
+            (4.166664568298827e-2f + a2 * (-1.388731625493765e-3f + a2 * 2.443315711809948e-5f));
     float s = a + a * a2 * (-1.6666654611e-1f + a2 * (8.3321608736e-3f + a2 * -1.9515295891e-4f));
     return vec2(c, s);
 }
@@ -69,7 +73,9 @@ VKP_FN vec3 sampleCosineHemisphere(vec2 u) {
     return vec3(d.x, d.y, z);
 }
 
-VKP_FN float cosineHemispherePdf(float cosTheta) { return max(cosTheta, 0.0f) * VKP_INV_PI; }
+VKP_FN float cosineHemispherePdf(float cosTheta) {
+    return max(cosTheta, 0.0f) * VKP_INV_PI;
+}
 
 VKP_FN vec3 sampleUniformSphere(vec2 u) {
     float z = 1.0f - 2.0f * u.x;
@@ -78,7 +84,9 @@ VKP_FN vec3 sampleUniformSphere(vec2 u) {
     return vec3(r * cos(phi), r * sin(phi), z);
 }
 
-VKP_FN float uniformSpherePdf() { return VKP_INV_FOUR_PI; }
+VKP_FN float uniformSpherePdf() {
+    return VKP_INV_FOUR_PI;
+}
 
 VKP_FN vec3 sampleUniformHemisphere(vec2 u) {
     float z = u.x;
@@ -87,7 +95,9 @@ VKP_FN vec3 sampleUniformHemisphere(vec2 u) {
     return vec3(r * cos(phi), r * sin(phi), z);
 }
 
-VKP_FN float uniformHemispherePdf() { return VKP_INV_TWO_PI; }
+VKP_FN float uniformHemispherePdf() {
+    return VKP_INV_TWO_PI;
+}
 
 // ---- spheres as lights: sampling the cone of directions they subtend -------
 // From a point outside the sphere, directions are drawn uniformly in the cone
@@ -137,7 +147,9 @@ VKP_FN vec2 sampleTriangleBarycentrics(vec2 u) {
     return vec2(1.0f - s, u.y * s);  // weights of vertices 0 and 1; vertex 2 gets the rest
 }
 
-VKP_FN vec3 triangleArea3(vec3 p0, vec3 p1, vec3 p2) { return 0.5f * cross(p1 - p0, p2 - p0); }
+VKP_FN vec3 triangleArea3(vec3 p0, vec3 p1, vec3 p2) {
+    return 0.5f * cross(p1 - p0, p2 - p0);
+}
 
 // Density in solid angle at point `p` of area-uniform samples on a surface of
 // area `area`, for a sample at distance^2 `dist2` whose surface normal makes

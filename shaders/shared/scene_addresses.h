@@ -16,7 +16,8 @@ VKP_NAMESPACE_BEGIN
 // rows of shared/scene_arrays.h in its order (per primitive, per emitter, per
 // environment texel, per triangle, per vertex, per texture texel). The BOUND
 // ones (materials, textures) and the SceneInfo stay bound.
-#define VKP_ADDRESS_FIELD(index, name, Record, access, member) VKP_SCENE_ARRAY_IF_SPANS_##access(uvec2 name;)
+#define VKP_ADDRESS_FIELD(index, name, Record, access, member) \
+    VKP_SCENE_ARRAY_IF_SPANS_##access(uvec2 name;)
 struct SceneAddresses {
     BvhAddresses bvh;
     VKP_SCENE_ARRAYS(VKP_ADDRESS_FIELD)

@@ -35,21 +35,22 @@
 
 #include "shared/wavefront.h"
 
-#define VKP_SCENE_ARRAYS(X)                                                                           \
-    X(VKP_WF_MATERIALS, materials, Material, BOUND, materials)                                        \
-    X(VKP_WF_LIGHTS, lights, Light, SPANS, lights)                                                    \
-    X(VKP_WF_LIGHT_ALIAS, lightAlias, AliasEntry, SPANS, lightAlias)                                  \
-    X(VKP_WF_PRIMITIVE_LIGHT, primitiveLight, uint32_t, SPANS, primitiveLight)                        \
-    X(VKP_WF_ENV_ALIAS, envAlias, AliasEntry, SPANS, envAlias)                                        \
-    X(VKP_WF_ENV_RADIANCE, envRadiance, glm::vec4, SPANS, envRadiance)                                \
-    X(VKP_WF_TRIANGLE_VERTICES, triangleVertices, TriangleVertices, SPANS, surface.triangleVertices)  \
-    X(VKP_WF_VERTEX_NORMALS, vertexNormals, glm::vec4, SPANS, surface.vertexNormals)                  \
-    X(VKP_WF_VERTEX_TEXCOORDS, vertexTexcoords, glm::vec4, SPANS, surface.vertexTexcoords)            \
-    X(VKP_WF_VERTEX_COLORS, vertexColors, glm::vec4, SPANS, surface.vertexColors)                     \
-    X(VKP_WF_TEXELS, texels, glm::uvec2, SPANS, textures.texels)                                      \
-    X(VKP_WF_VERTEX_TANGENTS, vertexTangents, glm::vec4, SPANS, surface.vertexTangents)               \
-    X(VKP_WF_TEXTURES, textures, TextureInfo, BOUND, textures.textures)                               \
-    X(VKP_WF_TEXTURE_SLOTS, textureSlots, TextureSlot, BOUND, textures.slots)                         \
+#define VKP_SCENE_ARRAYS(X)                                                                \
+    X(VKP_WF_MATERIALS, materials, Material, BOUND, materials)                             \
+    X(VKP_WF_LIGHTS, lights, Light, SPANS, lights)                                         \
+    X(VKP_WF_LIGHT_ALIAS, lightAlias, AliasEntry, SPANS, lightAlias)                       \
+    X(VKP_WF_PRIMITIVE_LIGHT, primitiveLight, uint32_t, SPANS, primitiveLight)             \
+    X(VKP_WF_ENV_ALIAS, envAlias, AliasEntry, SPANS, envAlias)                             \
+    X(VKP_WF_ENV_RADIANCE, envRadiance, glm::vec4, SPANS, envRadiance)                     \
+    X(VKP_WF_TRIANGLE_VERTICES, triangleVertices, TriangleVertices, SPANS,                 \
+      surface.triangleVertices)                                                            \
+    X(VKP_WF_VERTEX_NORMALS, vertexNormals, glm::vec4, SPANS, surface.vertexNormals)       \
+    X(VKP_WF_VERTEX_TEXCOORDS, vertexTexcoords, glm::vec4, SPANS, surface.vertexTexcoords) \
+    X(VKP_WF_VERTEX_COLORS, vertexColors, glm::vec4, SPANS, surface.vertexColors)          \
+    X(VKP_WF_TEXELS, texels, glm::uvec2, SPANS, textures.texels)                           \
+    X(VKP_WF_VERTEX_TANGENTS, vertexTangents, glm::vec4, SPANS, surface.vertexTangents)    \
+    X(VKP_WF_TEXTURES, textures, TextureInfo, BOUND, textures.textures)                    \
+    X(VKP_WF_TEXTURE_SLOTS, textureSlots, TextureSlot, BOUND, textures.slots)              \
     X(VKP_WF_MATERIAL_ALPHA, materialAlpha, MaterialAlpha, BOUND, materialAlpha)
 
 // `VKP_SCENE_ARRAY_IF_SPANS_##access(x)` keeps x (without commas: GLSL's

@@ -26,20 +26,22 @@ struct SceneInfo {
     uint seed;                    // the render's seed (RNG counter)
     uint width;                   // film size in pixels
     uint height;
-    float clampRadiance;          // > 0: each path sample's largest component is clamped to this (biased)
-    float fireflyThreshold;       // samples above this (largest component) are counted as fireflies
-    uint samplerKind;             // VKP_SAMPLER_* (shared/rng.h): where the random numbers come from
-    uint triangleAttributes;      // VKP_TRIANGLE_* bits some triangle has (shared/mesh_attributes.h): the
-                                  // per-triangle and per-vertex arrays exist only if non-zero
-    uint alphaTested;             // 1: some triangle's material may leave holes (alphaMode MASK or BLEND) and
-                                  // the MaterialAlpha[] table exists (shared/alpha.h); 0: all is opaque
-    float regularizeAlpha;        // > 0: path regularisation, the least GGX alpha of a lobe after the path's first
-                                  // non-delta scattering (shared/bsdf.h regularizedMaterial; biased)
-    uint unsampledEmitters;       // 1: some emissive surface is no light (textured or with holes): only BSDF
-                                  // samples find it (shared/path_tracer.h lightSamplingAlone)
-    uint guideSphereCount;        // spheres that diffuse samples are guided toward (shared/path_tracer.h
-                                  // sampleGuidedDiffuse); their (centre, radius) follow the SceneInfo in its buffer
-    float guideFraction;          // the share of a guided vertex's samples drawn toward the spheres
+    float clampRadiance;  // > 0: each path sample's largest component is clamped to this (biased)
+    float fireflyThreshold;   // samples above this (largest component) are counted as fireflies
+    uint samplerKind;         // VKP_SAMPLER_* (shared/rng.h): where the random numbers come from
+    uint triangleAttributes;  // VKP_TRIANGLE_* bits some triangle has (shared/mesh_attributes.h):
+                              // the per-triangle and per-vertex arrays exist only if non-zero
+    uint alphaTested;  // 1: some triangle's material may leave holes (alphaMode MASK or BLEND) and
+                       // the MaterialAlpha[] table exists (shared/alpha.h); 0: all is opaque
+    float regularizeAlpha;  // > 0: path regularisation, the least GGX alpha of a lobe after the
+                            // path's first non-delta scattering (shared/bsdf.h regularizedMaterial;
+                            // biased)
+    uint unsampledEmitters;  // 1: some emissive surface is no light (textured or with holes): only
+                             // BSDF samples find it (shared/path_tracer.h lightSamplingAlone)
+    uint guideSphereCount;   // spheres that diffuse samples are guided toward (shared/path_tracer.h
+                             // sampleGuidedDiffuse); their (centre, radius) follow the SceneInfo in
+                             // its buffer
+    float guideFraction;     // the share of a guided vertex's samples drawn toward the spheres
 };
 
 VKP_NAMESPACE_END

@@ -86,12 +86,14 @@ VKP_FN uint scrambledCoordinate(uint reversedBits, uint scrambleSeed) {
 
 VKP_FN uint scrambledSobol2(uint index, uint component, uint shuffleSeed, uint scrambleSeed) {
     uint shuffled = nestedUniformScramble(index, shuffleSeed);
-    return scrambledCoordinate(component == 0u ? shuffled : reversedSobolDimension1(shuffled), scrambleSeed);
+    return scrambledCoordinate(component == 0u ? shuffled : reversedSobolDimension1(shuffled),
+                               scrambleSeed);
 }
 
 // Both coordinates of point `index`: scrambledSobol2 of components 0 and 1,
 // the index shuffled once for the two.
-VKP_FN uvec2 scrambledSobol2Point(uint index, uint shuffleSeed, uint scrambleSeed0, uint scrambleSeed1) {
+VKP_FN uvec2 scrambledSobol2Point(uint index, uint shuffleSeed, uint scrambleSeed0,
+                                  uint scrambleSeed1) {
     uint shuffled = nestedUniformScramble(index, shuffleSeed);
     return uvec2(scrambledCoordinate(shuffled, scrambleSeed0),
                  scrambledCoordinate(reversedSobolDimension1(shuffled), scrambleSeed1));

@@ -34,8 +34,10 @@
 // A textured material's slots, in this order from Material::textures on.
 #define VKP_SLOT_BASE_COLOR 0u  // sRGB colour and linear alpha: multiplies the base colour
 #define VKP_SLOT_EMISSIVE 1u    // sRGB colour: multiplies the emission
-#define VKP_SLOT_METALLIC_ROUGHNESS 2u  // linear: G roughness, B metalness (glTF), multiplying the factors
-#define VKP_SLOT_NORMAL 3u      // linear: tangent-space normal, (2 x - 1) scaled in x and y by the normal scale
+#define VKP_SLOT_METALLIC_ROUGHNESS \
+    2u  // linear: G roughness, B metalness (glTF), multiplying the factors
+#define VKP_SLOT_NORMAL \
+    3u  // linear: tangent-space normal, (2 x - 1) scaled in x and y by the normal scale
 #define VKP_SLOTS_PER_MATERIAL 4u
 
 VKP_NAMESPACE_BEGIN
@@ -48,7 +50,7 @@ VKP_NAMESPACE_BEGIN
     F(uint, width, 1)                                                 \
     F(uint, height, 2)                                                \
     /* wrap modes and filter, see above */                            \
-    F(uint, sampling, 3)                                             
+    F(uint, sampling, 3)
 struct TextureInfo {
     VKP_TEXTURE_INFO_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -67,7 +69,7 @@ struct TextureInfo {
     /* VKP_SLOT_NORMAL: glTF's normalTexture.scale; 1 in the other slots */     \
     F(float, scale, 8)                                                          \
     /* 0: a slot is three 16-byte texels (stages/lib/scene_access.glsl) */      \
-    F(uvec3, padding, 9)                                                       
+    F(uvec3, padding, 9)
 struct TextureSlot {
     VKP_TEXTURE_SLOT_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -88,7 +90,9 @@ VKP_FN int wrapTexelIndex(int i, int n, uint mode) {
 // floor(x) as an int, for x far outside any texture's range too: coordinates
 // are clamped to +-2^30 first (no overflow; REPEAT at such a coordinate has
 // lost its fraction to float rounding long before).
-VKP_FN int floorToInt(float x) { return int(floor(clamp(x, -1073741824.0f, 1073741824.0f))); }
+VKP_FN int floorToInt(float x) {
+    return int(floor(clamp(x, -1073741824.0f, 1073741824.0f)));
+}
 
 VKP_NAMESPACE_END
 

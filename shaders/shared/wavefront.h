@@ -10,27 +10,27 @@
 #include "shared/compat.h"
 
 // ---- bindings (descriptor set 0) ----------------------------------------------
-#define VKP_WF_SCENE_INFO 0        // SceneInfo
-#define VKP_WF_BVH_NODES 1         // BvhNode[]
-#define VKP_WF_BVH_PRIMITIVES 2    // BvhPrimitive[]
-#define VKP_WF_MATERIALS 3         // Material[]
-#define VKP_WF_LIGHTS 4            // Light[]
-#define VKP_WF_LIGHT_ALIAS 5       // AliasEntry[lightCount]
-#define VKP_WF_PRIMITIVE_LIGHT 6   // uint[primitives]: light index of an emissive leaf primitive
-#define VKP_WF_ENV_ALIAS 7         // AliasEntry[texels]
-#define VKP_WF_ENV_RADIANCE 8      // vec3[texels]
-#define VKP_WF_CAMERA 9            // Camera
-#define VKP_WF_RAYS 10             // Ray[W]: each path's current ray
-#define VKP_WF_HITS 11             // Hit[W]
-#define VKP_WF_THROUGHPUT 12       // vec3[W]
-#define VKP_WF_RADIANCE 13         // vec3[W]: radiance gathered by the path so far
-#define VKP_WF_VERTEX 14           // PathVertex[W]
-#define VKP_WF_QUEUES 15           // uint[3 W]: ray queue 0, ray queue 1, shadow queue
-#define VKP_WF_COUNTERS 16         // QueueCounters
-#define VKP_WF_SHADOW_RAYS 17      // Ray[W lightSamples]
-#define VKP_WF_SHADOW_RADIANCE 18  // vec3[W lightSamples]: contribution if unoccluded
-#define VKP_WF_FILM 19             // FilmPixel[width height]
-#define VKP_WF_SCENE_ADDRESSES 20  // SceneAddresses (read when the scene is read by address)
+#define VKP_WF_SCENE_INFO 0          // SceneInfo
+#define VKP_WF_BVH_NODES 1           // BvhNode[]
+#define VKP_WF_BVH_PRIMITIVES 2      // BvhPrimitive[]
+#define VKP_WF_MATERIALS 3           // Material[]
+#define VKP_WF_LIGHTS 4              // Light[]
+#define VKP_WF_LIGHT_ALIAS 5         // AliasEntry[lightCount]
+#define VKP_WF_PRIMITIVE_LIGHT 6     // uint[primitives]: light index of an emissive leaf primitive
+#define VKP_WF_ENV_ALIAS 7           // AliasEntry[texels]
+#define VKP_WF_ENV_RADIANCE 8        // vec3[texels]
+#define VKP_WF_CAMERA 9              // Camera
+#define VKP_WF_RAYS 10               // Ray[W]: each path's current ray
+#define VKP_WF_HITS 11               // Hit[W]
+#define VKP_WF_THROUGHPUT 12         // vec3[W]
+#define VKP_WF_RADIANCE 13           // vec3[W]: radiance gathered by the path so far
+#define VKP_WF_VERTEX 14             // PathVertex[W]
+#define VKP_WF_QUEUES 15             // uint[3 W]: ray queue 0, ray queue 1, shadow queue
+#define VKP_WF_COUNTERS 16           // QueueCounters
+#define VKP_WF_SHADOW_RAYS 17        // Ray[W lightSamples]
+#define VKP_WF_SHADOW_RADIANCE 18    // vec3[W lightSamples]: contribution if unoccluded
+#define VKP_WF_FILM 19               // FilmPixel[width height]
+#define VKP_WF_SCENE_ADDRESSES 20    // SceneAddresses (read when the scene is read by address)
 #define VKP_WF_TRIANGLE_VERTICES 21  // TriangleVertices[triangles] (shared/mesh_attributes.h)
 #define VKP_WF_VERTEX_NORMALS 22     // vec3[vertices]: world-space shading normals
 #define VKP_WF_VERTEX_TEXCOORDS 23   // vec4[vertices]: TEXCOORD_0 (xy), TEXCOORD_1 (zw)
@@ -38,8 +38,10 @@
 #define VKP_WF_TEXTURES 25           // TextureInfo[] (shared/texture.h)
 #define VKP_WF_TEXTURE_SLOTS 26      // TextureSlot[]
 #define VKP_WF_TEXELS 27             // uvec2[]: RGBA texels, two packHalf2x16 words each
-#define VKP_WF_VERTEX_TANGENTS 28    // vec4[vertices]: world-space unit tangent (xyz), bitangent sign (w)
-#define VKP_WF_MATERIAL_ALPHA 29     // MaterialAlpha[materials] (shared/alpha.h), when SceneInfo::alphaTested
+#define VKP_WF_VERTEX_TANGENTS \
+    28  // vec4[vertices]: world-space unit tangent (xyz), bitangent sign (w)
+#define VKP_WF_MATERIAL_ALPHA \
+    29  // MaterialAlpha[materials] (shared/alpha.h), when SceneInfo::alphaTested
 
 VKP_NAMESPACE_BEGIN
 
@@ -47,30 +49,31 @@ VKP_NAMESPACE_BEGIN
 // PathState's fields besides the ray, throughput and radiance, packed
 // exactly: etaScale is positive, so its sign bit carries `specular`.
 struct PathVertex {
-    vec3 position;            // world space: the last scattering point (the camera for the first ray)
-    float bsdfPdf;            // density of the direction sampled there (>= 0), its sign bit set when a
-                              // non-delta lobe scattered the path before (PathState::afterNonDelta)
-    float specularEtaScale;   // PathState::etaScale, negated when the ray is specular (the camera or a
-                              // delta BSDF produced it: no MIS)
+    vec3 position;  // world space: the last scattering point (the camera for the first ray)
+    float bsdfPdf;  // density of the direction sampled there (>= 0), its sign bit set when a
+                    // non-delta lobe scattered the path before (PathState::afterNonDelta)
+    float specularEtaScale;  // PathState::etaScale, negated when the ray is specular (the camera or
+                             // a delta BSDF produced it: no MIS)
 };
 
 // Counters of the queues and the indirect-dispatch arguments computed from them.
 struct QueueCounters {
-    uint rayCount0;       // entries in ray queue 0 (even bounces)
-    uint rayCount1;       // entries in ray queue 1 (odd bounces)
-    uint shadowCount;     // entries in the shadow queue
-    uint nonFinite;       // path samples dropped because their radiance was NaN or infinite
-    uint fireflies;       // path samples above SceneInfo::fireflyThreshold (before any clamping)
-    uvec3 rayDispatch;    // VkDispatchIndirectCommand for intersect and shade
-    uvec3 shadowDispatch; // VkDispatchIndirectCommand for shadow
+    uint rayCount0;        // entries in ray queue 0 (even bounces)
+    uint rayCount1;        // entries in ray queue 1 (odd bounces)
+    uint shadowCount;      // entries in the shadow queue
+    uint nonFinite;        // path samples dropped because their radiance was NaN or infinite
+    uint fireflies;        // path samples above SceneInfo::fireflyThreshold (before any clamping)
+    uvec3 rayDispatch;     // VkDispatchIndirectCommand for intersect and shade
+    uvec3 shadowDispatch;  // VkDispatchIndirectCommand for shadow
     uint shadowRayCount;  // shadow rays shade asked for in this bounce (non-zero contributions), or
                           // the megakernel traced in this wave
-    uint closestRayCount; // closest-hit rays the megakernel traced in this wave
+    uint closestRayCount;  // closest-hit rays the megakernel traced in this wave
     // Rays traced over the whole render, as 64-bit (low, high) pairs summed by
     // queue_dispatch: closest-hit rays (intersect) and shadow rays (shadow).
     uvec2 closestRays;
     uvec2 shadowRays;
-    uint rejectedLightSamples;  // light samples of density 0 from their vertex (ShadowRequest::rejected)
+    uint rejectedLightSamples;  // light samples of density 0 from their vertex
+                                // (ShadowRequest::rejected)
 };
 
 // Per-pixel sums over all samples so far, compensated (Kahan) so that 10^5
@@ -107,7 +110,8 @@ VKP_FN uvec2 wavePathOf(WavePush wave, uint slot, uint pixels) {
     return uvec2(linear % pixels, wave.firstSample + linear / pixels);
 }
 
-#define VKP_PREPARE_RAYS 0u     // rayDispatch from the current ray queue; clear the next and the shadow queue
+#define VKP_PREPARE_RAYS \
+    0u  // rayDispatch from the current ray queue; clear the next and the shadow queue
 #define VKP_PREPARE_SHADOWS 1u  // shadowDispatch from the shadow queue
 #define VKP_TALLY_RAYS 2u       // the megakernel's per-wave ray counts into the 64-bit totals
 

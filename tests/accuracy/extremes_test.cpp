@@ -10,11 +10,11 @@
 
 #include <cmath>
 
+#include "image/statistics.h"
+#include "reference/reference_renderer.h"
 #include "scene/environment.h"
 #include "scene/environment_table.h"
 #include "scene/load.h"
-#include "image/statistics.h"
-#include "reference/reference_renderer.h"
 #include "support/gpu_render.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
@@ -47,7 +47,8 @@ scene::Scene transformed(scene::Scene s, float scale, glm::vec3 offset) {
 void expectSameImage(const wavefront::RenderResult& a, const wavefront::RenderResult& b) {
     EXPECT_EQ(a.nonFiniteSamples, 0u);
     EXPECT_EQ(b.nonFiniteSamples, 0u);
-    const auto c = image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
+    const auto c =
+        image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
     EXPECT_EQ(c.rejected, 0) << "worst z " << c.worstZ << " over " << c.blocks << " blocks";
 }
 
@@ -70,11 +71,13 @@ TEST_P(SceneScale, CornellBoxLooksTheSame) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Extremes, SceneScale,
-                         testing::Values(std::pair{1e-4f, 0.0f}, std::pair{1e4f, 0.0f}, std::pair{1.0f, 1e5f}),
+                         testing::Values(std::pair{1e-4f, 0.0f}, std::pair{1e4f, 0.0f},
+                                         std::pair{1.0f, 1e5f}),
                          [](const testing::TestParamInfo<std::pair<float, float>>& param) {
-                             return param.param.second != 0 ? std::string("Translated1e5")
-                                                            : (param.param.first < 1 ? std::string("Scaled1em4")
-                                                                                     : std::string("Scaled1e4"));
+                             return param.param.second != 0
+                                        ? std::string("Translated1e5")
+                                        : (param.param.first < 1 ? std::string("Scaled1em4")
+                                                                 : std::string("Scaled1e4"));
                          });
 
 // The scale test has power: a box with a dimmer lamp is told apart.
@@ -83,7 +86,9 @@ TEST(SceneScale, DetectsADifferentScene) {
     scene::Scene dimmer = base;
     for (auto& m : dimmer.materials) m.emission *= 0.9f;
     const auto a = render(base, 16, 6, 40, 1), b = render(dimmer, 16, 6, 40, 2);
-    EXPECT_GT(image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01).rejected, 0);
+    EXPECT_GT(image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01)
+                  .rejected,
+              0);
 }
 
 // Russian roulette ends paths long before 1000 bounces, and what it adds
@@ -105,8 +110,8 @@ TEST(NonFinite, DegenerateGeometryAndHugeEmissionStayFinite) {
     const uint32_t hugeMaterial = uint32_t(s.materials.size() - 1);
     const glm::vec3 c = s.camera.target;
     s.spheres.push_back({"sun", c + glm::vec3(0.0f, 0.1f, 0.0f), 0.05f, hugeMaterial});
-    s.spheres.push_back({"point", c, 0.0f, 0});                      // zero radius
-    scene::Mesh flat;                                                 // zero-area triangles
+    s.spheres.push_back({"point", c, 0.0f, 0});  // zero radius
+    scene::Mesh flat;                            // zero-area triangles
     flat.positions = {c, c + glm::vec3(0.1f, 0, 0), c + glm::vec3(0.2f, 0, 0), c};
     flat.triangles = {{0, 1, 2}, {0, 3, 1}};
     flat.material = hugeMaterial;
@@ -115,7 +120,8 @@ TEST(NonFinite, DegenerateGeometryAndHugeEmissionStayFinite) {
     for (const glm::vec3& p : r.image.pixels)
         for (int i = 0; i < 3; ++i) ASSERT_TRUE(std::isfinite(p[i]));
     EXPECT_GT(r.nonFiniteSamples, 0u);
-    EXPECT_EQ(r.rejectedLightSamples, 0u) << "no light here has a pdf of 0: the degenerate ones are not lights";
+    EXPECT_EQ(r.rejectedLightSamples, 0u)
+        << "no light here has a pdf of 0: the degenerate ones are not lights";
 }
 
 // Lights whose pdf is 0 from where they are sampled: two emissive quads in
@@ -133,9 +139,11 @@ TEST(NonFinite, LightsWithPdfZeroAreRejectedBeforeTheFilm) {
     for (const auto& mesh : box.meshes)
         if (box.materials[mesh.material].emissive())
             for (const auto& t : mesh.triangles)
-                lampPower += 0.5 * glm::length(glm::cross(glm::dvec3(mesh.positions[t.y] - mesh.positions[t.x]),
-                                                          glm::dvec3(mesh.positions[t.z] - mesh.positions[t.x]))) *
-                             scene::luminance(box.materials[mesh.material].emission);
+                lampPower +=
+                    0.5 *
+                    glm::length(glm::cross(glm::dvec3(mesh.positions[t.y] - mesh.positions[t.x]),
+                                           glm::dvec3(mesh.positions[t.z] - mesh.positions[t.x]))) *
+                    scene::luminance(box.materials[mesh.material].emission);
     ASSERT_GT(lampPower, 0);
     scene::Material edgeOn;
     edgeOn.name = "edge-on lamp";
@@ -144,10 +152,14 @@ TEST(NonFinite, LightsWithPdfZeroAreRejectedBeforeTheFilm) {
     s.materials.push_back(edgeOn);
     for (float x0 : {0.3f, -0.3f - side}) {
         scene::Mesh quad;  // y = 0, the floor's plane; wound so the normal is -y
-        quad.positions = {{x0, 0, -0.05f}, {x0 + side, 0, -0.05f}, {x0 + side, 0, -0.05f - depth}, {x0, 0, -0.05f - depth}};
+        quad.positions = {{x0, 0, -0.05f},
+                          {x0 + side, 0, -0.05f},
+                          {x0 + side, 0, -0.05f - depth},
+                          {x0, 0, -0.05f - depth}};
         quad.triangles = {{0, 2, 1}, {0, 3, 2}};
         quad.material = uint32_t(s.materials.size() - 1);
-        const glm::vec3 n = glm::cross(quad.positions[2] - quad.positions[0], quad.positions[1] - quad.positions[0]);
+        const glm::vec3 n = glm::cross(quad.positions[2] - quad.positions[0],
+                                       quad.positions[1] - quad.positions[0]);
         ASSERT_LT(n.y, 0.0f);
         s.meshes.push_back(quad);
     }
@@ -169,7 +181,8 @@ TEST(NonFinite, LightsWithPdfZeroAreRejectedBeforeTheFilm) {
     settings.samplesPerPixel = 16;
     settings.maxDepth = 6;
     settings.seed = 1;
-    const double cpu = double(reference::ReferenceRenderer(s, settings).render().rejectedLightSamples);
+    const double cpu =
+        double(reference::ReferenceRenderer(s, settings).render().rejectedLightSamples);
     EXPECT_NEAR(cpu, double(withEdgeOn.rejectedLightSamples), 0.03 * cpu);
 }
 
@@ -222,7 +235,8 @@ TEST(Brightness, SunOverADimRoom) {
     size_t removed = 0;
     for (auto& mesh : s.meshes) {
         std::erase_if(mesh.triangles, [&](const glm::uvec3& t) {
-            const bool ceiling = mesh.positions[t.x].y == top && mesh.positions[t.y].y == top && mesh.positions[t.z].y == top;
+            const bool ceiling = mesh.positions[t.x].y == top && mesh.positions[t.y].y == top &&
+                                 mesh.positions[t.z].y == top;
             removed += ceiling;
             return ceiling;
         });

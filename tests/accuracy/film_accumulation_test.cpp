@@ -39,8 +39,10 @@ Accumulated accumulate(const std::vector<glm::vec3>& waveRadiance, uint32_t wave
     counters.clear();
     film.clear();
     vk::Kernel kernel(context, "accumulate");
-    vk::DescriptorSet set = kernel.bind({{VKP_WF_SCENE_INFO, &infoBuffer}, {VKP_WF_RADIANCE, &radiance},
-                                         {VKP_WF_COUNTERS, &counters}, {VKP_WF_FILM, &film}});
+    vk::DescriptorSet set = kernel.bind({{VKP_WF_SCENE_INFO, &infoBuffer},
+                                         {VKP_WF_RADIANCE, &radiance},
+                                         {VKP_WF_COUNTERS, &counters},
+                                         {VKP_WF_FILM, &film}});
     // Every wave in one command buffer, in order, as the renderer records them.
     context.submit([&](VkCommandBuffer cmd) {
         for (uint32_t w = 0; w < waves; ++w) {
@@ -51,7 +53,8 @@ Accumulated accumulate(const std::vector<glm::vec3>& waveRadiance, uint32_t wave
         vk::computeBarrier(cmd);
     });
     const shared::FilmPixel f = film.download<shared::FilmPixel>()[0];
-    const double n = double(count) * waves - counters.download<shared::QueueCounters>()[0].nonFinite;
+    const double n =
+        double(count) * waves - counters.download<shared::QueueCounters>()[0].nonFinite;
     Accumulated a;
     a.mean = (glm::dvec3(f.sum) - glm::dvec3(f.sumCompensation)) / n;
     a.nonFinite = counters.download<shared::QueueCounters>()[0].nonFinite;
@@ -63,7 +66,8 @@ TEST(FilmAccumulation, TwoToThe25SamplesStayExact) {
     // 0.1 is not a float: every addition rounds, which is what drifts.
     const glm::vec3 value(0.1f, 1.0f, 3.7f);
     const auto a = accumulate(std::vector<glm::vec3>(WAVE, value), WAVES);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.mean[c], double(value[c]), 1e-5 * double(value[c])) << c;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(a.mean[c], double(value[c]), 1e-5 * double(value[c])) << c;
     EXPECT_EQ(a.nonFinite, 0u);
 
     // The bound has power: a plain float sum of the same samples is far off.
@@ -110,7 +114,8 @@ TEST(FilmAccumulation, RendererAtTwoToThe25SamplesIsExact) {
     EXPECT_EQ(r.waves, 513u);
     EXPECT_EQ(r.samplesPerPixel, 1u << 25);
     EXPECT_EQ(r.nonFiniteSamples, 0u);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.image.pixels[0][c], radiance[c], 1e-5f * radiance[c]) << c;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(r.image.pixels[0][c], radiance[c], 1e-5f * radiance[c]) << c;
 }
 
 }  // namespace

@@ -41,7 +41,8 @@ glm::dmat3 randomRotation(std::mt19937& rng) {
 }
 
 // p -> rotation * scale * p + offset, in double, rounded once.
-scene::Mesh transformedMesh(const scene::Mesh& mesh, const glm::dmat3& rotation, double scale, glm::dvec3 offset) {
+scene::Mesh transformedMesh(const scene::Mesh& mesh, const glm::dmat3& rotation, double scale,
+                            glm::dvec3 offset) {
     scene::Mesh m = mesh;
     for (vec3& p : m.positions) p = vec3(rotation * (scale * glm::dvec3(p)) + offset);
     return m;
@@ -57,8 +58,8 @@ vec3 directionAround(std::mt19937& rng, vec3 n) {
 
 struct SpawnTally {
     size_t spawned = 0;
-    size_t selfHits = 0;      // spawned rays that hit the triangle they leave
-    size_t leaks = 0;         // rays spawned into a closed surface that found nothing
+    size_t selfHits = 0;       // spawned rays that hit the triangle they leave
+    size_t leaks = 0;          // rays spawned into a closed surface that found nothing
     size_t naiveSelfHits = 0;  // the same rays started at the bare hit point (control)
 };
 
@@ -66,7 +67,8 @@ struct SpawnTally {
 // of random triangles; from every hit one ray is spawned to each side. A
 // triangle is flat, so a spawned ray may hit only other triangles; and the
 // mesh is closed, so a ray spawned inward must hit one (else it leaked).
-SpawnTally spawnBothSides(const bvh::BvhBuild& build, vec3 center, float size, uint32_t wanted, uint32_t seed) {
+SpawnTally spawnBothSides(const bvh::BvhBuild& build, vec3 center, float size, uint32_t wanted,
+                          uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_int_distribution<size_t> pick(0, build.primitives.size() - 1);
     GpuTracer tracer(test::context(), build);
@@ -75,7 +77,8 @@ SpawnTally spawnBothSides(const bvh::BvhBuild& build, vec3 center, float size, u
         std::vector<Ray> rays;
         for (uint32_t i = 0; i < wanted / 2; ++i) {
             const vec3 origin = center + 3.0f * size * randomDirection(rng);
-            rays.push_back(makeRay(origin, glm::normalize(pointOn(build.primitives[pick(rng)], rng, 0.01f) - origin)));
+            rays.push_back(makeRay(
+                origin, glm::normalize(pointOn(build.primitives[pick(rng)], rng, 0.01f) - origin)));
         }
         const std::vector<Hit> hits = tracer.closest(rays);
         std::vector<Ray> spawned, naive;
@@ -85,7 +88,8 @@ SpawnTally spawnBothSides(const bvh::BvhBuild& build, vec3 center, float size, u
             if (hits[i].primitive == VKP_NO_HIT) continue;
             const BvhPrimitive& p = build.primitives[hits[i].primitive];
             const shared::SurfacePoint sp = shared::surfacePoint(p, rays[i], hits[i]);
-            const vec3 outside = glm::dot(sp.normal, rays[i].direction) < 0.0f ? sp.normal : -sp.normal;
+            const vec3 outside =
+                glm::dot(sp.normal, rays[i].direction) < 0.0f ? sp.normal : -sp.normal;
             for (const vec3& side : {outside, -outside}) {
                 const Ray r = shared::spawnRay(sp, directionAround(rng, side), FLT_MAX_VALUE, 0);
                 spawned.push_back(r);
@@ -120,14 +124,16 @@ TEST(GeometryExtremes, SpawnedRaysNeverHitTheirTriangleAtAnyScale) {
     for (int exponent = -8; exponent <= 8; exponent += 2) {
         for (double distance : {0.0, 100.0}) {
             const double scale = std::pow(10.0, exponent);
-            const glm::dvec3 offset = std::min(distance * scale, 1e8) * glm::dvec3(randomDirection(rng));
-            SCOPED_TRACE(testing::Message() << "scale " << scale << " offset " << glm::length(offset));
+            const glm::dvec3 offset =
+                std::min(distance * scale, 1e8) * glm::dvec3(randomDirection(rng));
+            SCOPED_TRACE(testing::Message()
+                         << "scale " << scale << " offset " << glm::length(offset));
             scene::Scene s = emptyScene();
             s.meshes.push_back(transformedMesh(unit, randomRotation(rng), scale, offset));
             const bvh::BvhBuild build = buildChecked(s);
             ASSERT_EQ(build.primitives.size(), unit.triangles.size());
-            const SpawnTally t =
-                spawnBothSides(build, vec3(offset), float(scale), SPAWNED_PER_OBJECT, uint32_t(100 + exponent));
+            const SpawnTally t = spawnBothSides(build, vec3(offset), float(scale),
+                                                SPAWNED_PER_OBJECT, uint32_t(100 + exponent));
             EXPECT_EQ(t.spawned, SPAWNED_PER_OBJECT);
             EXPECT_EQ(t.selfHits, 0u);
             EXPECT_EQ(t.leaks, 0u) << "rays spawned into the closed mesh escaped it";
@@ -140,8 +146,8 @@ TEST(GeometryExtremes, SpawnedRaysNeverHitTheirTriangleAtAnyScale) {
 // Spheres of radius 1e-4 ... 1e4, at the origin or 100 radii from it in a
 // random direction (a sphere's rotation changes nothing; its scale and place
 // are its transform). Rays from a shell of 3 radii hit it; from each hit one
-// ray is spawned outward (to a uniform direction of its hemisphere), which must hit nothing (the sphere is the only
-// primitive and convex), and one inward, which must hit the far side: at the
+// ray is spawned outward (to a uniform direction of its hemisphere), which must hit nothing (the
+// sphere is the only primitive and convex), and one inward, which must hit the far side: at the
 // chord's length computed in double from the spawned ray (within 1e-3 of the
 // radius), not at the surface it leaves.
 TEST(GeometryExtremes, SpawnedRaysNeverHitTheirSphereAtAnyScale) {
@@ -150,16 +156,19 @@ TEST(GeometryExtremes, SpawnedRaysNeverHitTheirSphereAtAnyScale) {
         for (double distance : {0.0, 100.0}) {
             const double radius = std::pow(10.0, exponent);
             const glm::dvec3 centre = distance * radius * glm::dvec3(randomDirection(rng));
-            SCOPED_TRACE(testing::Message() << "radius " << radius << " centre " << glm::length(centre));
+            SCOPED_TRACE(testing::Message()
+                         << "radius " << radius << " centre " << glm::length(centre));
             scene::Scene s = emptyScene();
-            s.spheres.push_back(scene::Sphere{.name = "ball", .center = vec3(centre), .radius = float(radius)});
+            s.spheres.push_back(
+                scene::Sphere{.name = "ball", .center = vec3(centre), .radius = float(radius)});
             const bvh::BvhBuild build = buildChecked(s);
             const BvhPrimitive& ball = build.primitives.at(0);
             GpuTracer tracer(test::context(), build);
             std::vector<Ray> rays;
             for (uint32_t i = 0; i < SPAWNED_PER_OBJECT / 2; ++i) {
                 const vec3 origin = ball.p0 + 3.0f * ball.p1.x * randomDirection(rng);
-                const vec3 inside = ball.p0 + 0.9f * ball.p1.x * randomDirection(rng);  // no tangent rays
+                const vec3 inside =
+                    ball.p0 + 0.9f * ball.p1.x * randomDirection(rng);  // no tangent rays
                 rays.push_back(makeRay(origin, glm::normalize(inside - origin)));
             }
             const std::vector<Hit> hits = tracer.closest(rays);
@@ -171,8 +180,10 @@ TEST(GeometryExtremes, SpawnedRaysNeverHitTheirSphereAtAnyScale) {
                     continue;
                 }
                 const shared::SurfacePoint sp = shared::surfacePoint(ball, rays[i], hits[i]);
-                outward.push_back(shared::spawnRay(sp, directionAround(rng, sp.normal), FLT_MAX_VALUE, 0));
-                inward.push_back(shared::spawnRay(sp, directionAround(rng, -sp.normal), FLT_MAX_VALUE, 0));
+                outward.push_back(
+                    shared::spawnRay(sp, directionAround(rng, sp.normal), FLT_MAX_VALUE, 0));
+                inward.push_back(
+                    shared::spawnRay(sp, directionAround(rng, -sp.normal), FLT_MAX_VALUE, 0));
             }
             EXPECT_EQ(misses, 0u) << "rays aimed into the sphere missed it";
             size_t selfHits = 0, leaks = 0, wrongDistance = 0;
@@ -213,12 +224,13 @@ TEST(GeometryExtremes, GrazingRaysHitAndLeaveCleanly) {
     for (float size : {1e-4f, 1.0f, 1e4f}) {
         for (float away : {0.0f, 100.0f}) {
             for (double cosine : {1e-6, 1e-7, 1e-8}) {
-                SCOPED_TRACE(testing::Message() << "size " << size << " away " << away << " cos " << cosine);
+                SCOPED_TRACE(testing::Message()
+                             << "size " << size << " away " << away << " cos " << cosine);
                 const vec3 c(away * size, away * size, 0.0f);
                 scene::Scene s = emptyScene();
                 scene::Mesh quad;
-                quad.positions = {c + vec3(-size, -size, 0), c + vec3(size, -size, 0), c + vec3(size, size, 0),
-                                  c + vec3(-size, size, 0)};
+                quad.positions = {c + vec3(-size, -size, 0), c + vec3(size, -size, 0),
+                                  c + vec3(size, size, 0), c + vec3(-size, size, 0)};
                 quad.triangles = {{0, 1, 2}, {0, 2, 3}};
                 s.meshes.push_back(quad);
                 const bvh::BvhBuild build = buildChecked(s);
@@ -243,8 +255,10 @@ TEST(GeometryExtremes, GrazingRaysHitAndLeaveCleanly) {
                     const double error = std::abs(double(hits[i].t) - expected) / expected;
                     worst = std::max(worst, error);
                     wrongT += error > 1e-5;
-                    const auto sp = shared::surfacePoint(build.primitives[hits[i].primitive], rays[i], hits[i]);
-                    const vec3 mirror(rays[i].direction.x, rays[i].direction.y, -rays[i].direction.z);
+                    const auto sp =
+                        shared::surfacePoint(build.primitives[hits[i].primitive], rays[i], hits[i]);
+                    const vec3 mirror(rays[i].direction.x, rays[i].direction.y,
+                                      -rays[i].direction.z);
                     spawned.push_back(shared::spawnRay(sp, mirror, FLT_MAX_VALUE, 0));
                     spawned.push_back(shared::spawnRay(sp, rays[i].direction, FLT_MAX_VALUE, 0));
                 }
@@ -281,7 +295,8 @@ TEST(GeometryExtremes, SliverTrianglesAreWatertightAndNeverSelfHit) {
             const double a = 6.283185307179586 * k / SLIVERS;
             fan.positions.push_back(size * vec3(float(std::cos(a)), float(std::sin(a)), 0.0f));
         }
-        for (uint32_t k = 0; k < SLIVERS; ++k) fan.triangles.emplace_back(0u, 1u + k, 1u + (k + 1) % SLIVERS);
+        for (uint32_t k = 0; k < SLIVERS; ++k)
+            fan.triangles.emplace_back(0u, 1u + k, 1u + (k + 1) % SLIVERS);
         s.meshes.push_back(fan);
         const bvh::BvhBuild build = buildChecked(s);
         ASSERT_EQ(build.primitives.size(), SLIVERS);
@@ -307,9 +322,12 @@ TEST(GeometryExtremes, SliverTrianglesAreWatertightAndNeverSelfHit) {
                 ++escapes;
                 continue;
             }
-            const auto sp = shared::surfacePoint(build.primitives[hits[i].primitive], rays[i], hits[i]);
-            spawned.push_back(shared::spawnRay(sp, directionAround(rng, vec3(0, 0, 1)), FLT_MAX_VALUE, 0));
-            spawned.push_back(shared::spawnRay(sp, directionAround(rng, vec3(0, 0, -1)), FLT_MAX_VALUE, 0));
+            const auto sp =
+                shared::surfacePoint(build.primitives[hits[i].primitive], rays[i], hits[i]);
+            spawned.push_back(
+                shared::spawnRay(sp, directionAround(rng, vec3(0, 0, 1)), FLT_MAX_VALUE, 0));
+            spawned.push_back(
+                shared::spawnRay(sp, directionAround(rng, vec3(0, 0, -1)), FLT_MAX_VALUE, 0));
         }
         EXPECT_EQ(escapes, 0u) << "rays passed through the fan of slivers";
         size_t selfHits = 0;
@@ -319,7 +337,8 @@ TEST(GeometryExtremes, SliverTrianglesAreWatertightAndNeverSelfHit) {
         // The needle: (0, 0), (s, 0), (s / 2, 1e-6 s) in z = 0.
         scene::Scene n = emptyScene();
         scene::Mesh needle;
-        needle.positions = {vec3(0.0f), vec3(size, 0.0f, 0.0f), vec3(0.5f * size, 1e-6f * size, 0.0f)};
+        needle.positions = {vec3(0.0f), vec3(size, 0.0f, 0.0f),
+                            vec3(0.5f * size, 1e-6f * size, 0.0f)};
         needle.triangles = {{0, 1, 2}};
         n.meshes.push_back(needle);
         const bvh::BvhBuild needleBuild = buildChecked(n);
@@ -328,7 +347,9 @@ TEST(GeometryExtremes, SliverTrianglesAreWatertightAndNeverSelfHit) {
         std::vector<Ray> along, beside;
         for (uint32_t i = 0; i < 1000; ++i) {
             const float x = (0.05f + 0.9f * u(rng)) * size;
-            const float height = 1e-6f * size * (1.0f - std::abs(2.0f * x / size - 1.0f));  // the needle's width at x
+            const float height =
+                1e-6f * size *
+                (1.0f - std::abs(2.0f * x / size - 1.0f));  // the needle's width at x
             along.push_back(makeRay(vec3(x, 0.5f * height, size), vec3(0, 0, -1)));
             beside.push_back(makeRay(vec3(x, -1e-7f * size, size), vec3(0, 0, -1)));
         }
@@ -360,7 +381,8 @@ TEST(GeometryExtremes, ConcentricSpheresAreBothHit) {
         scene::Scene world = emptyScene();
         world.spheres.push_back(scene::Sphere{.name = "inner", .center = c, .radius = 1.0f});
         world.spheres.push_back(scene::Sphere{.name = "outer", .center = c, .radius = 1.00004f});
-        world.spheres.push_back(scene::Sphere{.name = "far", .center = c + vec3(20, 0, 0), .radius = 0.5f});
+        world.spheres.push_back(
+            scene::Sphere{.name = "far", .center = c + vec3(20, 0, 0), .radius = 0.5f});
         const wavefront::SceneTables tables = wavefront::buildSceneTables(world);
         const vec3 center(glm::dvec3(c) - tables.worldOrigin);
         EXPECT_GT(glm::length(center), 5.0f) << "render space should not be centred on the spheres";
@@ -374,7 +396,8 @@ TEST(GeometryExtremes, ConcentricSpheresAreBothHit) {
         std::vector<Ray> in;
         for (uint32_t i = 0; i < RAYS; ++i) {
             const vec3 origin = center + 4.0f * randomDirection(rng);
-            in.push_back(makeRay(origin, glm::normalize(center + 0.9f * randomDirection(rng) - origin)));
+            in.push_back(
+                makeRay(origin, glm::normalize(center + 0.9f * randomDirection(rng) - origin)));
         }
         const std::vector<Hit> first = tracer.closest(in);
         std::vector<Ray> crossing;
@@ -384,7 +407,8 @@ TEST(GeometryExtremes, ConcentricSpheresAreBothHit) {
                 ++wrongFirst;
                 continue;
             }
-            const auto sp = shared::surfacePoint(tables.bvh.primitives[first[i].primitive], in[i], first[i]);
+            const auto sp =
+                shared::surfacePoint(tables.bvh.primitives[first[i].primitive], in[i], first[i]);
             crossing.push_back(shared::spawnRay(sp, in[i].direction, FLT_MAX_VALUE, 0));
         }
         EXPECT_EQ(wrongFirst, 0u) << "rays from outside must hit the outer sphere first";
@@ -394,7 +418,8 @@ TEST(GeometryExtremes, ConcentricSpheresAreBothHit) {
 
         // From inside the inner sphere, outward: the inner surface, then the outer.
         std::vector<Ray> out;
-        for (uint32_t i = 0; i < RAYS; ++i) out.push_back(makeRay(center + 0.5f * randomDirection(rng), randomDirection(rng)));
+        for (uint32_t i = 0; i < RAYS; ++i)
+            out.push_back(makeRay(center + 0.5f * randomDirection(rng), randomDirection(rng)));
         const std::vector<Hit> fromInside = tracer.closest(out);
         std::vector<Ray> leaving;
         size_t wrongInside = 0;
@@ -403,7 +428,8 @@ TEST(GeometryExtremes, ConcentricSpheresAreBothHit) {
                 ++wrongInside;
                 continue;
             }
-            const auto sp = shared::surfacePoint(tables.bvh.primitives[fromInside[i].primitive], out[i], fromInside[i]);
+            const auto sp = shared::surfacePoint(tables.bvh.primitives[fromInside[i].primitive],
+                                                 out[i], fromInside[i]);
             leaving.push_back(shared::spawnRay(sp, out[i].direction, FLT_MAX_VALUE, 0));
         }
         EXPECT_EQ(wrongInside, 0u);
@@ -447,7 +473,8 @@ TEST(GeometryExtremes, FarSphereIsHitByEveryRayAimedAtItsCentre) {
                 ++misses;
                 continue;
             }
-            const glm::dvec3 p = glm::dvec3(aimed[i].origin) + double(hits[i].t) * glm::dvec3(aimed[i].direction);
+            const glm::dvec3 p =
+                glm::dvec3(aimed[i].origin) + double(hits[i].t) * glm::dvec3(aimed[i].direction);
             const double error = std::abs(glm::length(p - glm::dvec3(c)) - 1.0);
             offSurface += error > 1e-4 * hits[i].t;
             const double ulp = std::nextafter(hits[i].t, INFINITY) - hits[i].t;
@@ -455,9 +482,9 @@ TEST(GeometryExtremes, FarSphereIsHitByEveryRayAimedAtItsCentre) {
         }
         EXPECT_EQ(misses, 0u);
         EXPECT_EQ(offSurface, 0u);
-        RecordProperty("worstUlps" + std::to_string(int(std::log10(distance))), std::to_string(worstUlps));
+        RecordProperty("worstUlps" + std::to_string(int(std::log10(distance))),
+                       std::to_string(worstUlps));
     }
 }
-
 
 }  // namespace

@@ -1,12 +1,13 @@
 // converge's pure parts: the --spp list, the knob table behind --sweep, and
 // the figures read off a curve (time to reach an error, efficiency).
+#include "app/convergence.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 #include <string>
 
-#include "app/convergence.h"
 #include "input_error.h"
 
 namespace {
@@ -17,7 +18,8 @@ using app::Checkpoint;
 TEST(Convergence, SppListsAreIncreasingCounts) {
     EXPECT_EQ(app::parseSppList("1,2,4,64"), (std::vector<uint32_t>{1, 2, 4, 64}));
     EXPECT_EQ(app::parseSppList("7"), (std::vector<uint32_t>{7}));
-    for (const char* bad : {"", "1,,2", "4,2", "1,1", "0,1", "1,x", "-1", "1, 2", "2,", "99999999999"})
+    for (const char* bad :
+         {"", "1,,2", "4,2", "1,1", "0,1", "1,x", "-1", "1, 2", "2,", "99999999999"})
         EXPECT_THROW(app::parseSppList(bad), InputError) << bad;
 }
 
@@ -43,8 +45,9 @@ TEST(Convergence, SweepsNameAKnobAndValuesItAccepts) {
     app::parseSweep("sampler=independent,sobol").knob->apply(s, "sobol");
     EXPECT_EQ(s.sampler, wavefront::SamplerKind::Sobol);
 
-    for (const char* bad : {"max-depth", "no-such-knob=1", "max-depth=", "max-depth=1,,2", "max-depth=two",
-                            "clamp=0", "clamp=-1", "clamp=inf", "rr-depth=1.5", "sampler=halton"})
+    for (const char* bad :
+         {"max-depth", "no-such-knob=1", "max-depth=", "max-depth=1,,2", "max-depth=two", "clamp=0",
+          "clamp=-1", "clamp=inf", "rr-depth=1.5", "sampler=halton"})
         EXPECT_THROW(app::parseSweep(bad), InputError) << bad;
 }
 

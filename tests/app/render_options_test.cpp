@@ -1,13 +1,14 @@
 // The render flags' effect on the loaded scene: the command line replaces
 // what the scene file says only where a flag is given.
-#include <gtest/gtest.h>
-#include <CLI/CLI.hpp>
+#include "app/render_options.h"
+
 #include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <CLI/CLI.hpp>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
-#include <iterator>
-
-#include "app/render_options.h"
 #include "input_error.h"
 #include "shared/dimensions.h"
 #include "support/test_context.h"
@@ -65,8 +66,9 @@ std::string parseError(const std::string& flags) {
 // 1024), or write nonsense, end the parse with one line naming the flag
 // (exit code 2 on the command line), before any scene is read.
 TEST(RenderOptions, FlagsOutOfRangeEndTheParseNamingTheFlag) {
-    EXPECT_EQ(parseError(fmt::format("-m {} -l {} --clamp 0 --regularize 1 --guide-spheres 0.5 -d 16384x1",
-                                     app::MAX_DEPTH, app::MAX_LIGHT_SAMPLES)),
+    EXPECT_EQ(parseError(
+                  fmt::format("-m {} -l {} --clamp 0 --regularize 1 --guide-spheres 0.5 -d 16384x1",
+                              app::MAX_DEPTH, app::MAX_LIGHT_SAMPLES)),
               "");
     const std::pair<const char*, const char*> cases[] = {
         {"-m 1025", "--max-depth: Value 1025 not in range 0 to 1024"},
@@ -105,9 +107,12 @@ TEST(RenderOptions, SettingsCarryTheEstimatorVersion) {
     const std::string version = "estimator=" + std::to_string(VKP_ESTIMATOR_VERSION);
     record.erase("estimator");
     const std::string older = record.dump();
-    EXPECT_EQ(app::firstSettingDifference(older, settings), std::make_pair(std::string("nothing"), version));
-    EXPECT_EQ(app::firstSettingDifference(settings, older), std::make_pair(version, std::string("nothing")));
-    EXPECT_EQ(app::firstSettingDifference(settings, settings), std::make_pair(std::string(), std::string()));
+    EXPECT_EQ(app::firstSettingDifference(older, settings),
+              std::make_pair(std::string("nothing"), version));
+    EXPECT_EQ(app::firstSettingDifference(settings, older),
+              std::make_pair(version, std::string("nothing")));
+    EXPECT_EQ(app::firstSettingDifference(settings, settings),
+              std::make_pair(std::string(), std::string()));
     EXPECT_EQ(app::firstSettingDifference(R"({"a":1,"b":"x","c":3})", R"({"a":1,"b":"y","c":3})"),
               std::make_pair(std::string("b=x"), std::string("b=y")));
     EXPECT_EQ(app::firstSettingDifference(R"({"a":1,"b":2.5})", R"({"a":1,"b":0.1})"),
@@ -122,7 +127,8 @@ TEST(RenderOptions, SettingsKeepFloatsAsWritten) {
     app::RenderOptions o = skySpheres();
     o.clamp = 0.1f;
     o.environmentColor = {0.5f, 1.0f, 2.0f};
-    const auto record = nlohmann::ordered_json::parse(app::renderIdentity(o, app::loadRenderScene(o)).settings);
+    const auto record =
+        nlohmann::ordered_json::parse(app::renderIdentity(o, app::loadRenderScene(o)).settings);
     EXPECT_EQ(record.at("clamp").dump(), "0.1");
     EXPECT_EQ(record.at("env-color").dump(), "[0.5,1.0,2.0]");
     EXPECT_EQ(record.at("env-strength"), "scene");

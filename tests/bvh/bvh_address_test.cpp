@@ -14,8 +14,8 @@
 
 #include "bvh_test_util.h"
 #include "input_error.h"
-#include "support/binding_limit.h"
 #include "scene/load.h"
+#include "support/binding_limit.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
 
@@ -28,7 +28,8 @@ using test::BindingLimit;
 
 TEST(BvhAddress, LimitsChooseThePath) {
     const vk::BufferLimits limits{1000, 5000};
-    const vk::ArrayExtent small{"small", 1000, 10}, medium{"medium", 1001, 11}, large{"too large", 5001, 50};
+    const vk::ArrayExtent small{"small", 1000, 10}, medium{"medium", 1001, 11},
+        large{"too large", 5001, 50};
     EXPECT_FALSE(vk::chooseAddressAccess(std::span(&small, 1), limits));
     EXPECT_TRUE(vk::chooseAddressAccess(std::span(&medium, 1), limits));
     const vk::ArrayExtent all[] = {small, large};
@@ -43,7 +44,8 @@ TEST(BvhAddress, LimitsChooseThePath) {
 
     const vk::DeviceInfo& device = test::context().info();
     const vk::BufferLimits real = vk::bufferLimits(device);
-    EXPECT_EQ(real.binding, std::min<uint64_t>(device.maxStorageBufferRange, 16ull * device.maxTexelBufferElements));
+    EXPECT_EQ(real.binding, std::min<uint64_t>(device.maxStorageBufferRange,
+                                               16ull * device.maxTexelBufferElements));
     {
         // A device whose texel buffers reach less far (the spec's minimum,
         // 65536 texels) binds only what they reach: beyond it, the address path.
@@ -111,7 +113,8 @@ TEST_P(BvhAddressScene, RenderEqualsTheBoundPath) {
     const wavefront::RenderResult b = addressed.render();
     ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
     size_t differences = 0;
-    for (size_t i = 0; i < a.image.pixels.size(); ++i) differences += a.image.pixels[i] != b.image.pixels[i];
+    for (size_t i = 0; i < a.image.pixels.size(); ++i)
+        differences += a.image.pixels[i] != b.image.pixels[i];
     EXPECT_EQ(differences, 0u);
     EXPECT_EQ(a.paths, b.paths);
 }
@@ -137,7 +140,8 @@ scene::Scene litGrid(uint32_t cells) {
     mesh.positions.reserve(size_t(n) * n);
     for (uint32_t z = 0; z < n; ++z)
         for (uint32_t x = 0; x < n; ++x)
-            mesh.positions.emplace_back(float(x) / cells * 2.0f - 1.0f, 0.0f, float(z) / cells * 2.0f - 1.0f);
+            mesh.positions.emplace_back(float(x) / cells * 2.0f - 1.0f, 0.0f,
+                                        float(z) / cells * 2.0f - 1.0f);
     mesh.triangles.reserve(size_t(cells) * cells * 2);
     for (uint32_t z = 0; z < cells; ++z)
         for (uint32_t x = 0; x < cells; ++x) {

@@ -45,7 +45,8 @@ TEST(BvhBuilder, IntegrityAcrossScenesAndOptions) {
         m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
         for (int i = 0; i < 500; ++i) m.triangles.emplace_back(0, 1, 2);
         s.meshes.push_back(m);
-        for (int i = 0; i < 100; ++i) s.spheres.push_back(scene::Sphere{.name = "same", .center = {3, 3, 3}, .radius = 0.5f});
+        for (int i = 0; i < 100; ++i)
+            s.spheres.push_back(scene::Sphere{.name = "same", .center = {3, 3, 3}, .radius = 0.5f});
         scenes.emplace_back("coincident", s);
     }
     {
@@ -58,17 +59,21 @@ TEST(BvhBuilder, IntegrityAcrossScenesAndOptions) {
         scene::Scene s = emptyScene();
         scene::Mesh m = tessellatedCube(8);
         std::erase_if(m.triangles, [&](const glm::uvec3& t) {
-            return m.positions[t.x].z != 1.0f || m.positions[t.y].z != 1.0f || m.positions[t.z].z != 1.0f;
+            return m.positions[t.x].z != 1.0f || m.positions[t.y].z != 1.0f ||
+                   m.positions[t.z].z != 1.0f;
         });
         s.meshes.push_back(m);
         scenes.emplace_back("flat", s);
     }
-    const BvhOptions options[] = {
-        {}, {.maxLeafSize = 1}, {.maxLeafSize = 8, .binCount = 12}, {.maxLeafSize = 15, .binCount = 32},
-        {.maxLeafSize = 2, .binCount = 2, .traversalCost = 0.25f}};
+    const BvhOptions options[] = {{},
+                                  {.maxLeafSize = 1},
+                                  {.maxLeafSize = 8, .binCount = 12},
+                                  {.maxLeafSize = 15, .binCount = 32},
+                                  {.maxLeafSize = 2, .binCount = 2, .traversalCost = 0.25f}};
     for (const auto& [name, s] : scenes) {
         for (const BvhOptions& o : options) {
-            SCOPED_TRACE(name + ", max leaf " + std::to_string(o.maxLeafSize) + ", bins " + std::to_string(o.binCount));
+            SCOPED_TRACE(name + ", max leaf " + std::to_string(o.maxLeafSize) + ", bins " +
+                         std::to_string(o.binCount));
             const BvhBuild build = buildChecked(s, o);
             EXPECT_LE(build.stats.largestLeaf, o.maxLeafSize);
             EXPECT_LE(build.stats.maxDepth, static_cast<uint32_t>(VKP_BVH_MAX_DEPTH));
@@ -88,7 +93,8 @@ TEST(BvhBuilder, EmptySceneGivesAnEmptyTreeThatNothingHits) {
     EXPECT_EQ(build.nodes[0].offset, 0u);
     EXPECT_TRUE(build.primitives.empty());
     GpuTracer tracer(test::context(), build);
-    const std::vector<Ray> rays = {makeRay(vec3(0.0f), vec3(0, 0, 1)), makeRay(vec3(1.0f), vec3(-1, 0, 0))};
+    const std::vector<Ray> rays = {makeRay(vec3(0.0f), vec3(0, 0, 1)),
+                                   makeRay(vec3(1.0f), vec3(-1, 0, 0))};
     for (const Hit& h : tracer.closest(rays)) EXPECT_EQ(h.primitive, VKP_NO_HIT);
     for (uint32_t o : tracer.occluded(rays)) EXPECT_EQ(o, 0u);
 }
@@ -126,7 +132,8 @@ scene::Scene geometricChain(int count) {
     for (int i = 0; i < count; ++i) {
         const float x = std::ldexp(1.0f, i);  // 2^i
         const auto base = static_cast<uint32_t>(m.positions.size());
-        m.positions.insert(m.positions.end(), {{x, 0, 0}, {x + 0.01f * x, 0, 0}, {x, 0.01f * x, 0}});
+        m.positions.insert(m.positions.end(),
+                           {{x, 0, 0}, {x + 0.01f * x, 0, 0}, {x, 0.01f * x, 0}});
         m.triangles.emplace_back(base, base + 1, base + 2);
     }
     s.meshes.push_back(m);
@@ -154,7 +161,8 @@ TEST(BvhBuilder, DepthStaysWithinTheTraversalStack) {
         ASSERT_NE(h.primitive, VKP_NO_HIT);
         EXPECT_EQ(bounded.primitives[h.primitive].id, p.id);
     }
-    EXPECT_THROW(bvh::buildBvh(s, {.maxDepth = 5}), std::invalid_argument) << "60 primitives need depth 6";
+    EXPECT_THROW(bvh::buildBvh(s, {.maxDepth = 5}), std::invalid_argument)
+        << "60 primitives need depth 6";
 }
 
 TEST(BvhBuilder, IntegrityCheckFindsCorruption) {
@@ -164,7 +172,8 @@ TEST(BvhBuilder, IntegrityCheckFindsCorruption) {
     auto problems = [&](const BvhBuild& b) { return bvh::integrityCheck(b, s); };
 
     BvhBuild b = good;
-    b.nodes[1].boundsMax.x = good.nodes[0].boundsMax.x + 1.0f;  // a child sticking out of its parent
+    b.nodes[1].boundsMax.x =
+        good.nodes[0].boundsMax.x + 1.0f;  // a child sticking out of its parent
     EXPECT_FALSE(problems(b).empty());
 
     b = good;
@@ -202,7 +211,8 @@ TEST(BvhBuilder, BadInputAndOptionsAreRejected) {
     EXPECT_THROW(bvh::buildBvh(s), InputError);
     const scene::Scene ok = mixedScene();
     EXPECT_THROW(bvh::buildBvh(ok, {.maxLeafSize = 0}), std::invalid_argument);
-    EXPECT_THROW(bvh::buildBvh(ok, {.maxLeafSize = VKP_BVH_MAX_LEAF_COUNT + 1}), std::invalid_argument);
+    EXPECT_THROW(bvh::buildBvh(ok, {.maxLeafSize = VKP_BVH_MAX_LEAF_COUNT + 1}),
+                 std::invalid_argument);
     EXPECT_THROW(bvh::buildBvh(ok, {.binCount = 1}), std::invalid_argument);
     EXPECT_THROW(bvh::buildBvh(ok, {.binCount = 257}), std::invalid_argument);
     EXPECT_THROW(bvh::buildBvh(ok, {.maxDepth = VKP_BVH_MAX_DEPTH + 1}), std::invalid_argument);
@@ -230,7 +240,8 @@ TEST(BvhBuilder, UploadReportsItsMemory) {
     const uint64_t larger = std::max(build.traversalNodeBytes(), build.primitiveBytes());
     EXPECT_TRUE(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger}));
     EXPECT_FALSE(vk::chooseAddressAccess(extents, vk::BufferLimits{larger, larger}));
-    EXPECT_THROW(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger - 1}), InputError);
+    EXPECT_THROW(vk::chooseAddressAccess(extents, vk::BufferLimits{larger - 1, larger - 1}),
+                 InputError);
 
     for (bool byAddress : {false, true}) {
         const bvh::GpuBvh gpu = bvh::uploadBvh(test::context(), build, byAddress);
@@ -241,7 +252,8 @@ TEST(BvhBuilder, UploadReportsItsMemory) {
     }
     const std::string line = bvh::describeMemory(build);
     EXPECT_NE(line.find(std::to_string(build.nodes.size()) + " nodes"), std::string::npos) << line;
-    EXPECT_NE(line.find(std::to_string(build.primitives.size()) + " primitives"), std::string::npos) << line;
+    EXPECT_NE(line.find(std::to_string(build.primitives.size()) + " primitives"), std::string::npos)
+        << line;
 }
 
 }  // namespace

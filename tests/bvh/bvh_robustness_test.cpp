@@ -25,11 +25,11 @@ TEST(BvhRobustness, DegeneratePrimitivesAreNeverHit) {
     mesh.name = "degenerate";
     const float nan = std::numeric_limits<float>::quiet_NaN();
     mesh.positions = {
-        {0, 0, 0}, {1, 0, 0}, {1, 0, 0},          // a repeated vertex
-        {0, 1, 0}, {1, 2, 1}, {2, 3, 2},          // exactly collinear
-        {3, 3, 3}, {3, 3, 3}, {3, 3, 3},          // a point
-        {0, 0, 2}, {nan, 0, 2}, {0, 1, 2},        // a non-finite vertex
-        {5, 0, 0}, {6, 0, 0}, {5, 1, 0},          // a proper triangle, so the BVH is not empty
+        {0, 0, 0}, {1, 0, 0},   {1, 0, 0},  // a repeated vertex
+        {0, 1, 0}, {1, 2, 1},   {2, 3, 2},  // exactly collinear
+        {3, 3, 3}, {3, 3, 3},   {3, 3, 3},  // a point
+        {0, 0, 2}, {nan, 0, 2}, {0, 1, 2},  // a non-finite vertex
+        {5, 0, 0}, {6, 0, 0},   {5, 1, 0},  // a proper triangle, so the BVH is not empty
     };
     for (uint32_t i = 0; i < 5; ++i) mesh.triangles.emplace_back(3 * i, 3 * i + 1, 3 * i + 2);
     s.meshes.push_back(mesh);
@@ -43,9 +43,9 @@ TEST(BvhRobustness, DegeneratePrimitivesAreNeverHit) {
     ASSERT_EQ(build.primitives.size(), 1u);
 
     // Rays from many directions at points of each degenerate primitive.
-    const std::vector<vec3> targets = {{0, 0, 0},   {1, 0, 0},      {0.5f, 0, 0}, {0, 1, 0}, {1, 2, 1},
-                                       {2, 3, 2},   {0.5f, 1.5f, 0.5f}, {3, 3, 3}, {0, 0, 2}, {0, -2, 0},
-                                       {0, -4, 0},  {0, -4.5f, 0}};
+    const std::vector<vec3> targets = {{0, 0, 0}, {1, 0, 0},  {0.5f, 0, 0},       {0, 1, 0},
+                                       {1, 2, 1}, {2, 3, 2},  {0.5f, 1.5f, 0.5f}, {3, 3, 3},
+                                       {0, 0, 2}, {0, -2, 0}, {0, -4, 0},         {0, -4.5f, 0}};
     std::mt19937 rng(5);
     std::vector<Ray> rays;
     for (const vec3& target : targets) {
@@ -53,7 +53,8 @@ TEST(BvhRobustness, DegeneratePrimitivesAreNeverHit) {
             vec3 origin = target + 3.0f * randomDirection(rng);
             if (origin.x > 4.0f) origin.x = 8.0f - origin.x;  // stay clear of the proper triangle
             // Ending just past the target: beyond it the ray could reach the proper triangle.
-            rays.push_back(makeRay(origin, glm::normalize(target - origin), 1.01f * glm::length(target - origin)));
+            rays.push_back(makeRay(origin, glm::normalize(target - origin),
+                                   1.01f * glm::length(target - origin)));
         }
     }
     // Control: the proper triangle is hit.
@@ -126,7 +127,8 @@ TEST(BvhRobustness, RaysStartingOnASurface) {
         }
         onSurface.push_back(makeRay(origin, d));
         // The same start spawned off the lower square, on the side d leaves to.
-        const vec3 p0 = build.primitives[lower].p0, p1 = build.primitives[lower].p1, p2 = build.primitives[lower].p2;
+        const vec3 p0 = build.primitives[lower].p0, p1 = build.primitives[lower].p1,
+                   p2 = build.primitives[lower].p2;
         shared::SurfacePoint sp;
         sp.position = origin;
         sp.normal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
@@ -139,7 +141,8 @@ TEST(BvhRobustness, RaysStartingOnASurface) {
     size_t wrong = 0;
     for (size_t i = 0; i < hits.size(); ++i) {
         const Hit& h = hits[i];
-        const bool lowerSquare = h.primitive != VKP_NO_HIT && build.primitives[h.primitive].p0.z == 0.0f;
+        const bool lowerSquare =
+            h.primitive != VKP_NO_HIT && build.primitives[h.primitive].p0.z == 0.0f;
         if (i % 2 == 0)
             wrong += !(lowerSquare && h.t == 0.0f);
         else if (h.primitive != VKP_NO_HIT && lowerSquare)
@@ -223,7 +226,8 @@ scene::Scene separatedObjects() {
                 m.material = 1;
                 s.meshes.push_back(std::move(m));
             } else {
-                s.spheres.push_back(scene::Sphere{.name = "ball", .center = center, .radius = 8.0f});
+                s.spheres.push_back(
+                    scene::Sphere{.name = "ball", .center = center, .radius = 8.0f});
             }
         }
     }
@@ -254,8 +258,9 @@ struct SpawnCounts {
 
 // Spawns from every hit one ray to the side it came from and, for triangles,
 // one to the other side; counts those that hit the primitive they leave.
-SpawnCounts spawnOffHits(GpuTracer& tracer, const bvh::BvhBuild& build, const std::vector<Ray>& rays,
-                         const std::vector<Hit>& hits, bool offset, uint32_t seed) {
+SpawnCounts spawnOffHits(GpuTracer& tracer, const bvh::BvhBuild& build,
+                         const std::vector<Ray>& rays, const std::vector<Hit>& hits, bool offset,
+                         uint32_t seed) {
     std::mt19937 rng(seed);
     std::vector<Ray> spawned;
     std::vector<uint32_t> from;
@@ -294,22 +299,25 @@ TEST(BvhRobustness, ScaledAndTranslatedScenesHitTheSamePrimitives) {
     std::vector<Ray> rays;
     for (uint32_t i = 0; i < COUNT; ++i) {
         const vec3 origin = 150.0f * randomDirection(rng);
-        rays.push_back(makeRay(origin, glm::normalize(pointOn(baseBuild.primitives[pick(rng)], rng) - origin)));
+        rays.push_back(makeRay(
+            origin, glm::normalize(pointOn(baseBuild.primitives[pick(rng)], rng) - origin)));
     }
 
     // A ray is robust when shifting its origin by 0.02 (five times the
     // rounding of any version: ulp(1e5) / 2 ~ 0.004) sideways in four
     // directions hits the same primitive: only robust rays must agree.
     auto key = [](const bvh::BvhBuild& b, const Hit& h) {
-        return h.primitive == VKP_NO_HIT ? std::make_pair(VKP_NO_HIT, VKP_NO_HIT)
-                                         : std::make_pair(b.primitives[h.primitive].kind, b.primitives[h.primitive].id);
+        return h.primitive == VKP_NO_HIT
+                   ? std::make_pair(VKP_NO_HIT, VKP_NO_HIT)
+                   : std::make_pair(b.primitives[h.primitive].kind, b.primitives[h.primitive].id);
     };
     std::vector<std::pair<uint32_t, uint32_t>> baseKeys(COUNT);
     std::vector<bool> robust(COUNT);
     parallelFor(COUNT, [&](size_t i) {
         const Ray& r = rays[i];
         baseKeys[i] = key(baseBuild, baseView.bvhClosestHit(r));
-        const vec3 side1 = glm::normalize(glm::cross(r.direction, std::abs(r.direction.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0)));
+        const vec3 side1 = glm::normalize(glm::cross(
+            r.direction, std::abs(r.direction.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0)));
         const vec3 side2 = glm::cross(r.direction, side1);
         bool same = true;
         for (const vec3& shift : {side1, -side1, side2, -side2}) {

@@ -48,17 +48,21 @@ TEST_P(BvhScene, GpuMatchesCpuTraversalAndBruteForce) {
     EXPECT_GT(withCpu.hits, RAY_COUNT / 3);
     EXPECT_LE(withCpu.ties, RAY_COUNT / 1000);
 
-    const size_t bruteCount =
-        test::ciOrLong(std::min<size_t>(rays.size(), BRUTE_FORCE_PAIRS / build.primitives.size()), rays.size());
-    const std::vector<Ray> subset(rays.begin(), rays.begin() + static_cast<std::ptrdiff_t>(bruteCount));
-    const std::vector<Hit> gpuSubset(gpu.begin(), gpu.begin() + static_cast<std::ptrdiff_t>(bruteCount));
-    const Comparison withBrute = compareHits(build, subset, gpuSubset, bruteForceClosest(build.primitives, subset));
+    const size_t bruteCount = test::ciOrLong(
+        std::min<size_t>(rays.size(), BRUTE_FORCE_PAIRS / build.primitives.size()), rays.size());
+    const std::vector<Ray> subset(rays.begin(),
+                                  rays.begin() + static_cast<std::ptrdiff_t>(bruteCount));
+    const std::vector<Hit> gpuSubset(gpu.begin(),
+                                     gpu.begin() + static_cast<std::ptrdiff_t>(bruteCount));
+    const Comparison withBrute =
+        compareHits(build, subset, gpuSubset, bruteForceClosest(build.primitives, subset));
     EXPECT_EQ(withBrute.mismatches, 0u) << withBrute.first;
     RecordProperty("brute_force_rays", static_cast<int>(bruteCount));
 
     const std::vector<uint32_t> occluded = tracer.occluded(rays);
     size_t wrong = 0;
-    for (size_t i = 0; i < rays.size(); ++i) wrong += occluded[i] != (cpu[i].primitive != VKP_NO_HIT ? 1u : 0u);
+    for (size_t i = 0; i < rays.size(); ++i)
+        wrong += occluded[i] != (cpu[i].primitive != VKP_NO_HIT ? 1u : 0u);
     EXPECT_EQ(wrong, 0u);
 }
 

@@ -58,12 +58,13 @@ const StageScene& stageScene(size_t index) {
 // Dispatches a stage with `given` bound, and a placeholder at every other
 // binding it declares: the scene's materials and textures, which only the
 // alpha test reads, and a SceneInfo of zeros (alphaTested 0) turns it off.
-void dispatchStage(vk::Kernel& kernel, uint32_t invocations, std::map<uint32_t, const vk::Buffer*> given,
-                   const shared::WavePush& push) {
+void dispatchStage(vk::Kernel& kernel, uint32_t invocations,
+                   std::map<uint32_t, const vk::Buffer*> given, const shared::WavePush& push) {
     vk::Context& context = test::context();
     // One texel: some of the bindings are texel buffers.
     const vk::Buffer placeholder(context, 16, vk::MemoryKind::DeviceLocal, "placeholder");
-    for (const vk::SpirvBinding& b : kernel.reflection().bindings) given.try_emplace(b.binding, &placeholder);
+    for (const vk::SpirvBinding& b : kernel.reflection().bindings)
+        given.try_emplace(b.binding, &placeholder);
     const vk::DescriptorSet set = kernel.bindDeclared(given);
     context.submit([&](VkCommandBuffer cmd) {
         kernel.record(cmd, set, invocations, std::as_bytes(std::span(&push, 1)));
@@ -85,8 +86,12 @@ class Stage : public testing::TestWithParam<size_t> {
         vec3 lo(FLT_MAX_VALUE), hi(-FLT_MAX_VALUE);
         for (const BvhPrimitive& p : m_build.primitives) {
             const vec3 r = p.kind == VKP_PRIMITIVE_SPHERE ? vec3(p.p1.x) : vec3(0.0f);
-            lo = glm::min(lo, glm::min(p.p0 - r, p.kind == VKP_PRIMITIVE_SPHERE ? p.p0 : glm::min(p.p1, p.p2)));
-            hi = glm::max(hi, glm::max(p.p0 + r, p.kind == VKP_PRIMITIVE_SPHERE ? p.p0 : glm::max(p.p1, p.p2)));
+            lo = glm::min(
+                lo,
+                glm::min(p.p0 - r, p.kind == VKP_PRIMITIVE_SPHERE ? p.p0 : glm::min(p.p1, p.p2)));
+            hi = glm::max(
+                hi,
+                glm::max(p.p0 + r, p.kind == VKP_PRIMITIVE_SPHERE ? p.p0 : glm::max(p.p1, p.p2)));
         }
         return {lo, hi};
     }
@@ -117,11 +122,16 @@ TEST_P(Stage, IntersectGivesTheCpuClosestHitOfEveryQueuedRay) {
     const shared::SceneInfo infoData{};
     vk::Buffer info = vk::Buffer::fromSpan(context, std::span(&infoData, 1));
 
-    vk::Kernel intersect(context, "intersect", {.specialization = {vkpath::bvh::sceneAccessConstant(false)}});
+    vk::Kernel intersect(context, "intersect",
+                         {.specialization = {vkpath::bvh::sceneAccessConstant(false)}});
     dispatchStage(intersect, uint32_t(slots.size()),
-                  {{VKP_WF_SCENE_INFO, &info}, {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
-                   {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()}, {VKP_WF_SCENE_ADDRESSES, &addresses},
-                   {VKP_WF_RAYS, &rays}, {VKP_WF_HITS, &hits}, {VKP_WF_QUEUES, &queues},
+                  {{VKP_WF_SCENE_INFO, &info},
+                   {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
+                   {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
+                   {VKP_WF_SCENE_ADDRESSES, &addresses},
+                   {VKP_WF_RAYS, &rays},
+                   {VKP_WF_HITS, &hits},
+                   {VKP_WF_QUEUES, &queues},
                    {VKP_WF_COUNTERS, &counters}},
                   shared::WavePush{0, 0, SLOTS, /*bounce*/ 1, 0});
     const std::vector<Hit> got = hits.download<Hit>();
@@ -142,7 +152,8 @@ TEST_P(Stage, IntersectGivesTheCpuClosestHitOfEveryQueuedRay) {
     EXPECT_GT(c.hits, queuedRays.size() / 3) << "most rays aimed at a primitive hit";
     size_t touched = 0;
     for (uint32_t slot = 0; slot < SLOTS; ++slot)
-        if (!queued[slot]) touched += got[slot].primitive != UNTOUCHED.primitive || got[slot].t != UNTOUCHED.t;
+        if (!queued[slot])
+            touched += got[slot].primitive != UNTOUCHED.primitive || got[slot].t != UNTOUCHED.t;
     EXPECT_EQ(touched, 0u) << "slots not in the queue were written";
 }
 
@@ -170,9 +181,11 @@ TEST_P(Stage, ShadowAddsExactlyTheUnoccludedContributions) {
     for (uint32_t i = 0; i < SLOTS * LIGHT_SAMPLES; ++i) {
         shadowRayData[i] = m_rays[(i * 7919u) % SLOTS];
         shadowRayData[i].tMax = span * u(rng);
-        contributionData[i] = i % 5 == 4 ? glm::vec3(0.0f) : glm::vec3(u(rng), u(rng), u(rng)) + 0.01f;
+        contributionData[i] =
+            i % 5 == 4 ? glm::vec3(0.0f) : glm::vec3(u(rng), u(rng), u(rng)) + 0.01f;
     }
-    for (uint32_t slot = 0; slot < SLOTS; ++slot) radianceData[slot] = glm::vec3(float(slot), 0.5f, 0.25f);
+    for (uint32_t slot = 0; slot < SLOTS; ++slot)
+        radianceData[slot] = glm::vec3(float(slot), 0.5f, 0.25f);
     vk::Buffer shadowRays = vk::Buffer::fromSpan(context, std::span(shadowRayData));
     vk::Buffer contributions = vk::Buffer::fromSpan(context, std::span(contributionData));
     vk::Buffer radiance = vk::Buffer::fromSpan(context, std::span(radianceData));
@@ -184,12 +197,18 @@ TEST_P(Stage, ShadowAddsExactlyTheUnoccludedContributions) {
     counterData.shadowCount = uint32_t(slots.size());
     vk::Buffer counters = vk::Buffer::fromSpan(context, std::span(&counterData, 1));
 
-    vk::Kernel shadow(context, "shadow", {.specialization = {vkpath::bvh::sceneAccessConstant(false)}});
+    vk::Kernel shadow(context, "shadow",
+                      {.specialization = {vkpath::bvh::sceneAccessConstant(false)}});
     dispatchStage(shadow, uint32_t(slots.size()),
-                  {{VKP_WF_SCENE_INFO, &info}, {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
-                   {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()}, {VKP_WF_SCENE_ADDRESSES, &addresses},
-                   {VKP_WF_RADIANCE, &radiance}, {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters},
-                   {VKP_WF_SHADOW_RAYS, &shadowRays}, {VKP_WF_SHADOW_RADIANCE, &contributions}},
+                  {{VKP_WF_SCENE_INFO, &info},
+                   {VKP_WF_BVH_NODES, &bvh.nodeBinding()},
+                   {VKP_WF_BVH_PRIMITIVES, &bvh.primitiveBinding()},
+                   {VKP_WF_SCENE_ADDRESSES, &addresses},
+                   {VKP_WF_RADIANCE, &radiance},
+                   {VKP_WF_QUEUES, &queues},
+                   {VKP_WF_COUNTERS, &counters},
+                   {VKP_WF_SHADOW_RAYS, &shadowRays},
+                   {VKP_WF_SHADOW_RADIANCE, &contributions}},
                   shared::WavePush{0, 0, SLOTS, 0, 0});
     const std::vector<glm::vec3> got = radiance.download<glm::vec3>();
 
@@ -209,12 +228,15 @@ TEST_P(Stage, ShadowAddsExactlyTheUnoccludedContributions) {
     }
     size_t mismatches = 0;
     for (uint32_t slot = 0; slot < SLOTS; ++slot) mismatches += got[slot] != expected[slot];
-    EXPECT_EQ(mismatches, 0u) << "radiance differs from the CPU's (bit for bit: the same additions in the same order)";
+    EXPECT_EQ(mismatches, 0u)
+        << "radiance differs from the CPU's (bit for bit: the same additions in the same order)";
     EXPECT_GT(blocked, slots.size() / 20);
     EXPECT_GT(open, slots.size() / 20);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Stage, testing::Values(0, 1),
-                         [](const testing::TestParamInfo<size_t>& p) { return p.param == 0 ? "bunny" : "mixed"; });
+                         [](const testing::TestParamInfo<size_t>& p) {
+                             return p.param == 0 ? "bunny" : "mixed";
+                         });
 
 }  // namespace

@@ -69,18 +69,22 @@ inline void addTriangleSoup(scene::Scene& s, uint32_t count, float size, uint32_
     for (uint32_t i = 0; i < count; ++i) {
         const vec3 c = randomInBox(rng, vec3(-1.0f), vec3(1.0f));
         const auto base = static_cast<uint32_t>(mesh.positions.size());
-        for (int k = 0; k < 3; ++k) mesh.positions.push_back(c + randomInBox(rng, vec3(-size), vec3(size)));
+        for (int k = 0; k < 3; ++k)
+            mesh.positions.push_back(c + randomInBox(rng, vec3(-size), vec3(size)));
         mesh.triangles.emplace_back(base, base + 1, base + 2);
     }
     s.meshes.push_back(std::move(mesh));
 }
 
-inline void addSphereField(scene::Scene& s, uint32_t count, float minRadius, float maxRadius, uint32_t seed) {
+inline void addSphereField(scene::Scene& s, uint32_t count, float minRadius, float maxRadius,
+                           uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> radius(minRadius, maxRadius);
     for (uint32_t i = 0; i < count; ++i)
-        s.spheres.push_back(scene::Sphere{.name = "s", .center = randomInBox(rng, vec3(-1.0f), vec3(1.0f)),
-                                          .radius = radius(rng), .material = i % 2});
+        s.spheres.push_back(scene::Sphere{.name = "s",
+                                          .center = randomInBox(rng, vec3(-1.0f), vec3(1.0f)),
+                                          .radius = radius(rng),
+                                          .material = i % 2});
 }
 
 // A closed icosphere: the icosahedron with each face split into 4^subdivisions
@@ -88,8 +92,9 @@ inline void addSphereField(scene::Scene& s, uint32_t count, float minRadius, flo
 // neighbouring triangles use bit-identical vertices.
 inline scene::Mesh icosphere(uint32_t subdivisions, float radius, vec3 center) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    std::vector<vec3> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<vec3> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                              {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                              {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
     for (vec3& v : unit) v = glm::normalize(v);
     std::vector<glm::uvec3> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                      {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
@@ -136,7 +141,9 @@ inline scene::Mesh tessellatedCube(uint32_t n) {
         index.emplace(key, i);
         return i;
     };
-    auto coordinate = [n](uint32_t i) { return -1.0f + 2.0f * static_cast<float>(i) / static_cast<float>(n); };
+    auto coordinate = [n](uint32_t i) {
+        return -1.0f + 2.0f * static_cast<float>(i) / static_cast<float>(n);
+    };
     for (int axis = 0; axis < 3; ++axis) {
         for (float side : {-1.0f, 1.0f}) {
             for (uint32_t i = 0; i < n; ++i) {
@@ -148,7 +155,8 @@ inline scene::Mesh tessellatedCube(uint32_t n) {
                         p[(axis + 2) % 3] = coordinate(b);
                         return vertex(p);
                     };
-                    const uint32_t v00 = at(i, j), v10 = at(i + 1, j), v01 = at(i, j + 1), v11 = at(i + 1, j + 1);
+                    const uint32_t v00 = at(i, j), v10 = at(i + 1, j), v01 = at(i, j + 1),
+                                   v11 = at(i + 1, j + 1);
                     mesh.triangles.emplace_back(v00, v10, v11);
                     mesh.triangles.emplace_back(v00, v11, v01);
                 }
@@ -161,7 +169,8 @@ inline scene::Mesh tessellatedCube(uint32_t n) {
 // ---- building --------------------------------------------------------------
 
 // Builds and runs the integrity check (every BVH the tests build is checked).
-inline vkpath::bvh::BvhBuild buildChecked(const scene::Scene& s, const vkpath::bvh::BvhOptions& options = {}) {
+inline vkpath::bvh::BvhBuild buildChecked(const scene::Scene& s,
+                                          const vkpath::bvh::BvhOptions& options = {}) {
     vkpath::bvh::BvhBuild build = vkpath::bvh::buildBvh(s, options);
     const std::vector<std::string> problems = vkpath::bvh::integrityCheck(build, s);
     for (const std::string& p : problems) ADD_FAILURE() << "BVH integrity: " << p;
@@ -197,8 +206,8 @@ inline vec3 pointOn(const BvhPrimitive& p, std::mt19937& rng, float margin = 0.0
 
 // Half random rays from the box [lo, hi], half aimed from there at a random
 // point of a random primitive (so most of them hit something).
-inline std::vector<Ray> randomRays(const vkpath::bvh::BvhBuild& build, uint32_t count, uint32_t seed,
-                                   vec3 lo = vec3(-2.0f), vec3 hi = vec3(2.0f)) {
+inline std::vector<Ray> randomRays(const vkpath::bvh::BvhBuild& build, uint32_t count,
+                                   uint32_t seed, vec3 lo = vec3(-2.0f), vec3 hi = vec3(2.0f)) {
     std::mt19937 rng(seed);
     std::vector<Ray> rays(count);
     std::uniform_int_distribution<size_t> pick(0, build.primitives.size() - 1);
@@ -230,7 +239,8 @@ inline AimedRays raysAtEdgesAndVertices(const scene::Mesh& mesh, uint32_t count,
     out.rays.reserve(count);
     out.distance.reserve(count);
     while (out.rays.size() < count) {
-        const vec3 origin = out.rays.size() % 100 == 0 ? vec3(0.0f) : randomInBox(rng, vec3(-0.5f), vec3(0.5f));
+        const vec3 origin =
+            out.rays.size() % 100 == 0 ? vec3(0.0f) : randomInBox(rng, vec3(-0.5f), vec3(0.5f));
         const glm::uvec3 tri = mesh.triangles[pickTriangle(rng)];
         const int corner = pickCorner(rng);
         const vec3 a = mesh.positions[tri[corner]];
@@ -247,12 +257,13 @@ inline AimedRays raysAtEdgesAndVertices(const scene::Mesh& mesh, uint32_t count,
 // ---- CPU brute force -----------------------------------------------------------
 
 // The intersection of one primitive, with the traversal's functions.
-inline bool intersectPrimitive(const BvhPrimitive& p, const Ray& ray, float tMax, float& t, glm::vec2& bary) {
+inline bool intersectPrimitive(const BvhPrimitive& p, const Ray& ray, float tMax, float& t,
+                               glm::vec2& bary) {
     bary = glm::vec2(0.0f);
     if (p.kind == VKP_PRIMITIVE_SPHERE)
         return shared::intersectSphere(ray.origin, ray.direction, p.p0, p.p1.x, tMax, t);
-    return shared::intersectTriangle(shared::makeTriangleRay(ray.origin, ray.direction), p.p0, p.p1, p.p2, tMax,
-                                     t, bary);
+    return shared::intersectTriangle(shared::makeTriangleRay(ray.origin, ray.direction), p.p0, p.p1,
+                                     p.p2, tMax, t, bary);
 }
 
 inline Hit bruteForceClosest(const std::vector<BvhPrimitive>& primitives, const Ray& ray) {
@@ -283,7 +294,8 @@ void parallelFor(size_t n, F f) {
     for (std::thread& t : pool) t.join();
 }
 
-inline std::vector<Hit> bruteForceClosest(const std::vector<BvhPrimitive>& primitives, const std::vector<Ray>& rays) {
+inline std::vector<Hit> bruteForceClosest(const std::vector<BvhPrimitive>& primitives,
+                                          const std::vector<Ray>& rays) {
     std::vector<Hit> hits(rays.size());
     parallelFor(rays.size(), [&](size_t i) { hits[i] = bruteForceClosest(primitives, rays[i]); });
     return hits;
@@ -323,15 +335,16 @@ inline Comparison compareHits(const vkpath::bvh::BvhBuild& build, const std::vec
             float t;
             glm::vec2 bary;
             ok = g.primitive < build.primitives.size() &&
-                 intersectPrimitive(build.primitives[g.primitive], rays[i], FLT_MAX_VALUE, t, bary) &&
+                 intersectPrimitive(build.primitives[g.primitive], rays[i], FLT_MAX_VALUE, t,
+                                    bary) &&
                  closeT(t, e.t) && closeT(g.t, e.t);
             c.ties += ok;
         }
         c.hits += e.primitive != VKP_NO_HIT;
         if (!ok && c.mismatches++ == 0)
-            c.first = "ray " + std::to_string(i) + ": got primitive " + std::to_string(g.primitive) + " t " +
-                      std::to_string(g.t) + ", expected " + std::to_string(e.primitive) + " t " +
-                      std::to_string(e.t);
+            c.first = "ray " + std::to_string(i) + ": got primitive " +
+                      std::to_string(g.primitive) + " t " + std::to_string(g.t) + ", expected " +
+                      std::to_string(e.primitive) + " t " + std::to_string(e.t);
     }
     return c;
 }
@@ -380,7 +393,8 @@ class GpuTracer {
     // Specialised as a render's kernels are to the tree's depth (whether the
     // stack may spill to an array); every other feature bit set.
     static vk::KernelOptions options(const vkpath::bvh::BvhBuild& build, bool byAddress) {
-        const uint32_t features = (VKP_FEATURES_ALL & ~VKP_FEATURE_DEEP_BVH) | vkpath::bvh::traversalFeatures(build);
+        const uint32_t features =
+            (VKP_FEATURES_ALL & ~VKP_FEATURE_DEEP_BVH) | vkpath::bvh::traversalFeatures(build);
         return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress),
                                                     {VKP_SPEC_FEATURES, features}}};
     }

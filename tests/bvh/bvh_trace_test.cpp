@@ -29,7 +29,9 @@ struct TraceCase {
 };
 
 // Names the case in test listings (instead of its bytes).
-void PrintTo(const TraceCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const TraceCase& c, std::ostream* os) {
+    *os << c.name;
+}
 
 class BvhTrace : public testing::TestWithParam<TraceCase> {};
 
@@ -57,7 +59,8 @@ void expectGpuMatchesBruteForce(const bvh::BvhBuild& build) {
     // Any hit over the full ray: occluded exactly when brute force hits.
     const std::vector<uint32_t> occluded = tracer.occluded(rays);
     size_t wrong = 0;
-    for (size_t i = 0; i < rays.size(); ++i) wrong += occluded[i] != (expected[i].primitive != VKP_NO_HIT ? 1u : 0u);
+    for (size_t i = 0; i < rays.size(); ++i)
+        wrong += occluded[i] != (expected[i].primitive != VKP_NO_HIT ? 1u : 0u);
     EXPECT_EQ(wrong, 0u);
 }
 
@@ -115,7 +118,8 @@ TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
     std::uniform_real_distribution<float> across(-1.0f, 1.0f);
     scene::Scene s = emptyScene();
     for (int i = 0; i < COUNT; ++i)
-        s.spheres.push_back({.name = "bead", .center = vec3(float(i), across(rng), across(rng)), .radius = RADIUS});
+        s.spheres.push_back(
+            {.name = "bead", .center = vec3(float(i), across(rng), across(rng)), .radius = RADIUS});
     const bvh::BvhBuild build = buildChecked(s);
     ASSERT_GE(build.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH + 3) << "the stack would not spill";
     ASSERT_EQ(bvh::traversalFeatures(build), uint32_t(VKP_FEATURE_DEEP_BVH));
@@ -123,7 +127,8 @@ TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
     std::vector<Ray> rays;
     for (int i = 0; i < 4000; ++i) {
         const float y = across(rng), z = across(rng);
-        rays.push_back(i % 2 ? makeRay(vec3(-5, y, z), vec3(1, 0, 0)) : makeRay(vec3(COUNT + 5, y, z), vec3(-1, 0, 0)));
+        rays.push_back(i % 2 ? makeRay(vec3(-5, y, z), vec3(1, 0, 0))
+                             : makeRay(vec3(COUNT + 5, y, z), vec3(-1, 0, 0)));
     }
     const std::vector<Hit> expected = bruteForceClosest(build.primitives, rays);
     GpuTracer tracer(test::context(), build);
@@ -132,7 +137,8 @@ TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
     EXPECT_GT(c.hits, rays.size() / 2);
     const std::vector<uint32_t> occluded = tracer.occluded(rays);
     size_t wrong = 0;
-    for (size_t i = 0; i < rays.size(); ++i) wrong += occluded[i] != (expected[i].primitive != VKP_NO_HIT ? 1u : 0u);
+    for (size_t i = 0; i < rays.size(); ++i)
+        wrong += occluded[i] != (expected[i].primitive != VKP_NO_HIT ? 1u : 0u);
     EXPECT_EQ(wrong, 0u);
 
     // The same code on the CPU, exactly.
@@ -145,9 +151,10 @@ TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
     EXPECT_EQ(cpuMismatches, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, BvhTrace,
-                         testing::Values(TraceCase{"TriangleSoup", 1000, 0}, TraceCase{"SphereField", 0, 800},
-                                         TraceCase{"Mixed", 600, 300}, TraceCase{"SmallMixed", 24, 16}),
-                         [](const testing::TestParamInfo<TraceCase>& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, BvhTrace,
+    testing::Values(TraceCase{"TriangleSoup", 1000, 0}, TraceCase{"SphereField", 0, 800},
+                    TraceCase{"Mixed", 600, 300}, TraceCase{"SmallMixed", 24, 16}),
+    [](const testing::TestParamInfo<TraceCase>& p) { return std::string(p.param.name); });
 
 }  // namespace

@@ -43,7 +43,9 @@ struct MeshCase {
 };
 
 // Names the case in test listings (instead of its bytes).
-void PrintTo(const MeshCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const MeshCase& c, std::ostream* os) {
+    *os << c.name;
+}
 
 class BvhWatertight : public testing::TestWithParam<MeshCase> {};
 
@@ -64,7 +66,8 @@ TEST_P(BvhWatertight, RaysAtEdgesAndVerticesNeverEscape) {
     subset.distance.assign(aimed.distance.begin(), aimed.distance.begin() + RAYS_PER_MESH / 10);
     const shared::BvhView view{build.traversalNodes, build.primitives};
     std::vector<Hit> cpuHits(subset.rays.size());
-    parallelFor(subset.rays.size(), [&](size_t i) { cpuHits[i] = view.bvhClosestHit(subset.rays[i]); });
+    parallelFor(subset.rays.size(),
+                [&](size_t i) { cpuHits[i] = view.bvhClosestHit(subset.rays[i]); });
     const Escapes cpu = countEscapes(subset, cpuHits);
     EXPECT_EQ(cpu.missed, 0u) << "rays escaped the closed mesh on the CPU";
     EXPECT_EQ(cpu.elsewhere, 0u);
@@ -77,7 +80,9 @@ TEST_P(BvhWatertight, EscapesThroughAHoleAreCounted) {
     scene::Mesh mesh = GetParam().make();
     const uint32_t vertex = mesh.triangles[0].x;
     const vec3 target = mesh.positions[vertex];
-    std::erase_if(mesh.triangles, [&](const glm::uvec3& t) { return t.x == vertex || t.y == vertex || t.z == vertex; });
+    std::erase_if(mesh.triangles, [&](const glm::uvec3& t) {
+        return t.x == vertex || t.y == vertex || t.z == vertex;
+    });
     s.meshes.push_back(std::move(mesh));
     const bvh::BvhBuild build = buildChecked(s);
     AimedRays aimed;

@@ -3,6 +3,8 @@
 // boxes that still hold what the tree's boxes hold. Traversal itself (GPU and
 // CPU through these records, against brute force) is tested in
 // bvh_trace_test.cpp, bvh_robustness_test.cpp and the scene tests.
+#include "bvh/traversal_nodes.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -10,17 +12,16 @@
 #include <limits>
 #include <stdexcept>
 
-#include "bvh/traversal_nodes.h"
 #include "bvh_test_util.h"
 
 namespace vkpath::test::bvh {
 namespace {
 
+using shared::BvhNode;
 using vkpath::bvh::BvhBuild;
 using vkpath::bvh::embedAbove;
 using vkpath::bvh::embedBelow;
 using vkpath::bvh::packTraversalNodes;
-using shared::BvhNode;
 
 // Distance in ulps between two finite floats of one sign.
 int64_t ulps(float a, float b) {
@@ -30,8 +31,8 @@ int64_t ulps(float a, float b) {
 
 TEST(BvhTraversalNodes, EmbeddedBoundsMoveOutwardAndCarryTheirBits) {
     const float denormal = std::numeric_limits<float>::denorm_min() * 5.0f;
-    for (float x : {0.0f, -0.0f, denormal, -denormal, 1e-31f, 1.0f, -1.0f, 1e-30f, -3.5e4f, 1e5f, 7.25e-5f,
-                    0.75f, -2.0f, 3e38f, -3e38f}) {
+    for (float x : {0.0f, -0.0f, denormal, -denormal, 1e-31f, 1.0f, -1.0f, 1e-30f, -3.5e4f, 1e5f,
+                    7.25e-5f, 0.75f, -2.0f, 3e38f, -3e38f}) {
         for (uint32_t bits = 0; bits < 64; ++bits) {
             SCOPED_TRACE(::testing::Message() << "x " << x << ", bits " << bits);
             const float below = embedBelow(x, bits), above = embedAbove(x, bits);
@@ -69,8 +70,10 @@ Child readChild(const std::vector<glm::uvec4>& texels, uint32_t texel, int which
         for (int c = 0; c < 4; ++c) w[4 * t + c] = texels.at(texel + t)[c];
     const uint32_t* b = w + 6 * which;
     const glm::uvec3 lo(b[0], b[1], b[2]), hi(b[3], b[4], b[5]);
-    return {glm::vec3(std::bit_cast<float>(lo.x), std::bit_cast<float>(lo.y), std::bit_cast<float>(lo.z)),
-            glm::vec3(std::bit_cast<float>(hi.x), std::bit_cast<float>(hi.y), std::bit_cast<float>(hi.z)),
+    return {glm::vec3(std::bit_cast<float>(lo.x), std::bit_cast<float>(lo.y),
+                      std::bit_cast<float>(lo.z)),
+            glm::vec3(std::bit_cast<float>(hi.x), std::bit_cast<float>(hi.y),
+                      std::bit_cast<float>(hi.z)),
             shared::bvhChildWord(lo, hi)};
 }
 
@@ -89,8 +92,10 @@ size_t expectRecordsMatchTree(const BvhBuild& build) {
         for (int which = 0; which < 2; ++which) {
             const BvhNode& tree = nodes[children[which]];
             const Child c = readChild(build.traversalNodes, texel, which);
-            EXPECT_TRUE(glm::all(glm::lessThanEqual(c.min, tree.boundsMin))) << "node " << children[which];
-            EXPECT_TRUE(glm::all(glm::greaterThanEqual(c.max, tree.boundsMax))) << "node " << children[which];
+            EXPECT_TRUE(glm::all(glm::lessThanEqual(c.min, tree.boundsMin)))
+                << "node " << children[which];
+            EXPECT_TRUE(glm::all(glm::greaterThanEqual(c.max, tree.boundsMax)))
+                << "node " << children[which];
             const uint32_t count = c.word >> VKP_BVH_WORD_COUNT_SHIFT;
             EXPECT_EQ(count, tree.count) << "node " << children[which];
             if (tree.count != 0) {
@@ -109,7 +114,8 @@ TEST(BvhTraversalNodes, RecordsHoldTheTreesChildrenAndBoxes) {
     addSphereField(mixed, 500, 0.005f, 0.05f, 2);
     mixed.meshes.push_back(icosphere(3, 0.5f, vec3(0.2f, 0.1f, -0.3f)));
     scene::Scene far = emptyScene();
-    far.meshes.push_back(icosphere(2, 2.0f, vec3(1e5f, -1e5f, 3e4f)));  // small and far from the origin
+    far.meshes.push_back(
+        icosphere(2, 2.0f, vec3(1e5f, -1e5f, 3e4f)));  // small and far from the origin
     for (const auto* s : {&mixed, &far}) {
         for (uint32_t leaf : {1u, 4u, 15u}) {
             const BvhBuild build = buildChecked(*s, {.maxLeafSize = leaf});
@@ -137,10 +143,16 @@ TEST(BvhTraversalNodes, ASingleLeafAndTheEmptyTree) {
     // Traversal tests the leaf (twice) and finds the sphere.
     const shared::BvhView leafView{leaf.traversalNodes, leaf.primitives};
     const vec3 centre = leaf.primitives[0].p0;
-    EXPECT_EQ(leafView.bvhClosestHit(makeRay(centre - vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f))).primitive, 0u);
-    EXPECT_TRUE(leafView.bvhOccluded(makeRay(centre - vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f))));
-    EXPECT_EQ(leafView.bvhClosestHit(makeRay(centre - vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 1.0f, 0.0f))).primitive,
-              VKP_NO_HIT);
+    EXPECT_EQ(
+        leafView.bvhClosestHit(makeRay(centre - vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f)))
+            .primitive,
+        0u);
+    EXPECT_TRUE(
+        leafView.bvhOccluded(makeRay(centre - vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, 1.0f))));
+    EXPECT_EQ(
+        leafView.bvhClosestHit(makeRay(centre - vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 1.0f, 0.0f)))
+            .primitive,
+        VKP_NO_HIT);
 
     const BvhBuild empty = buildChecked(emptyScene());
     ASSERT_EQ(empty.traversalNodes.size(), VKP_BVH_RECORD_TEXELS);
@@ -150,7 +162,8 @@ TEST(BvhTraversalNodes, ASingleLeafAndTheEmptyTree) {
     }
     // No ray enters a box of NaN: the CPU traversal of the empty tree ends at once.
     const shared::BvhView view{empty.traversalNodes, empty.primitives};
-    EXPECT_EQ(view.bvhClosestHit(makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f))).primitive, VKP_NO_HIT);
+    EXPECT_EQ(view.bvhClosestHit(makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f))).primitive,
+              VKP_NO_HIT);
 }
 
 TEST(BvhTraversalNodes, WhatAWordCannotHoldIsRefused) {

@@ -9,6 +9,8 @@
 // (shared/bvh_leaf.h) makes the hit at a shared distance the one of smallest
 // leaf index, which is the one brute force keeps. Coincident triangles, tied
 // on every ray that meets them, check that rule head on.
+#include "bvh/wide_bvh.h"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -19,7 +21,6 @@
 #include <set>
 #include <string>
 
-#include "bvh/wide_bvh.h"
 #include "bvh_test_util.h"
 
 namespace {
@@ -27,10 +28,13 @@ namespace {
 using namespace vkpath;
 using namespace vkpath::test::bvh;
 
-bool sameHit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
+bool sameHit(const Hit& a, const Hit& b) {
+    return std::memcmp(&a, &b, sizeof(Hit)) == 0;
+}
 
 struct Traced {
-    size_t rays = 0, hits = 0, wideDiffers = 0, binaryDiffers = 0, bruteDiffers = 0, occlusionDiffers = 0;
+    size_t rays = 0, hits = 0, wideDiffers = 0, binaryDiffers = 0, bruteDiffers = 0,
+           occlusionDiffers = 0;
 };
 
 // Traces every ray through both trees and brute force.
@@ -48,7 +52,8 @@ Traced traceAll(const bvh::BvhBuild& build, const std::vector<Ray>& rays) {
         t.binaryDiffers += !sameHit(binary, brute[i]);
         t.bruteDiffers += !sameHit(wideHit, brute[i]);
         const bool occluded = bvh::traceWide(view, wide, rays[i], true, 0u).primitive != VKP_NO_HIT;
-        t.occlusionDiffers += occluded != view.bvhOccluded(rays[i]) || occluded != (brute[i].primitive != VKP_NO_HIT);
+        t.occlusionDiffers +=
+            occluded != view.bvhOccluded(rays[i]) || occluded != (brute[i].primitive != VKP_NO_HIT);
     }
     return t;
 }
@@ -63,8 +68,9 @@ void expectSameHits(const Traced& t) {
 
 // The primitives of binary node `index`'s subtree, (first, count), for
 // every node: a depth-first tree's subtree holds a contiguous range.
-std::pair<uint32_t, uint32_t> subtreeRanges(const bvh::BvhBuild& build, uint32_t index,
-                                            std::map<std::pair<uint32_t, uint32_t>, uint32_t>& nodeOfRange) {
+std::pair<uint32_t, uint32_t> subtreeRanges(
+    const bvh::BvhBuild& build, uint32_t index,
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t>& nodeOfRange) {
     const shared::BvhNode& node = build.nodes[index];
     std::pair<uint32_t, uint32_t> range{node.offset, node.count};
     if (node.count == 0) {
@@ -81,26 +87,31 @@ std::pair<uint32_t, uint32_t> subtreeRanges(const bvh::BvhBuild& build, uint32_t
 // count), after checking that they copy its primitives, triangles and
 // spheres in blocks of their own, each kind in leaf order, eight to a block
 // but the last of each kind.
-std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::WideBvh& wide, uint32_t first,
-                                        uint32_t count) {
+std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::WideBvh& wide,
+                                        uint32_t first, uint32_t count) {
     EXPECT_LE(first + count, wide.blocks.size());
     std::set<uint32_t> indices;
     for (uint32_t b = first; b < first + count && b < wide.blocks.size(); ++b) {
         const bvh::WideBvh::Block& block = wide.blocks[b];
-        EXPECT_TRUE(block.triangles == 0 || block.spheres == 0) << "a block mixes triangles and spheres";
+        EXPECT_TRUE(block.triangles == 0 || block.spheres == 0)
+            << "a block mixes triangles and spheres";
         const uint32_t used = block.triangles | block.spheres;
         EXPECT_NE(used, 0u);
         EXPECT_EQ(used & (used + 1), 0u) << "lanes in use are not the first ones";
-        const bool last = b + 1 == first + count || ((wide.blocks[b + 1].spheres != 0) != (block.spheres != 0));
+        const bool last =
+            b + 1 == first + count || ((wide.blocks[b + 1].spheres != 0) != (block.spheres != 0));
         if (!last) {
-            EXPECT_EQ(used, (1u << bvh::WideBvh::BLOCK) - 1u) << "a block before its kind's last is not full";
+            EXPECT_EQ(used, (1u << bvh::WideBvh::BLOCK) - 1u)
+                << "a block before its kind's last is not full";
         }
         for (uint32_t lane = 0; lane < bvh::WideBvh::BLOCK && (used >> lane & 1u); ++lane) {
             const uint32_t index = block.primitive[lane];
             if (lane > 0) {
-                EXPECT_LT(block.primitive[lane - 1], index) << "a block's lanes are not in leaf order";
+                EXPECT_LT(block.primitive[lane - 1], index)
+                    << "a block's lanes are not in leaf order";
             }
-            EXPECT_TRUE(indices.insert(index).second) << "primitive " << index << " twice in a leaf";
+            EXPECT_TRUE(indices.insert(index).second)
+                << "primitive " << index << " twice in a leaf";
             const BvhPrimitive& p = build.primitives.at(index);
             EXPECT_EQ((block.spheres >> lane & 1u) != 0, p.kind == VKP_PRIMITIVE_SPHERE);
             EXPECT_EQ(vec3(block.p0x[lane], block.p0y[lane], block.p0z[lane]), p.p0);
@@ -109,7 +120,8 @@ std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::W
         }
     }
     if (indices.empty()) return {0, 0};
-    EXPECT_EQ(*indices.rbegin() - *indices.begin() + 1, indices.size()) << "a leaf's primitives are not a range";
+    EXPECT_EQ(*indices.rbegin() - *indices.begin() + 1, indices.size())
+        << "a leaf's primitives are not a range";
     return {*indices.begin(), uint32_t(indices.size())};
 }
 
@@ -157,7 +169,8 @@ void expectSoundCollapse(const bvh::BvhBuild& build) {
 }
 
 TEST(WideBvh, CollapseKeepsEveryLeafOnce) {
-    for (const auto& [triangles, spheres] : {std::pair{1u, 0u}, {3u, 0u}, {0u, 9u}, {1000u, 0u}, {600u, 300u}}) {
+    for (const auto& [triangles, spheres] :
+         {std::pair{1u, 0u}, {3u, 0u}, {0u, 9u}, {1000u, 0u}, {600u, 300u}}) {
         SCOPED_TRACE(fmt::format("{} triangles, {} spheres", triangles, spheres));
         scene::Scene s = emptyScene();
         if (triangles) addTriangleSoup(s, triangles, 0.15f, 11);
@@ -180,7 +193,8 @@ TEST(WideBvh, EmptyTreeHitsNothing) {
     const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
     EXPECT_TRUE(wide.nodes.empty());
     const shared::BvhView view{build.traversalNodes, build.primitives};
-    EXPECT_EQ(bvh::traceWide(view, wide, makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f)), false, 0u).primitive,
+    EXPECT_EQ(bvh::traceWide(view, wide, makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f)), false, 0u)
+                  .primitive,
               VKP_NO_HIT);
 }
 

@@ -5,23 +5,24 @@
 // of another scene, other settings or another renderer is refused with one
 // line and exit code 2, writing nothing; a Vulkan error after a checkpoint
 // names it.
+#include "app/checkpoint.h"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
-#include "app/checkpoint.h"
 #include "image/image.h"
+#include "shared/dimensions.h"
 #include "support/exr_metadata.h"
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
-#include "shared/dimensions.h"
 #include "support/test_context.h"
 #include "vk/check.h"
 
@@ -30,8 +31,12 @@ namespace {
 using namespace vkpath;
 using namespace std::chrono_literals;
 
-std::string box() { return test::sourcePath("assets/cornell_box.gltf").string(); }
-std::string diffuseBox() { return test::sourcePath("assets/cornell_box_diffuse.gltf").string(); }
+std::string box() {
+    return test::sourcePath("assets/cornell_box.gltf").string();
+}
+std::string diffuseBox() {
+    return test::sourcePath("assets/cornell_box_diffuse.gltf").string();
+}
 
 // Every pixel and channel equal, bit for bit (NaN never occurs in these films).
 void expectSameImage(const std::string& a, const std::string& b) {
@@ -82,8 +87,10 @@ class StopBy : public testing::TestWithParam<StopCase> {};
 TEST_P(StopBy, SignalLeavesAnImageOfWholeSamplesAndACheckpointThatResumes) {
     const test::TempDir dir;
     const std::string common = box() + " -d 32x24 " + GetParam().flags;
-    const std::string checkpoint = (dir / "c.ckpt").string(), stopped = (dir / "stopped.exr").string();
-    test::RunningVkpath running("render " + common + " -s 1000000 --paths-in-flight 768 --checkpoint " + checkpoint +
+    const std::string checkpoint = (dir / "c.ckpt").string(),
+                      stopped = (dir / "stopped.exr").string();
+    test::RunningVkpath running("render " + common +
+                                " -s 1000000 --paths-in-flight 768 --checkpoint " + checkpoint +
                                 " --checkpoint-every 0 -o " + stopped);
     const auto deadline = std::chrono::steady_clock::now() + 120s;
     while (!std::filesystem::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
@@ -100,19 +107,26 @@ TEST_P(StopBy, SignalLeavesAnImageOfWholeSamplesAndACheckpointThatResumes) {
     ASSERT_LT(done, 1000000u);
     EXPECT_EQ(test::vkpathMetadata(stopped)["vkpath:spp"], std::to_string(done));
     // The image so far is that many whole samples, and the checkpoint goes on to more.
-    const std::string whole = (dir / "whole.exr").string(), resumed = (dir / "resumed.exr").string();
+    const std::string whole = (dir / "whole.exr").string(),
+                      resumed = (dir / "resumed.exr").string();
     render(common + " -s " + std::to_string(done) + " -o " + whole);
     expectSameImage(stopped, whole);
-    render(common + " -s " + std::to_string(done + 2) + " --resume " + checkpoint + " -o " + resumed);
+    render(common + " -s " + std::to_string(done + 2) + " --resume " + checkpoint + " -o " +
+           resumed);
     render(common + " -s " + std::to_string(done + 2) + " -o " + whole);
     expectSameImage(resumed, whole);
     for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
-        EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
+        EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos)
+            << entry.path();
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, StopBy,
-                         testing::Values(StopCase{SIGINT, ""}, StopCase{SIGTERM, "--device cpu --threads 1"}),
-                         [](const auto& p) { return std::string(p.param.signal == SIGINT ? "SigintGpu" : "SigtermCpu"); });
+                         testing::Values(StopCase{SIGINT, ""},
+                                         StopCase{SIGTERM, "--device cpu --threads 1"}),
+                         [](const auto& p) {
+                             return std::string(p.param.signal == SIGINT ? "SigintGpu"
+                                                                         : "SigtermCpu");
+                         });
 
 // A second signal ends the render at once: a film of a million pixels and a
 // few thousand paths in flight makes one sample hundreds of waves, so the
@@ -120,9 +134,11 @@ INSTANTIATE_TEST_SUITE_P(Signals, StopBy,
 TEST(Stop, SecondSignalExitsAtOnceWritingNothing) {
     const test::TempDir dir;
     const std::string output = (dir / "out.exr").string();
-    test::RunningVkpath running("render " + box() + " -d 1024x1024 -s 4 --paths-in-flight 4096 -o " + output);
+    test::RunningVkpath running("render " + box() +
+                                " -d 1024x1024 -s 4 --paths-in-flight 4096 -o " + output);
     const auto deadline = std::chrono::steady_clock::now() + 120s;
-    while (running.err().find("kernels:") == std::string::npos && std::chrono::steady_clock::now() < deadline)
+    while (running.err().find("kernels:") == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline)
         std::this_thread::sleep_for(20ms);
     ASSERT_NE(running.err().find("kernels:"), std::string::npos) << running.err();
     running.signal(SIGINT);
@@ -158,8 +174,9 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
     // A file of the format before JSON ("key value" lines), and one whose
     // header is not JSON.
     const std::string formatOne = (dir / "format1.ckpt").string();
-    std::ofstream(formatOne, std::ios::binary) << "vkpath checkpoint 1\nscene-hash 0123456789abcdef\nsettings "
-                                                  "size=24x18 max-depth=8\n\n";
+    std::ofstream(formatOne, std::ios::binary)
+        << "vkpath checkpoint 1\nscene-hash 0123456789abcdef\nsettings "
+           "size=24x18 max-depth=8\n\n";
     const std::string notJson = (dir / "not_json.ckpt").string();
     std::ofstream(notJson, std::ios::binary) << "vkpath checkpoint 2\n{\"scene-hash\": \n12345678";
     struct Case {
@@ -168,19 +185,26 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
     };
     const Case cases[] = {
         {diffuseBox() + " -d 24x18 --resume " + checkpoint, "from another scene"},
-        {box() + " -d 24x18 -m 4 --resume " + checkpoint, "other settings: max-depth=8 in the checkpoint, max-depth=4 here"},
-        {box() + " -d 24x18 --seed 3 --resume " + checkpoint, "seed=0 in the checkpoint, seed=3 here"},
+        {box() + " -d 24x18 -m 4 --resume " + checkpoint,
+         "other settings: max-depth=8 in the checkpoint, max-depth=4 here"},
+        {box() + " -d 24x18 --seed 3 --resume " + checkpoint,
+         "seed=0 in the checkpoint, seed=3 here"},
         {box() + " -d 24x18 --resume " + older,
-         fmt::format("other settings: nothing in the checkpoint, estimator={} here", VKP_ESTIMATOR_VERSION)},
-        {box() + " -d 24x18 --resume " + wordSettings, "written by an older vkpath build (its settings are not JSON)"},
-        {box() + " -d 24x18 --resume " + formatOne, "a checkpoint of format 1, written by an older vkpath build"},
-        {box() + " -d 24x18 --resume " + notJson, "damaged checkpoint: its header is not a JSON object"},
+         fmt::format("other settings: nothing in the checkpoint, estimator={} here",
+                     VKP_ESTIMATOR_VERSION)},
+        {box() + " -d 24x18 --resume " + wordSettings,
+         "written by an older vkpath build (its settings are not JSON)"},
+        {box() + " -d 24x18 --resume " + formatOne,
+         "a checkpoint of format 1, written by an older vkpath build"},
+        {box() + " -d 24x18 --resume " + notJson,
+         "damaged checkpoint: its header is not a JSON object"},
         {box() + " -d 24x18 --device cpu --resume " + checkpoint, "written by the GPU renderer"},
         {box() + " -d 24x18 --samples 5:4 --resume " + checkpoint, "samples from 0 on"},
         {box() + " -d 24x18 -s 1 --resume " + checkpoint, "more than the 1 asked"},
         {box() + " -d 24x18 --resume " + damaged, "damaged checkpoint"},
         {box() + " -d 24x18 --resume " + (dir / "a.exr").string(), "not a vkpath checkpoint"},
-        {box() + " -d 24x18 --resume " + (dir / "none.ckpt").string(), "--resume: File does not exist"},
+        {box() + " -d 24x18 --resume " + (dir / "none.ckpt").string(),
+         "--resume: File does not exist"},
     };
     for (const Case& c : cases) {
         const std::string output = (dir / "out.exr").string();
@@ -196,9 +220,10 @@ TEST(RenderOutputs, UnwritableOutputsAreRefusedBeforeRendering) {
     const test::TempDir dir;
     const std::string file = (dir / "file").string();
     std::ofstream(file) << "not a folder";
-    const std::string flags[] = {"-o " + file + "/out.exr", "-o " + (dir / "ok.exr").string() + " --png " + file + "/p.png",
-                                 "-o " + (dir / "ok.exr").string() + " --checkpoint " + file + "/c.ckpt",
-                                 "-o " + dir.path().string()};
+    const std::string flags[] = {
+        "-o " + file + "/out.exr", "-o " + (dir / "ok.exr").string() + " --png " + file + "/p.png",
+        "-o " + (dir / "ok.exr").string() + " --checkpoint " + file + "/c.ckpt",
+        "-o " + dir.path().string()};
     for (const std::string& f : flags) {
         const auto r = test::runVkpath("render " + box() + " -d 24x18 -s 1 " + f);
         EXPECT_EQ(r.exitCode, 2) << f << ": " << r.err;
@@ -215,7 +240,8 @@ TEST(RenderOutputs, UnwritableOutputsAreRefusedBeforeRendering) {
 // how to go on.
 TEST(Checkpoint, VulkanErrorAfterACheckpointIsOneLineSayingWhereItIs) {
     try {
-        vk::throwVulkanError(VK_ERROR_DEVICE_LOST, "vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX)",
+        vk::throwVulkanError(VK_ERROR_DEVICE_LOST,
+                             "vkWaitForFences(m_device, 1, &m_fence, VK_TRUE, UINT64_MAX)",
                              "host/vk/context.cpp", 470);
     } catch (const vk::VulkanError& lost) {
         const vk::VulkanError e = app::withLastCheckpoint(lost, "renders/box.ckpt", 96);
@@ -224,7 +250,8 @@ TEST(Checkpoint, VulkanErrorAfterACheckpointIsOneLineSayingWhereItIs) {
         EXPECT_EQ(line.find('\n'), std::string::npos) << line;
         EXPECT_EQ(line.rfind(lost.what(), 0), 0u) << line;
         EXPECT_NE(line.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << line;
-        EXPECT_NE(line.find("; the last checkpoint, 96 spp, is in renders/box.ckpt: resume with --resume renders/box.ckpt"),
+        EXPECT_NE(line.find("; the last checkpoint, 96 spp, is in renders/box.ckpt: resume with "
+                            "--resume renders/box.ckpt"),
                   std::string::npos)
             << line;
     }

@@ -1,9 +1,8 @@
 // The command line as a user meets it: help, info, flags and exit codes.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "image/image.h"
 #include "support/run_vkpath.h"
@@ -18,7 +17,8 @@ using vkpath::test::runVkpath;
 TEST(Cli, HelpListsTheCommands) {
     const auto r = runVkpath("--help");
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* command : {"info", "render", "compare", "scene-info"}) EXPECT_NE(r.out.find(command), std::string::npos) << command;
+    for (const char* command : {"info", "render", "compare", "scene-info"})
+        EXPECT_NE(r.out.find(command), std::string::npos) << command;
 }
 
 TEST(Cli, UnknownFlagIsOneLineAndExitTwo) {
@@ -51,9 +51,11 @@ TEST(Cli, DeviceIndexOutOfRangeIsBadInput) {
 }
 
 TEST(Cli, BadFilmSizeWritesNothing) {
-    const auto dir = std::filesystem::temp_directory_path() / ("vkpath-cli-bad-" + std::to_string(getpid()));
-    const auto r = runVkpath("render " + vkpath::test::sourcePath("assets/cornell_box.gltf").string() +
-                             " -d 0x5 -o " + (dir / "x.exr").string());
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("vkpath-cli-bad-" + std::to_string(getpid()));
+    const auto r =
+        runVkpath("render " + vkpath::test::sourcePath("assets/cornell_box.gltf").string() +
+                  " -d 0x5 -o " + (dir / "x.exr").string());
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lineCount(r.err), 1);
     EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
@@ -64,8 +66,10 @@ TEST(Cli, BadFilmSizeWritesNothing) {
 TEST(Cli, BadInputQuotingANewlineIsStillOneLine) {
     const vkpath::test::TempDir dir;
     const auto scene =
-        dir.write("newline.gltf", R"({"asset":{"version":"2.0"},"buffers":[{"uri":"a\nb.bin","byteLength":4}]})");
-    const auto r = runVkpath("render '" + scene.string() + "' -d 8x6 -s 1 -o '" + (dir / "x.exr").string() + "'");
+        dir.write("newline.gltf",
+                  R"({"asset":{"version":"2.0"},"buffers":[{"uri":"a\nb.bin","byteLength":4}]})");
+    const auto r = runVkpath("render '" + scene.string() + "' -d 8x6 -s 1 -o '" +
+                             (dir / "x.exr").string() + "'");
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lineCount(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("uri 'a?b.bin' contains control characters"), std::string::npos) << r.err;

@@ -2,9 +2,8 @@
 // Cornell box, the error it records falls with the sample count, on either
 // device, against a reference or estimated from a second seed; the plot is
 // written; a sweep records one curve per value; bad input is refused.
-#include <gtest/gtest.h>
-
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -46,13 +45,15 @@ std::vector<Row> readCsv(const std::filesystem::path& path) {
         if (line.back() == ',') f.push_back("");
         EXPECT_EQ(f.size(), 9u) << line;
         if (f.size() != 9) continue;
-        rows.push_back({f[0], f[1], uint32_t(std::stoul(f[2])), std::stod(f[3]), f[4], std::stod(f[5]), std::stod(f[6]),
-                        std::stod(f[7]), f[8]});
+        rows.push_back({f[0], f[1], uint32_t(std::stoul(f[2])), std::stod(f[3]), f[4],
+                        std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), f[8]});
     }
     return rows;
 }
 
-std::string scene() { return test::sourcePath("assets/cornell_box_diffuse.gltf").string(); }
+std::string scene() {
+    return test::sourcePath("assets/cornell_box_diffuse.gltf").string();
+}
 
 // From 1 to 64 spp relMSE should fall 64x and RMSE 8x. Measured over seeds
 // 0-9 on this 32x24 film (1536 channel values, heavy-tailed: a firefly can
@@ -89,10 +90,13 @@ TEST_P(ConvergeDevice, ErrorAgainstAReferenceFallsWithSamples) {
     const test::TempDir dir;
     const auto ref = dir / "ref.exr";
     // 1024 spp: its own relMSE is 1/16 of the 64-spp render's, small beside the margin.
-    ASSERT_EQ(test::runVkpath(fmt::format("render {} -d 32x24 --device cpu -s 1024 --seed 99 -o {}", scene(), ref.string())).exitCode, 0);
-    const auto r = test::runVkpath(fmt::format("converge {} -d 32x24 --device {} --spp 1,4,16,64 --reference {} --csv {} --plot {}",
-                                               scene(), GetParam(), ref.string(), (dir / "c.csv").string(),
-                                               (dir / "c.png").string()));
+    ASSERT_EQ(test::runVkpath(fmt::format("render {} -d 32x24 --device cpu -s 1024 --seed 99 -o {}",
+                                          scene(), ref.string()))
+                  .exitCode,
+              0);
+    const auto r = test::runVkpath(fmt::format(
+        "converge {} -d 32x24 --device {} --spp 1,4,16,64 --reference {} --csv {} --plot {}",
+        scene(), GetParam(), ref.string(), (dir / "c.csv").string(), (dir / "c.png").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto rows = readCsv(dir / "c.csv");
     expectFallingError(rows, GetParam());
@@ -105,8 +109,9 @@ TEST_P(ConvergeDevice, ErrorAgainstAReferenceFallsWithSamples) {
 
 TEST_P(ConvergeDevice, ErrorEstimatedFromASecondSeedFallsWithSamples) {
     const test::TempDir dir;
-    const auto r = test::runVkpath(fmt::format("converge {} -d 32x24 --device {} --spp 1,4,16,64 --csv {} --plot {}",
-                                               scene(), GetParam(), (dir / "c.csv").string(), (dir / "c.png").string()));
+    const auto r = test::runVkpath(
+        fmt::format("converge {} -d 32x24 --device {} --spp 1,4,16,64 --csv {} --plot {}", scene(),
+                    GetParam(), (dir / "c.csv").string(), (dir / "c.png").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto rows = readCsv(dir / "c.csv");
     expectFallingError(rows, GetParam());
@@ -118,8 +123,9 @@ INSTANTIATE_TEST_SUITE_P(Devices, ConvergeDevice, testing::Values("gpu", "cpu"))
 
 TEST(Converge, SweepRecordsOneCurvePerValue) {
     const test::TempDir dir;
-    const auto r = test::runVkpath(fmt::format("converge {} -d 16x12 --spp 1,4 --sweep max-depth=0,1,4 --csv {} --plot {}",
-                                               scene(), (dir / "c.csv").string(), (dir / "c.png").string()));
+    const auto r = test::runVkpath(
+        fmt::format("converge {} -d 16x12 --spp 1,4 --sweep max-depth=0,1,4 --csv {} --plot {}",
+                    scene(), (dir / "c.csv").string(), (dir / "c.png").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::map<std::string, std::vector<uint32_t>> curves;
     for (const Row& row : readCsv(dir / "c.csv")) {
@@ -127,7 +133,8 @@ TEST(Converge, SweepRecordsOneCurvePerValue) {
         curves[row.value].push_back(row.spp);
     }
     const std::vector<uint32_t> spp = {1, 4};
-    EXPECT_EQ(curves, (std::map<std::string, std::vector<uint32_t>>{{"0", spp}, {"1", spp}, {"4", spp}}));
+    EXPECT_EQ(curves,
+              (std::map<std::string, std::vector<uint32_t>>{{"0", spp}, {"1", spp}, {"4", spp}}));
     EXPECT_NE(r.out.find("<- best"), std::string::npos) << r.out;
 }
 
@@ -140,7 +147,9 @@ struct KnobCase {
     bool warns;
 };
 
-void PrintTo(const KnobCase& k, std::ostream* os) { *os << k.sweep; }
+void PrintTo(const KnobCase& k, std::ostream* os) {
+    *os << k.sweep;
+}
 
 class ConvergeKnob : public testing::TestWithParam<KnobCase> {};
 
@@ -148,8 +157,9 @@ TEST_P(ConvergeKnob, SweepRunsEveryValue) {
     const KnobCase& k = GetParam();
     const test::TempDir dir;
     // Outputs in the test's own folder: parallel tests must not share out/converge.png.
-    const auto r = test::runVkpath(fmt::format("converge {} -d 16x12 --device cpu --spp 1,2 --sweep {} --csv {} --plot {}",
-                                               scene(), k.sweep, (dir / "c.csv").string(), (dir / "c.png").string()));
+    const auto r = test::runVkpath(
+        fmt::format("converge {} -d 16x12 --device cpu --spp 1,2 --sweep {} --csv {} --plot {}",
+                    scene(), k.sweep, (dir / "c.csv").string(), (dir / "c.png").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::map<std::string, size_t> points;
     for (const Row& row : readCsv(dir / "c.csv")) points[row.value] += 1;
@@ -163,23 +173,27 @@ TEST_P(ConvergeKnob, SweepRunsEveryValue) {
 // which the CSV records beside the plain one, never above it.
 TEST(Converge, TrimmedMetricDrivesTheTables) {
     const test::TempDir dir;
-    const auto r = test::runVkpath(fmt::format("converge {} -d 32x24 --device cpu --spp 1,4 --metric trimmed-relmse --csv {} "
-                                               "--plot {}",
-                                               scene(), (dir / "c.csv").string(), (dir / "c.png").string()));
+    const auto r = test::runVkpath(
+        fmt::format("converge {} -d 32x24 --device cpu --spp 1,4 --metric trimmed-relmse --csv {} "
+                    "--plot {}",
+                    scene(), (dir / "c.csv").string(), (dir / "c.png").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("time to reach trimmed relMSE"), std::string::npos) << r.out;
     for (const Row& row : readCsv(dir / "c.csv")) {
         EXPECT_GT(row.relMseTrimmed, 0);
         EXPECT_LE(row.relMseTrimmed, row.relMse);
     }
-    EXPECT_EQ(test::runVkpath(fmt::format("converge {} -d 8x8 --metric median", scene())).exitCode, 2);
+    EXPECT_EQ(test::runVkpath(fmt::format("converge {} -d 8x8 --metric median", scene())).exitCode,
+              2);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Knobs, ConvergeKnob,
-    testing::Values(KnobCase{"light-samples=1,2", {"1", "2"}, false}, KnobCase{"rr-depth=1,4", {"1", "4"}, false},
+    testing::Values(KnobCase{"light-samples=1,2", {"1", "2"}, false},
+                    KnobCase{"rr-depth=1,4", {"1", "4"}, false},
                     KnobCase{"sampler=independent,sobol", {"independent", "sobol"}, false},
-                    KnobCase{"clamp=off,1", {"off", "1"}, true}, KnobCase{"max-depth=1,3", {"1", "3"}, true}),
+                    KnobCase{"clamp=off,1", {"off", "1"}, true},
+                    KnobCase{"max-depth=1,3", {"1", "3"}, true}),
     [](const testing::TestParamInfo<KnobCase>& p) {
         std::string name = p.param.sweep;
         name = name.substr(0, name.find('='));
@@ -190,14 +204,19 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Converge, BadInputIsOneLineAndExitTwo) {
     const test::TempDir dir;
     const auto ref = dir / "ref.exr";
-    ASSERT_EQ(test::runVkpath(fmt::format("render {} -d 8x6 --device cpu -s 1 -o {}", scene(), ref.string())).exitCode, 0);
+    ASSERT_EQ(test::runVkpath(
+                  fmt::format("render {} -d 8x6 --device cpu -s 1 -o {}", scene(), ref.string()))
+                  .exitCode,
+              0);
     const auto csv = dir / "c.csv";
-    for (const std::string& flags : {std::string("--spp 4,2"), std::string("--spp 1,x"), std::string("--spp 0,1"),
-                                     std::string("--sweep no-such-knob=1,2"), std::string("--sweep clamp=-3"),
-                                     "--reference " + ref.string()}) {
+    for (const std::string& flags :
+         {std::string("--spp 4,2"), std::string("--spp 1,x"), std::string("--spp 0,1"),
+          std::string("--sweep no-such-knob=1,2"), std::string("--sweep clamp=-3"),
+          "--reference " + ref.string()}) {
         SCOPED_TRACE(flags);
-        const auto r = test::runVkpath(fmt::format("converge {} -d 16x12 {} --csv {} --plot {}", scene(), flags,
-                                                   csv.string(), (dir / "c.png").string()));
+        const auto r =
+            test::runVkpath(fmt::format("converge {} -d 16x12 {} --csv {} --plot {}", scene(),
+                                        flags, csv.string(), (dir / "c.png").string()));
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(csv));

@@ -5,23 +5,22 @@
 // scene's own. Bad input: one line, exit code 2, nothing written.
 #include <gtest/gtest.h>
 
-#include <pugixml.hpp>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <pugixml.hpp>
 #include <sstream>
 #include <string>
 
 #include "image/image.h"
-#include "wavefront/render_types.h"
 #include "scene/camera.h"
 #include "scene/load.h"
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
+#include "wavefront/render_types.h"
 
 namespace {
 
@@ -47,7 +46,8 @@ std::map<std::string, std::string> bsdfTypes(pugi::xml_node root) {
     std::map<std::string, std::string> types;
     for (pugi::xml_node bsdf : root.children("bsdf")) {
         std::string type = bsdf.attribute("type").as_string();
-        if (type == "twosided") type += std::string("/") + bsdf.child("bsdf").attribute("type").as_string();
+        if (type == "twosided")
+            type += std::string("/") + bsdf.child("bsdf").attribute("type").as_string();
         types[bsdf.attribute("id").as_string()] = type;
     }
     return types;
@@ -55,14 +55,19 @@ std::map<std::string, std::string> bsdfTypes(pugi::xml_node root) {
 
 std::string expectedBsdf(const scene::Material& m) {
     switch (m.kind) {
-        case scene::MaterialKind::Diffuse: return "twosided/diffuse";
-        case scene::MaterialKind::Mirror: return "twosided/conductor";
-        case scene::MaterialKind::Dielectric: return "dielectric";
+        case scene::MaterialKind::Diffuse:
+            return "twosided/diffuse";
+        case scene::MaterialKind::Mirror:
+            return "twosided/conductor";
+        case scene::MaterialKind::Dielectric:
+            return "dielectric";
         case scene::MaterialKind::Conductor:
-            return m.roughness * m.roughness < 1e-3f ? "twosided/conductor" : "twosided/roughconductor";
+            return m.roughness * m.roughness < 1e-3f ? "twosided/conductor"
+                                                     : "twosided/roughconductor";
         case scene::MaterialKind::RoughDielectric:
             return m.roughness * m.roughness < 1e-3f ? "dielectric" : "roughdielectric";
-        case scene::MaterialKind::MetallicRoughness: return "twosided/principled";
+        case scene::MaterialKind::MetallicRoughness:
+            return "twosided/principled";
     }
     return "";
 }
@@ -78,9 +83,10 @@ void expectPlyIsMesh(const fs::path& path, const scene::Mesh& mesh) {
         if (line == "end_header") break;
     }
     const bool normals = !mesh.normals.empty();
-    std::string expected = "ply\nformat binary_little_endian 1.0\ncomment vkpath export-mitsuba\nelement vertex " +
-                           std::to_string(mesh.positions.size()) +
-                           "\nproperty float x\nproperty float y\nproperty float z\n";
+    std::string expected =
+        "ply\nformat binary_little_endian 1.0\ncomment vkpath export-mitsuba\nelement vertex " +
+        std::to_string(mesh.positions.size()) +
+        "\nproperty float x\nproperty float y\nproperty float z\n";
     if (normals) expected += "property float nx\nproperty float ny\nproperty float nz\n";
     expected += "element face " + std::to_string(mesh.triangles.size()) +
                 "\nproperty list uchar int vertex_indices\nend_header\n";
@@ -88,9 +94,11 @@ void expectPlyIsMesh(const fs::path& path, const scene::Mesh& mesh) {
 
     const size_t stride = normals ? 6 : 3;
     std::vector<float> vertices(mesh.positions.size() * stride);
-    in.read(reinterpret_cast<char*>(vertices.data()), std::streamsize(vertices.size() * sizeof(float)));
+    in.read(reinterpret_cast<char*>(vertices.data()),
+            std::streamsize(vertices.size() * sizeof(float)));
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        ASSERT_EQ(std::memcmp(&vertices[i * stride], &mesh.positions[i], 12), 0) << path << " vertex " << i;
+        ASSERT_EQ(std::memcmp(&vertices[i * stride], &mesh.positions[i], 12), 0)
+            << path << " vertex " << i;
         if (normals) {
             ASSERT_EQ(std::memcmp(&vertices[i * stride + 3], &mesh.normals[i], 12), 0) << path;
         }
@@ -109,9 +117,11 @@ void expectPlyIsMesh(const fs::path& path, const scene::Mesh& mesh) {
 
 // Exports `scenePath` with `flags`, then checks scene.xml against the scene
 // vkpath loads: shapes, BSDFs, emitters, sensor, integrator, PLY files.
-pugi::xml_document exportAndCheck(const fs::path& scenePath, const std::string& flags, const fs::path& out,
-                                  uint32_t width, uint32_t height, uint32_t maxDepth) {
-    const auto r = runVkpath("export-mitsuba " + quoted(scenePath) + " " + quoted(out) + " " + flags);
+pugi::xml_document exportAndCheck(const fs::path& scenePath, const std::string& flags,
+                                  const fs::path& out, uint32_t width, uint32_t height,
+                                  uint32_t maxDepth) {
+    const auto r =
+        runVkpath("export-mitsuba " + quoted(scenePath) + " " + quoted(out) + " " + flags);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.out, (out / "scene.xml").string() + "\n");
 
@@ -125,25 +135,30 @@ pugi::xml_document exportAndCheck(const fs::path& scenePath, const std::string& 
     const auto bsdfs = bsdfTypes(root);
     EXPECT_EQ(bsdfs.size(), s.materials.size());
     for (size_t i = 0; i < s.materials.size(); ++i)
-        EXPECT_EQ(bsdfs.at("mat" + std::to_string(i)), expectedBsdf(s.materials[i])) << s.materials[i].name;
+        EXPECT_EQ(bsdfs.at("mat" + std::to_string(i)), expectedBsdf(s.materials[i]))
+            << s.materials[i].name;
 
     // Shapes in scene order: the meshes (as PLY), then the spheres.
     size_t meshIndex = 0, sphereIndex = 0, areaEmitters = 0, expectedAreaEmitters = 0;
     for (pugi::xml_node shape : root.children("shape")) {
         const std::string type = shape.attribute("type").as_string();
-        const uint32_t material = type == "ply" ? s.meshes.at(meshIndex).material : s.spheres.at(sphereIndex).material;
-        EXPECT_EQ(std::string(shape.child("ref").attribute("id").as_string()), "mat" + std::to_string(material));
+        const uint32_t material =
+            type == "ply" ? s.meshes.at(meshIndex).material : s.spheres.at(sphereIndex).material;
+        EXPECT_EQ(std::string(shape.child("ref").attribute("id").as_string()),
+                  "mat" + std::to_string(material));
         areaEmitters += bool(shape.find_child_by_attribute("emitter", "type", "area"));
         expectedAreaEmitters += s.materials[material].emissive();
         if (type == "ply") {
-            EXPECT_EQ(param(shape, "boolean", "face_normals"), s.meshes[meshIndex].normals.empty() ? "true" : "false");
+            EXPECT_EQ(param(shape, "boolean", "face_normals"),
+                      s.meshes[meshIndex].normals.empty() ? "true" : "false");
             expectPlyIsMesh(out / param(shape, "string", "filename"), s.meshes[meshIndex++]);
         } else {
             EXPECT_EQ(type, "sphere");
             const scene::Sphere& sphere = s.spheres.at(sphereIndex++);
             EXPECT_FLOAT_EQ(std::stof(param(shape, "float", "radius")), sphere.radius);
-            EXPECT_FLOAT_EQ(shape.find_child_by_attribute("point", "name", "center").attribute("y").as_float(),
-                            sphere.center.y);
+            EXPECT_FLOAT_EQ(
+                shape.find_child_by_attribute("point", "name", "center").attribute("y").as_float(),
+                sphere.center.y);
         }
     }
     EXPECT_EQ(meshIndex, s.meshes.size());
@@ -154,7 +169,8 @@ pugi::xml_document exportAndCheck(const fs::path& scenePath, const std::string& 
     const pugi::xml_node integrator = root.child("integrator");
     EXPECT_EQ(std::string(integrator.attribute("type").as_string()), "path");
     EXPECT_EQ(param(integrator, "integer", "max_depth"), std::to_string(maxDepth + 1));
-    EXPECT_EQ(param(integrator, "integer", "rr_depth"), std::to_string(vkpath::wavefront::RenderSettings{}.rouletteDepth));
+    EXPECT_EQ(param(integrator, "integer", "rr_depth"),
+              std::to_string(vkpath::wavefront::RenderSettings{}.rouletteDepth));
 
     const pugi::xml_node sensor = root.child("sensor");
     EXPECT_EQ(param(sensor, "string", "fov_axis"), "x");
@@ -171,7 +187,8 @@ TEST(ExportMitsuba, CBspheres) {
     VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const vkpath::test::TempDir dir;
     const fs::path scenePath = vkpath::test::sharedScene("CBspheres.dae");
-    const pugi::xml_document doc = exportAndCheck(scenePath, "-d 80x60 -m 5 -s 7", dir / "cb", 80, 60, 5);
+    const pugi::xml_document doc =
+        exportAndCheck(scenePath, "-d 80x60 -m 5 -s 7", dir / "cb", 80, 60, 5);
     const pugi::xml_node root = doc.child("scene");
     EXPECT_EQ(param(root.child("sensor").child("sampler"), "integer", "sample_count"), "7");
     // Floor, ceiling, three walls and the lamp; a mirror and a glass sphere; no environment.
@@ -186,16 +203,19 @@ TEST(ExportMitsuba, CornellBoxUnderTheSky) {
     const fs::path source = VKPATH_SOURCE_DIR;
     const pugi::xml_document doc =
         exportAndCheck(source / "assets/cornell_box.gltf",
-                       "-d 64x48 -m 0 -e " + quoted(source / "assets/sky.hdr") + " --env-strength 2 --env-rotate 30",
+                       "-d 64x48 -m 0 -e " + quoted(source / "assets/sky.hdr") +
+                           " --env-strength 2 --env-rotate 30",
                        dir / "cb", 64, 48, 0);
-    const pugi::xml_node env = doc.child("scene").find_child_by_attribute("emitter", "type", "envmap");
+    const pugi::xml_node env =
+        doc.child("scene").find_child_by_attribute("emitter", "type", "envmap");
     ASSERT_TRUE(env);
     EXPECT_EQ(param(env, "float", "scale"), "2");
     const pugi::xml_node rotate = env.child("transform").child("rotate");
     EXPECT_EQ(std::string(rotate.attribute("y").as_string()), "1");
     EXPECT_EQ(std::string(rotate.attribute("angle").as_string()), "30");
     // The texels vkpath renders with.
-    const vkpath::image::Image map = vkpath::image::readImage(dir / "cb" / param(env, "string", "filename"));
+    const vkpath::image::Image map =
+        vkpath::image::readImage(dir / "cb" / param(env, "string", "filename"));
     EXPECT_EQ(map.width, 2048u);
     EXPECT_EQ(map.height, 1024u);
 }
@@ -203,11 +223,12 @@ TEST(ExportMitsuba, CornellBoxUnderTheSky) {
 TEST(ExportMitsuba, ConstantEnvironment) {
     const vkpath::test::TempDir dir;
     const fs::path source = VKPATH_SOURCE_DIR;
-    exportAndCheck(source / "assets/cornell_box.gltf", "-d 32x32 --env-color 0.5,1,2 --env-strength 2",
-                   dir / "cb", 32, 32, 8);
+    exportAndCheck(source / "assets/cornell_box.gltf",
+                   "-d 32x32 --env-color 0.5,1,2 --env-strength 2", dir / "cb", 32, 32, 8);
     pugi::xml_document doc;
     ASSERT_TRUE(doc.load_file((dir / "cb/scene.xml").c_str()));
-    const pugi::xml_node env = doc.child("scene").find_child_by_attribute("emitter", "type", "constant");
+    const pugi::xml_node env =
+        doc.child("scene").find_child_by_attribute("emitter", "type", "constant");
     EXPECT_EQ(param(env, "rgb", "radiance"), "1, 2, 4");
 }
 
@@ -219,9 +240,11 @@ TEST(ExportMitsuba, NormalMapsAreWarnedAbout) {
     const auto r = runVkpath("export-mitsuba " + quoted(source / "assets/normal_maps.gltf") + " " +
                              quoted(dir / "nm") + " -d 32x24");
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.err.find("normal maps are not exported: Mitsuba shades those meshes with their vertex normals "
-                         "(3 meshes)"),
-              std::string::npos)
+    EXPECT_NE(
+        r.err.find(
+            "normal maps are not exported: Mitsuba shades those meshes with their vertex normals "
+            "(3 meshes)"),
+        std::string::npos)
         << r.err;
     EXPECT_TRUE(fs::exists(dir / "nm/scene.xml"));
 }
@@ -234,8 +257,8 @@ TEST(ExportMitsuba, BadInputIsOneLineAndNothingWritten) {
     EXPECT_EQ(lineCount(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(missing.string()), std::string::npos) << r.err;
 
-    r = runVkpath("export-mitsuba " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")) + " " +
-                  quoted(dir / "out") + " -d 0x10");
+    r = runVkpath("export-mitsuba " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")) +
+                  " " + quoted(dir / "out") + " -d 0x10");
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(lineCount(r.err), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir / "out"));

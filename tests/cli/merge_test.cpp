@@ -19,12 +19,15 @@ namespace {
 
 using namespace vkpath;
 
-std::string box() { return test::sourcePath("assets/cornell_box_diffuse.gltf").string(); }
+std::string box() {
+    return test::sourcePath("assets/cornell_box_diffuse.gltf").string();
+}
 
 // Renders `flags` of the box into dir/name.exr (with its variance AOV).
 std::string render(const test::TempDir& dir, const std::string& name, const std::string& flags) {
     const std::string path = (dir / (name + ".exr")).string();
-    const auto r = test::runVkpath("render " + box() + " -d 24x18 --aov variance -o " + path + " " + flags);
+    const auto r =
+        test::runVkpath("render " + box() + " -d 24x18 --aov variance -o " + path + " " + flags);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     return path;
 }
@@ -36,7 +39,8 @@ double largestRelativeDifference(const image::Image& a, const image::Image& b) {
     for (size_t i = 0; i < a.pixels.size(); ++i)
         for (int c = 0; c < 3; ++c) {
             const double d = std::abs(double(a.pixels[i][c]) - double(b.pixels[i][c]));
-            worst = std::max(worst, b.pixels[i][c] != 0.0f ? d / std::abs(double(b.pixels[i][c])) : d);
+            worst =
+                std::max(worst, b.pixels[i][c] != 0.0f ? d / std::abs(double(b.pixels[i][c])) : d);
         }
     return worst;
 }
@@ -57,22 +61,26 @@ TEST(Merge, PartsMergedEqualTheWholeRender) {
     const std::string a = render(dir, "a", "--samples 0:2");
     const std::string b = render(dir, "b", "--samples 2:4");
     const std::string merged = (dir / "merged.exr").string();
-    const auto r = test::runVkpath("merge " + b + " " + a + " -o " + merged + " --aov variance");  // any order
+    const auto r =
+        test::runVkpath("merge " + b + " " + a + " -o " + merged + " --aov variance");  // any order
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(test::vkpathMetadata(merged)["vkpath:spp"], "6");
     EXPECT_EQ(test::vkpathMetadata(merged)["vkpath:firstSample"], "0");
     EXPECT_EQ(test::vkpathMetadata(a)["vkpath:firstSample"], "0");
     EXPECT_EQ(test::vkpathMetadata(b)["vkpath:firstSample"], "2");
 
-    const double meanError = largestRelativeDifference(image::readImage(merged), image::readImage(whole));
-    const double varianceError = largestRelativeDifference(image::readImage((dir / "merged.variance.exr").string()),
-                                                           image::readImage((dir / "whole.variance.exr").string()));
+    const double meanError =
+        largestRelativeDifference(image::readImage(merged), image::readImage(whole));
+    const double varianceError =
+        largestRelativeDifference(image::readImage((dir / "merged.variance.exr").string()),
+                                  image::readImage((dir / "whole.variance.exr").string()));
     EXPECT_LE(meanError, MEAN_BOUND);
     EXPECT_LE(varianceError, VARIANCE_BOUND);
     RecordProperty("meanRelativeError", fmt::format("{:.3g}", meanError));
     RecordProperty("varianceRelativeError", fmt::format("{:.3g}", varianceError));
     // The parts are not the whole: the bound is not met by any two renders.
-    EXPECT_GT(largestRelativeDifference(image::readImage(a), image::readImage(whole)), 100 * MEAN_BOUND);
+    EXPECT_GT(largestRelativeDifference(image::readImage(a), image::readImage(whole)),
+              100 * MEAN_BOUND);
 }
 
 TEST(Merge, MismatchedPartsAreOneLineAndNothingWritten) {
@@ -92,9 +100,12 @@ TEST(Merge, MismatchedPartsAreOneLineAndNothingWritten) {
     const std::string older = (dir / "older.exr").string();
     image::Metadata metadata;
     for (const auto& [key, value] : test::vkpathMetadata(next))
-        metadata.emplace_back(key, key == "vkpath:settings" ? "size=24x18 max-depth=8 light-samples=1" : value);
+        metadata.emplace_back(
+            key, key == "vkpath:settings" ? "size=24x18 max-depth=8 light-samples=1" : value);
     image::writeExr(older, image::readImage(next), metadata);
-    ASSERT_EQ(test::runVkpath("merge " + a + " " + next + " -o " + (dir / "fine.exr").string()).exitCode, 0);
+    ASSERT_EQ(
+        test::runVkpath("merge " + a + " " + next + " -o " + (dir / "fine.exr").string()).exitCode,
+        0);
 
     const std::string merged = (dir / "merged.exr").string();
     for (const std::string& other : {overlapping, afterGap, otherSeed, otherScene, a, older,
@@ -112,7 +123,8 @@ TEST(Merge, MismatchedPartsAreOneLineAndNothingWritten) {
         }
     }
     // A gap is accepted when asked for: 3 samples of 0..3.
-    const auto r = test::runVkpath("merge " + a + " " + afterGap + " -o " + merged + " --allow-gaps");
+    const auto r =
+        test::runVkpath("merge " + a + " " + afterGap + " -o " + merged + " --allow-gaps");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(test::vkpathMetadata(merged)["vkpath:spp"], "3");
 }
@@ -121,7 +133,8 @@ TEST(Merge, BadSampleRangesAreOneLine) {
     for (const char* flags : {"--samples 3", "--samples 2:0", "--samples a:b", "-s 4 --samples 0:4",
                               "--samples 4294967295:2"}) {
         SCOPED_TRACE(flags);
-        const auto r = test::runVkpath("render " + box() + " -d 8x8 " + std::string(flags) + " -o /dev/null");
+        const auto r =
+            test::runVkpath("render " + box() + " -d 8x8 " + std::string(flags) + " -o /dev/null");
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
     }

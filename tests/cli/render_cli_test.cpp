@@ -2,9 +2,8 @@
 // PNG preview and its exposure, the summary line and the progress bar,
 // bit-identical reruns, --time-budget, waves made smaller by --max-wave-ms
 // and --max-device-memory, and the CPU reference's builds.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
@@ -29,14 +28,17 @@ namespace {
 using namespace vkpath;
 using test::vkpathMetadata;
 
-std::string cornellBox() { return test::sourcePath("assets/cornell_box.gltf").string(); }
+std::string cornellBox() {
+    return test::sourcePath("assets/cornell_box.gltf").string();
+}
 
 // The file's pixels as stored (float32 EXR, uint8 PNG), byte for byte.
 std::vector<unsigned char> storedPixels(const std::string& path, OIIO::TypeDesc type) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return {};
     const OIIO::ImageSpec& spec = in->spec();
-    std::vector<unsigned char> bytes(size_t(spec.width) * spec.height * spec.nchannels * type.size());
+    std::vector<unsigned char> bytes(size_t(spec.width) * spec.height * spec.nchannels *
+                                     type.size());
     if (!in->read_image(0, 0, 0, spec.nchannels, type, bytes.data())) return {};
     return bytes;
 }
@@ -65,7 +67,8 @@ Summary parseSummary(const std::string& err) {
 TEST(RenderCli, ScottyOutputFlagMetadataAndSummary) {
     const test::TempDir dir;
     const std::string exr = (dir / "box.exr").string();
-    const auto r = test::runVkpath("render " + cornellBox() + " -d 20x16 -s 3 -m 5 -l 2 --seed 11 -w " + exr);
+    const auto r =
+        test::runVkpath("render " + cornellBox() + " -d 20x16 -s 3 -m 5 -l 2 --seed 11 -w " + exr);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find(exr), std::string::npos) << "the written file is named on stdout";
     auto m = vkpathMetadata(exr);
@@ -79,7 +82,8 @@ TEST(RenderCli, ScottyOutputFlagMetadataAndSummary) {
     EXPECT_EQ(m["vkpath:clamp"], "off");
     EXPECT_EQ(m["vkpath:guideSpheres"], "0.25") << "the default";
     EXPECT_FALSE(m["vkpath:device"].empty());
-    EXPECT_NE(r.err.find(m["vkpath:device"]), std::string::npos) << "the summary names the device the EXR records";
+    EXPECT_NE(r.err.find(m["vkpath:device"]), std::string::npos)
+        << "the summary names the device the EXR records";
     EXPECT_GT(std::stod(m["vkpath:renderSeconds"]), 0.0);
     const Summary s = parseSummary(r.err);
     ASSERT_TRUE(s.found) << r.err;
@@ -93,8 +97,8 @@ TEST(RenderCli, ScottyOutputFlagMetadataAndSummary) {
 TEST(RenderCli, PngPreviewIsTheExrInSrgbWithExposure) {
     const test::TempDir dir;
     const std::string exr = (dir / "box.exr").string(), png = (dir / "box.png").string();
-    const auto r = test::runVkpath("render " + cornellBox() + " -d 20x16 -s 2 -o " + exr + " --png " + png +
-                                   " --exposure 1.5");
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 20x16 -s 2 -o " + exr +
+                                   " --png " + png + " --exposure 1.5");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const image::Image linear = image::readImage(exr);
     const auto bytes = storedPixels(png, OIIO::TypeDesc::UINT8);
@@ -119,12 +123,15 @@ TEST(RenderCli, SameSeedSamePixelBytes) {
     const test::TempDir dir;
     auto render = [&](const std::string& name, const std::string& flags) {
         const std::string path = (dir / name).string();
-        const auto r = test::runVkpath("render " + cornellBox() + " -d 24x18 -s 4 -o " + path + " " + flags);
+        const auto r =
+            test::runVkpath("render " + cornellBox() + " -d 24x18 -s 4 -o " + path + " " + flags);
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return path;
     };
-    const std::string a = render("a.exr", "--seed 5"), b = render("b.exr", "--seed 5"), c = render("c.exr", "--seed 6");
-    const auto pa = storedPixels(a, OIIO::TypeDesc::FLOAT), pb = storedPixels(b, OIIO::TypeDesc::FLOAT);
+    const std::string a = render("a.exr", "--seed 5"), b = render("b.exr", "--seed 5"),
+                      c = render("c.exr", "--seed 6");
+    const auto pa = storedPixels(a, OIIO::TypeDesc::FLOAT),
+               pb = storedPixels(b, OIIO::TypeDesc::FLOAT);
     ASSERT_FALSE(pa.empty());
     EXPECT_EQ(pa, pb);
     EXPECT_NE(pa, storedPixels(c, OIIO::TypeDesc::FLOAT));
@@ -140,21 +147,26 @@ TEST(RenderCli, CpuReferenceNamesItsBuildAndNoSpecializeKeepsThePixels) {
     const test::TempDir dir;
     auto render = [&](const std::string& name, const std::string& flags) {
         const std::string path = (dir / name).string();
-        const auto r = test::runVkpath("render " + test::sourcePath("assets/cornell_box_diffuse.gltf").string() +
-                                       " -d 24x18 -s 2 --device cpu -o " + path + " " + flags);
+        const auto r = test::runVkpath(
+            "render " + test::sourcePath("assets/cornell_box_diffuse.gltf").string() +
+            " -d 24x18 -s 2 --device cpu -o " + path + " " + flags);
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return std::pair{path, r.err};
     };
     const auto [profile, profileLog] = render("profile.exr", "");
-    EXPECT_NE(profileLog.find("the integrator built for the 'smooth' profile"), std::string::npos) << profileLog;
+    EXPECT_NE(profileLog.find("the integrator built for the 'smooth' profile"), std::string::npos)
+        << profileLog;
     const auto [general, generalLog] = render("general.exr", "--no-specialize");
-    EXPECT_NE(generalLog.find("the integrator's general build (--no-specialize)"), std::string::npos) << generalLog;
+    EXPECT_NE(generalLog.find("the integrator's general build (--no-specialize)"),
+              std::string::npos)
+        << generalLog;
     const auto pixels = storedPixels(profile, OIIO::TypeDesc::FLOAT);
     ASSERT_FALSE(pixels.empty());
     EXPECT_EQ(pixels, storedPixels(general, OIIO::TypeDesc::FLOAT));
 
     const std::string exr = (dir / "x.exr").string();
-    const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 --device cpu --kernel megakernel -o " + exr);
+    const auto r = test::runVkpath("render " + cornellBox() +
+                                   " -d 8x8 --device cpu --kernel megakernel -o " + exr);
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
     EXPECT_FALSE(std::filesystem::exists(exr));
@@ -166,8 +178,9 @@ TEST(RenderCli, TimeBudgetRendersUntilSpentAndRecordsTheSppReached) {
     const test::TempDir dir;
     const std::string exr = (dir / "budget.exr").string();
     // 32 x 32 pixels and 2^10 paths per wave: one sample per wave.
-    const auto r = test::runVkpath("render " + cornellBox() + " -d 32x32 -m 2 --paths-in-flight 1024 --time-budget 1 -o " +
-                                   exr);
+    const auto r =
+        test::runVkpath("render " + cornellBox() +
+                        " -d 32x32 -m 2 --paths-in-flight 1024 --time-budget 1 -o " + exr);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const Summary s = parseSummary(r.err);
     ASSERT_TRUE(s.found) << r.err;
@@ -185,7 +198,8 @@ TEST(RenderCli, TimeBudgetRendersUntilSpentAndRecordsTheSppReached) {
 TEST(RenderCli, TimeBudgetWithSppStopsAtTheSpp) {
     const test::TempDir dir;
     const std::string exr = (dir / "capped.exr").string();
-    const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 -s 3 --time-budget 100 -o " + exr);
+    const auto r =
+        test::runVkpath("render " + cornellBox() + " -d 8x8 -s 3 --time-budget 100 -o " + exr);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(vkpathMetadata(exr).at("vkpath:spp"), "3");
 }
@@ -198,7 +212,8 @@ TEST(RenderCli, ProgressBarOnATerminalOnly) {
     const std::string exr = (dir / "p.exr").string(), log = (dir / "tty.txt").string();
     const std::string render = std::string("'") + VKPATH_BINARY + "' render " + cornellBox() +
                                " -d 16x16 -s 8 --paths-in-flight 256 -o " + exr;
-    const std::string command = "script -qec \"" + render + "\" /dev/null > '" + log + "' 2>&1 </dev/null";
+    const std::string command =
+        "script -qec \"" + render + "\" /dev/null > '" + log + "' 2>&1 </dev/null";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     std::ifstream in(log);
     const std::string tty((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -216,8 +231,8 @@ TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
     for (const char* budget : {"0", "-1", "nan"}) {
         SCOPED_TRACE(budget);
         const std::string exr = (dir / "x.exr").string();
-        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 --time-budget " + std::string(budget) +
-                                       " -o " + exr);
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 --time-budget " +
+                                       std::string(budget) + " -o " + exr);
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(exr));
@@ -227,11 +242,12 @@ TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
 // Flags that would write nonsense or run for hours before a sample.
 TEST(RenderCli, RunawayOrNonsenseFlagsAreOneLineAndNothingWritten) {
     const test::TempDir dir;
-    for (const char* flags : {"--exposure nan", "--exposure inf", "-l 100000", "-m 100000", "--guide-spheres 1",
-                              "--guide-spheres -0.1", "--guide-spheres nan"}) {
+    for (const char* flags : {"--exposure nan", "--exposure inf", "-l 100000", "-m 100000",
+                              "--guide-spheres 1", "--guide-spheres -0.1", "--guide-spheres nan"}) {
         SCOPED_TRACE(flags);
         const std::string exr = (dir / "x.exr").string();
-        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) + " -o " + exr);
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) +
+                                       " -o " + exr);
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(exr));
@@ -248,8 +264,8 @@ TEST(RenderCli, MaxWaveMsKeepsThePixelsBitForBitInMoreWaves) {
         SCOPED_TRACE(kernel);
         auto render = [&](const std::string& name, const std::string& flags, uint32_t& waves) {
             const std::string path = (dir / name).string();
-            const auto r = test::runVkpath("render " + cornellBox() + " -d 64x48 -s 8 --kernel " + kernel + " -o " +
-                                           path + " " + flags);
+            const auto r = test::runVkpath("render " + cornellBox() + " -d 64x48 -s 8 --kernel " +
+                                           kernel + " -o " + path + " " + flags);
             EXPECT_EQ(r.exitCode, 0) << r.err;
             std::smatch m;
             EXPECT_TRUE(std::regex_search(r.err, m, wavesOf)) << r.err;
@@ -258,7 +274,8 @@ TEST(RenderCli, MaxWaveMsKeepsThePixelsBitForBitInMoreWaves) {
         };
         uint32_t whole = 0, capped = 0;
         const auto [a, aErr] = render(std::string(kernel) + ".exr", "", whole);
-        const auto [b, bErr] = render(std::string(kernel) + "-capped.exr", "--max-wave-ms 1", capped);
+        const auto [b, bErr] =
+            render(std::string(kernel) + "-capped.exr", "--max-wave-ms 1", capped);
         EXPECT_EQ(whole, 1u);
         EXPECT_GT(capped, whole);
         EXPECT_NE(bErr.find("waves capped at 1 ms: "), std::string::npos) << bErr;
@@ -304,7 +321,8 @@ TEST(RenderCli, BadMaxWaveMsOrMaxDeviceMemoryIsOneLineAndNothingWritten) {
         for (const char* value : {"0", "-1", "nan", "inf"}) {
             SCOPED_TRACE(std::string(flag) + " " + value);
             const std::string exr = (dir / "x.exr").string();
-            const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + flag + " " + value + " -o " + exr);
+            const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + flag + " " +
+                                           value + " -o " + exr);
             EXPECT_EQ(r.exitCode, 2);
             EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
             EXPECT_NE(r.err.find(flag), std::string::npos) << r.err;

@@ -1,15 +1,13 @@
 // `vkpath scene-info` as a user meets it: the summary of a shared scene, its
 // JSON form, and bad input as exit code 2 with one line naming the file.
 #include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <unistd.h>
 
 #include "support/run_vkpath.h"
 #include "support/test_context.h"
@@ -50,7 +48,8 @@ TEST(SceneInfo, CBspheresSummary) {
     EXPECT_NE(field(r.out, "features").find("mirror glass"), std::string::npos) << r.out;
     EXPECT_FALSE(field(r.out, "camera").empty());
     EXPECT_FALSE(field(r.out, "bounds").empty());
-    EXPECT_NE(field(r.out, "kernels").find("mirror glass emissive-surfaces"), std::string::npos) << r.out;
+    EXPECT_NE(field(r.out, "kernels").find("mirror glass emissive-surfaces"), std::string::npos)
+        << r.out;
     EXPECT_NE(field(r.out, "memory").find("megakernel 12 B"), std::string::npos) << r.out;
     // The lamp is described twice; the decision is reported, once, on stderr.
     const std::string prefix =
@@ -62,13 +61,16 @@ TEST(SceneInfo, CBspheresSummary) {
 // A textured glTF made by others (Debian's assimp-testmodels): its one image
 // (211 x 211, CesiumLogoFlat.png) decoded, and kernels with the texture code.
 TEST(SceneInfo, TexturedSceneCountsItsTextures) {
-    const std::filesystem::path file = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << "assimp-testmodels is not installed (tools/install-deps)";
+    const std::filesystem::path file =
+        "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+    if (!std::filesystem::exists(file))
+        GTEST_SKIP() << "assimp-testmodels is not installed (tools/install-deps)";
     const auto r = runVkpath("scene-info " + quoted(file));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(field(r.out, "textures"), "1 (1 images, 44521 texels)") << r.out;
     EXPECT_NE(field(r.out, "kernels").find("textures"), std::string::npos) << r.out;
-    const auto flat = runVkpath("scene-info " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")));
+    const auto flat =
+        runVkpath("scene-info " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")));
     EXPECT_EQ(field(flat.out, "textures"), "0 (0 images, 0 texels)") << flat.out;
     EXPECT_EQ(field(flat.out, "kernels").find("textures"), std::string::npos) << flat.out;
 }
@@ -93,11 +95,13 @@ TEST(SceneInfo, JsonMatchesTheText) {
     // The kernels a default render builds, and what they take on the device:
     // the same text as `render` prints.
     EXPECT_EQ(json["kernelFeatures"].get<std::string>(),
-              "triangles spheres diffuse mirror glass emissive-surfaces sobol-sampler light-samples roulette "
+              "triangles spheres diffuse mirror glass emissive-surfaces sobol-sampler "
+              "light-samples roulette "
               "sphere-guiding");
     EXPECT_EQ(json["deviceBytes"]["perPathMegakernel"].get<uint64_t>(), 12u);
     EXPECT_GT(json["deviceBytes"]["perPathWavefront"].get<uint64_t>(), 100u);
-    EXPECT_GT(json["deviceBytes"]["scene"].get<uint64_t>(), 14u * 48u) << "at least the BVH's 14 primitives";
+    EXPECT_GT(json["deviceBytes"]["scene"].get<uint64_t>(), 14u * 48u)
+        << "at least the BVH's 14 primitives";
 }
 
 TEST(SceneInfo, MissingFileIsExitTwoAndOneLine) {
@@ -120,14 +124,17 @@ std::string triangleScene(const std::string& positions, const std::string& p,
                           const std::string& url, const std::string& xfov, bool withGeometry) {
     std::string s = R"(<?xml version="1.0"?>
 <COLLADA version="1.4.1"><asset><up_axis>Y_UP</up_axis></asset>
-<library_cameras><camera id="cam"><optics><technique_common><perspective><xfov>)" + xfov +
+<library_cameras><camera id="cam"><optics><technique_common><perspective><xfov>)" +
+                    xfov +
                     R"(</xfov></perspective></technique_common></optics></camera></library_cameras>
 <library_geometries><geometry id="tri"><mesh>
-  <source id="pos"><float_array id="pos-array">)" + positions + R"(</float_array>
+  <source id="pos"><float_array id="pos-array">)" +
+                    positions + R"(</float_array>
     <technique_common><accessor source="#pos-array" count="3" stride="3"/></technique_common>
   </source>
   <vertices id="verts"><input semantic="POSITION" source="#pos"/></vertices>
-  <triangles count="1"><input semantic="VERTEX" source="#verts" offset="0"/><p>)" + p +
+  <triangles count="1"><input semantic="VERTEX" source="#verts" offset="0"/><p>)" +
+                    p +
                     R"(</p></triangles>
 </mesh></geometry></library_geometries>
 <library_visual_scenes><visual_scene id="s">

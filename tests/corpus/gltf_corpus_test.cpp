@@ -56,18 +56,27 @@ const std::map<std::string, Rule>& rules() {
         {"BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf", {Expect::Render, nullptr}},
         {"cameras/Cameras.gltf", {Expect::Render, nullptr}},
         {"ClearCoat-glTF/ClearCoatTest.gltf", {Expect::Render, nullptr}},
-        {"glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf", {Expect::Render, nullptr}},
+        {"glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf",
+         {Expect::Render, nullptr}},
         {"simple_skin/simple_skin.gltf", {Expect::Render, nullptr}},
         {"textureTransform/TextureTransformTest.gltf", {Expect::Render, nullptr}},
         // TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN, not indexed (04-06) and indexed (11-15).
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_04.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_05.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_06.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_11.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_12.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_13.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_14.gltf", {Expect::Render, nullptr}},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_15.gltf", {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_04.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_05.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_06.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_11.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_12.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_13.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_14.gltf",
+         {Expect::Render, nullptr}},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_15.gltf",
+         {Expect::Render, nullptr}},
         // Issue 13: Draco is read, or refused by the extension's name (not "invalid bufferView").
         {"draco/2CylinderEngine.gltf", {Expect::RenderOrRefuse, "KHR_draco_mesh_compression"}},
     };
@@ -104,7 +113,8 @@ std::string testName(const testing::TestParamInfo<std::string>& info) {
 
 std::vector<std::string> filesIn(const fs::path& dir) {
     std::vector<std::string> names;
-    for (const fs::directory_entry& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    for (const fs::directory_entry& e : fs::directory_iterator(dir))
+        names.push_back(e.path().filename().string());
     return names;
 }
 
@@ -112,18 +122,23 @@ class GltfCorpus : public testing::TestWithParam<std::string> {};
 
 TEST_P(GltfCorpus, RendersOrIsRefusedWithOneLine) {
     if (GetParam() == ABSENT)
-        GTEST_SKIP() << CORPUS << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)";
+        GTEST_SKIP()
+            << CORPUS
+            << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)";
     const fs::path file = CORPUS / GetParam();
     const test::TempDir dir;
     const fs::path exr = dir / "out.exr";
     // --validation: a validation message is exit 1 even outside CTest's environment.
     const test::CommandResult r = test::runVkpath(
-        "--validation render '" + file.string() + "' -d " + std::to_string(WIDTH) + "x" + std::to_string(HEIGHT) +
-            " -s 1 --env-color 1,1,1 -o '" + exr.string() + "'",
+        "--validation render '" + file.string() + "' -d " + std::to_string(WIDTH) + "x" +
+            std::to_string(HEIGHT) + " -s 1 --env-color 1,1,1 -o '" + exr.string() + "'",
         TIMEOUT_SECONDS);
-    ASSERT_FALSE(r.timedOut) << file << ": still running (or killed) after " << TIMEOUT_SECONDS << " s\n" << r.err;
+    ASSERT_FALSE(r.timedOut) << file << ": still running (or killed) after " << TIMEOUT_SECONDS
+                             << " s\n"
+                             << r.err;
     EXPECT_EQ(r.err.find("validation"), std::string::npos) << file << ":\n" << r.err;
-    ASSERT_TRUE(r.exitCode == 0 || r.exitCode == 2) << file << ": exit code " << r.exitCode << "\n" << r.err;
+    ASSERT_TRUE(r.exitCode == 0 || r.exitCode == 2) << file << ": exit code " << r.exitCode << "\n"
+                                                    << r.err;
 
     const auto rule = rules().find(GetParam());
     if (r.exitCode == 2) {
@@ -131,7 +146,9 @@ TEST_P(GltfCorpus, RendersOrIsRefusedWithOneLine) {
             << file << " is valid glTF 2.0 and must render, but:\n"
             << r.err;
         EXPECT_EQ(test::lineCount(r.err), 1) << file << ":\n" << r.err;
-        EXPECT_EQ(r.err.rfind("vkpath: " + file.string() + ": ", 0), 0u) << "the line names the file:\n" << r.err;
+        EXPECT_EQ(r.err.rfind("vkpath: " + file.string() + ": ", 0), 0u)
+            << "the line names the file:\n"
+            << r.err;
         if (rule != rules().end() && rule->second.mustMention) {
             EXPECT_NE(r.err.find(rule->second.mustMention), std::string::npos)
                 << "the refusal should name " << rule->second.mustMention << ":\n"
@@ -160,8 +177,10 @@ INSTANTIATE_TEST_SUITE_P(AssimpTestModels, GltfCorpus, testing::ValuesIn(corpusF
 
 // The table above names files that exist: a renamed file would silently lose its rule.
 TEST(GltfCorpusRules, NameFilesOfThePackage) {
-    if (!fs::is_directory(CORPUS)) GTEST_SKIP() << CORPUS << " is missing: assimp-testmodels is not installed";
-    for (const auto& [name, rule] : rules()) EXPECT_TRUE(fs::is_regular_file(CORPUS / name)) << name;
+    if (!fs::is_directory(CORPUS))
+        GTEST_SKIP() << CORPUS << " is missing: assimp-testmodels is not installed";
+    for (const auto& [name, rule] : rules())
+        EXPECT_TRUE(fs::is_regular_file(CORPUS / name)) << name;
 }
 
 }  // namespace

@@ -42,11 +42,15 @@ namespace fs = std::filesystem;
 
 const fs::path MODELS = "/usr/share/assimp/models";
 
-#define SKIP_WITHOUT_PACKAGE()                                                                             \
-    if (!fs::is_directory(MODELS))                                                                        \
-    GTEST_SKIP() << MODELS << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)"
+#define SKIP_WITHOUT_PACKAGE()     \
+    if (!fs::is_directory(MODELS)) \
+    GTEST_SKIP()                   \
+        << MODELS                  \
+        << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)"
 
-double identity(double v) { return v; }
+double identity(double v) {
+    return v;
+}
 
 scene::Scene loadQuiet(const fs::path& path) {
     testing::internal::CaptureStderr();
@@ -110,7 +114,8 @@ TEST_P(BoxTextured, FaceShowsTheTexturesMeanColour) {
 
     // The face's rectangle on the film: a plane parallel to the film maps to
     // it by a similarity, so its area in pixels is exact.
-    const glm::dvec2 lo = test::project(camera, {-0.5, 0.5, 0.5}), hi = test::project(camera, {0.5, -0.5, 0.5});
+    const glm::dvec2 lo = test::project(camera, {-0.5, 0.5, 0.5}),
+                     hi = test::project(camera, {0.5, -0.5, 0.5});
 
     wavefront::RenderSettings settings;
     settings.width = W;
@@ -124,7 +129,8 @@ TEST_P(BoxTextured, FaceShowsTheTexturesMeanColour) {
     ASSERT_TRUE(face.inside) << "the face and its margin lie on the film";
     ASSERT_GT(face.area, 500.0);
 
-    const test::Texels texture = test::readTexels(folder / "BoxTextured-glTF" / "CesiumLogoFlat.png");
+    const test::Texels texture =
+        test::readTexels(folder / "BoxTextured-glTF" / "CesiumLogoFlat.png");
     const glm::dvec3 expected = test::meanTexel(texture, test::srgbToLinear);
     const glm::dvec3 undecoded = test::meanTexel(texture, identity);
     for (int c = 0; c < 3; ++c) {
@@ -133,7 +139,8 @@ TEST_P(BoxTextured, FaceShowsTheTexturesMeanColour) {
         // of their mean).
         const double bound = 5.0 * face.standardError[c] + std::ldexp(expected[c], -11);
         EXPECT_NEAR(face.mean[c], expected[c], bound)
-            << "channel " << c << ": " << face.area << " pixels of face, standard error " << face.standardError[c];
+            << "channel " << c << ": " << face.area << " pixels of face, standard error "
+            << face.standardError[c];
         // Power: the texels' mean without sRGB decoding is far outside it.
         EXPECT_GT(std::abs(face.mean[c] - undecoded[c]), 4.0 * bound) << "channel " << c;
     }
@@ -181,7 +188,8 @@ struct Rect {
 
 // Each mesh's rectangle, by its material's name (every mesh of the model has
 // its own material but the markers, which share three).
-std::vector<std::pair<std::string, Rect>> layout(const scene::Scene& s, uint32_t width, uint32_t height) {
+std::vector<std::pair<std::string, Rect>> layout(const scene::Scene& s, uint32_t width,
+                                                 uint32_t height) {
     const shared::Camera camera = scene::makeGpuCamera(s.camera, width, height);
     std::vector<std::pair<std::string, Rect>> out;
     for (const scene::Mesh& m : s.meshes) {
@@ -213,7 +221,9 @@ void forPixelsIn(const Rect& r, double margin, uint32_t width, uint32_t height, 
 // its pixels are exactly 0 but at its edges; the white around it renders at
 // ~0.8 with noise and never that dark at 4 spp, and each square's colour has
 // a channel above 0.5.
-bool dark(const glm::vec3& p) { return p.x < 0.1f && p.y < 0.1f && p.z < 0.1f; }
+bool dark(const glm::vec3& p) {
+    return p.x < 0.1f && p.y < 0.1f && p.z < 0.1f;
+}
 
 bool inside(const Rect& r, double x, double y, double margin) {
     return x > r.x0 - margin && x < r.x1 + margin && y > r.y0 - margin && y < r.y1 + margin;
@@ -288,7 +298,8 @@ Arrow readArrow(const image::Image& image, const Rect& quad, const std::vector<R
 }
 
 struct TransformVerdict {
-    std::vector<std::string> problems;  // empty: every arrow points at Correct, every offset shows its quarter
+    std::vector<std::string>
+        problems;  // empty: every arrow points at Correct, every offset shows its quarter
 };
 
 TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& outputDir) {
@@ -304,7 +315,7 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
     std::map<std::string, int> count;
     for (const auto& [name, rect] : rects) ++count[name];
     const std::map<std::string, int> model = {
-        {"Offset U", 1}, {"Offset V", 1}, {"Offset UV", 1}, {"Rotation", 1},     {"Scale", 1},
+        {"Offset U", 1}, {"Offset V", 1}, {"Offset UV", 1}, {"Rotation", 1},    {"Scale", 1},
         {"All", 1},      {"Correct", 3},  {"Error", 1},     {"NotSupported", 2}};
     if (count != model) verdict.problems.push_back("the scene is not the model this test knows");
 
@@ -315,8 +326,10 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
         {"not supported (top left)", test::meanTexel(uv, 0, 0, hw, hh, test::srgbToLinear)},
         {"U (top right)", test::meanTexel(uv, hw, 0, uv.width, hh, test::srgbToLinear)},
         {"V (bottom left)", test::meanTexel(uv, 0, hh, hw, uv.height, test::srgbToLinear)},
-        {"UV (bottom right)", test::meanTexel(uv, hw, hh, uv.width, uv.height, test::srgbToLinear)}};
-    const std::map<std::string, size_t> expectedQuarter = {{"Offset U", 1}, {"Offset V", 2}, {"Offset UV", 3}};
+        {"UV (bottom right)",
+         test::meanTexel(uv, hw, hh, uv.width, uv.height, test::srgbToLinear)}};
+    const std::map<std::string, size_t> expectedQuarter = {
+        {"Offset U", 1}, {"Offset V", 2}, {"Offset UV", 3}};
     for (const auto& [name, rect] : rects) {
         const auto expected = expectedQuarter.find(name);
         if (expected == expectedQuarter.end()) continue;
@@ -329,10 +342,12 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
         const glm::dvec3 mean = sum / double(n);
         size_t nearest = 0;
         for (size_t q = 1; q < quarters.size(); ++q)
-            if (glm::length(mean - quarters[q].second) < glm::length(mean - quarters[nearest].second)) nearest = q;
+            if (glm::length(mean - quarters[q].second) <
+                glm::length(mean - quarters[nearest].second))
+                nearest = q;
         if (nearest != expected->second)
-            verdict.problems.push_back(name + " shows the " + quarters[nearest].first + " quarter, not " +
-                                       quarters[expected->second].first);
+            verdict.problems.push_back(name + " shows the " + quarters[nearest].first +
+                                       " quarter, not " + quarters[expected->second].first);
     }
 
     // The bottom row: each arrow's line from its tip passes through a square
@@ -368,7 +383,8 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
             if (!own) continue;
             const glm::dvec2 v = c - arrow.tip;
             const double along = glm::dot(v, arrow.direction) / m.width();
-            const double off = glm::length(v - glm::dot(v, arrow.direction) * arrow.direction) / m.width();
+            const double off =
+                glm::length(v - glm::dot(v, arrow.direction) * arrow.direction) / m.width();
             measured += fmt::format(" {}: {:.2f} sides ahead, {:.2f} off;", markerName, along, off);
             if (along > -0.5 && along < 3.0 && off < 1.0 && off < best) {
                 best = off;
@@ -376,7 +392,8 @@ TransformVerdict judgeTransformTest(const fs::path& file, const fs::path& output
             }
         }
         if (pointedAt != "Correct")
-            verdict.problems.push_back(name + ": the arrow points at " + pointedAt + ", not Correct (" + measured +
+            verdict.problems.push_back(name + ": the arrow points at " + pointedAt +
+                                       ", not Correct (" + measured +
                                        " from the tip along the arrow)");
     }
     return verdict;
@@ -398,21 +415,23 @@ TEST(TextureTransformTest, WrongTransformsAreRejected) {
     std::ifstream in(source);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const test::TempDir dir;
-    for (const char* name :
-         {"Arrow.png", "Correct.png", "Error.png", "NotSupported.png", "UV.png", "TextureTransformTest.bin"})
+    for (const char* name : {"Arrow.png", "Correct.png", "Error.png", "NotSupported.png", "UV.png",
+                             "TextureTransformTest.bin"})
         fs::copy_file(source.parent_path() / name, dir / name);
     auto replaced = [](std::string t, const std::string& from, const std::string& to) {
         size_t count = 0;
-        for (size_t at = t.find(from); at != std::string::npos; at = t.find(from, at + to.size()), ++count)
+        for (size_t at = t.find(from); at != std::string::npos;
+             at = t.find(from, at + to.size()), ++count)
             t.replace(at, from.size(), to);
         EXPECT_GT(count, 0u) << from;
         return t;
     };
     // Without the extension (a renderer that ignores it), and with every
     // rotation negated (one that turns the wrong way).
-    const fs::path ignored =
-        dir.write("ignored.gltf", replaced(text, "\"KHR_texture_transform\": {", "\"VKPATH_ignored\": {"));
-    const fs::path reversed = dir.write("reversed.gltf", replaced(text, "\"rotation\": 0.", "\"rotation\": -0."));
+    const fs::path ignored = dir.write(
+        "ignored.gltf", replaced(text, "\"KHR_texture_transform\": {", "\"VKPATH_ignored\": {"));
+    const fs::path reversed =
+        dir.write("reversed.gltf", replaced(text, "\"rotation\": 0.", "\"rotation\": -0."));
     auto says = [](const TransformVerdict& v, const std::string& what) {
         for (const std::string& p : v.problems)
             if (p.find(what) != std::string::npos) return true;

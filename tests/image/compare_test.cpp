@@ -2,10 +2,9 @@
 // the compare command's bounds, JSON and errors.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "image/image.h"
 #include "image/metrics.h"
@@ -55,8 +54,10 @@ TEST(Metrics, HandComputedValues) {
 TEST(Metrics, TrimmedRelMseDropsTheWorstPixels) {
     image::Image reference(100, 100), render(100, 100);
     for (auto& p : reference.pixels) p = glm::vec3(0.5f);
-    for (size_t i = 0; i < render.pixels.size(); ++i) render.pixels[i] = glm::vec3(i % 2 ? 0.55f : 0.45f);
-    const double uniform = 0.05 * 0.05 / (0.25 + image::RELMSE_EPSILON);  // to float rounding of 0.45, 0.55
+    for (size_t i = 0; i < render.pixels.size(); ++i)
+        render.pixels[i] = glm::vec3(i % 2 ? 0.55f : 0.45f);
+    const double uniform =
+        0.05 * 0.05 / (0.25 + image::RELMSE_EPSILON);  // to float rounding of 0.45, 0.55
     const double tolerance = 1e-6 * uniform;
     auto m = image::compareImages(render, reference);
     EXPECT_NEAR(m.overall.relMse, uniform, tolerance);
@@ -87,7 +88,8 @@ TEST(Metrics, SizeMismatchIsAnInputError) {
 class CompareCommand : public testing::Test {
   protected:
     void SetUp() override {
-        m_dir = std::filesystem::temp_directory_path() / ("vkpath-compare-" + std::to_string(getpid()));
+        m_dir =
+            std::filesystem::temp_directory_path() / ("vkpath-compare-" + std::to_string(getpid()));
         std::filesystem::create_directories(m_dir);
         image::writeExr(m_dir / "a.exr", imageA());
         image::writeExr(m_dir / "b.exr", imageB());
@@ -107,14 +109,21 @@ TEST_F(CompareCommand, JsonAndBounds) {
 
     const double relMse = (0.25 / 1.01 + 1.0) / 6;
     EXPECT_EQ(test::runVkpath("compare " + path("a.exr") + " " + path("b.exr") + " --max-relmse " +
-                              std::to_string(relMse * 1.01)).exitCode, 0);
+                              std::to_string(relMse * 1.01))
+                  .exitCode,
+              0);
     EXPECT_EQ(test::runVkpath("compare " + path("a.exr") + " " + path("b.exr") + " --max-relmse " +
-                              std::to_string(relMse * 0.99)).exitCode, 1);
-    EXPECT_EQ(test::runVkpath("compare " + path("a.exr") + " " + path("a.exr") + " --max-rmse 0").exitCode, 0);
+                              std::to_string(relMse * 0.99))
+                  .exitCode,
+              1);
+    EXPECT_EQ(test::runVkpath("compare " + path("a.exr") + " " + path("a.exr") + " --max-rmse 0")
+                  .exitCode,
+              0);
 }
 
 TEST_F(CompareCommand, HeatmapIsWritten) {
-    const auto r = test::runVkpath("compare " + path("a.exr") + " " + path("b.exr") + " --heatmap " + path("h.png"));
+    const auto r = test::runVkpath("compare " + path("a.exr") + " " + path("b.exr") +
+                                   " --heatmap " + path("h.png"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const image::Image heat = image::readImage(m_dir / "h.png");
     EXPECT_EQ(heat.width, 2u);
@@ -124,8 +133,8 @@ TEST_F(CompareCommand, HeatmapIsWritten) {
 
 TEST_F(CompareCommand, BadInputIsOneLineAndExitTwo) {
     for (const std::string& args : {"compare " + path("a.exr") + " " + path("small.exr"),
-                                   "compare " + path("a.exr") + " " + path("missing.exr"),
-                                   "compare " + path("a.exr") + " " + m_dir.string()}) {
+                                    "compare " + path("a.exr") + " " + path("missing.exr"),
+                                    "compare " + path("a.exr") + " " + m_dir.string()}) {
         SCOPED_TRACE(args);
         const auto r = test::runVkpath(args);
         EXPECT_EQ(r.exitCode, 2);

@@ -11,9 +11,9 @@ VKP_NAMESPACE_BEGIN
 struct BsdfDispatchPush {
     uint count;  // samples
     uint seed;
-    vec3 wo;     // world space, unit
-    vec3 ng;     // geometric normal, world space, unit
-    vec3 ns;     // shading normal, oriented like ng
+    vec3 wo;  // world space, unit
+    vec3 ng;  // geometric normal, world space, unit
+    vec3 ns;  // shading normal, oriented like ng
 };
 
 VKP_NAMESPACE_END

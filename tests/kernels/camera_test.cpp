@@ -1,11 +1,12 @@
 // The camera stage: the generate kernel's rays equal generateCameraRay run on
 // the CPU with the same RNG numbers: origins exactly, directions to a few ulp
 // (the GPU may evaluate normalize and divisions with other rounding).
+#include "scene/camera.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "scene/camera.h"
 #include "shared/camera.h"
 #include "shared/dimensions.h"
 #include "shared/rng.h"
@@ -39,14 +40,21 @@ TEST(CameraStage, GpuRaysMatchCpu) {
     vk::Buffer infoBuffer = vk::Buffer::fromSpan(context, std::span(&info, 1));
     vk::Buffer cameraBuffer = vk::Buffer::fromSpan(context, std::span(&gpuCamera, 1));
     vk::Buffer rays(context, count * sizeof(shared::Ray));
-    vk::Buffer throughput(context, count * sizeof(glm::vec3)), radiance(context, count * sizeof(glm::vec3));
-    vk::Buffer vertices(context, count * sizeof(shared::PathVertex)), queues(context, 3 * count * sizeof(uint32_t));
+    vk::Buffer throughput(context, count * sizeof(glm::vec3)),
+        radiance(context, count * sizeof(glm::vec3));
+    vk::Buffer vertices(context, count * sizeof(shared::PathVertex)),
+        queues(context, 3 * count * sizeof(uint32_t));
     vk::Buffer counters(context, sizeof(shared::QueueCounters));
     vk::Kernel generate(context, "generate");
     generate.dispatch(count,
-                      {{VKP_WF_SCENE_INFO, &infoBuffer}, {VKP_WF_CAMERA, &cameraBuffer}, {VKP_WF_RAYS, &rays},
-                       {VKP_WF_THROUGHPUT, &throughput}, {VKP_WF_RADIANCE, &radiance}, {VKP_WF_VERTEX, &vertices},
-                       {VKP_WF_QUEUES, &queues}, {VKP_WF_COUNTERS, &counters}},
+                      {{VKP_WF_SCENE_INFO, &infoBuffer},
+                       {VKP_WF_CAMERA, &cameraBuffer},
+                       {VKP_WF_RAYS, &rays},
+                       {VKP_WF_THROUGHPUT, &throughput},
+                       {VKP_WF_RADIANCE, &radiance},
+                       {VKP_WF_VERTEX, &vertices},
+                       {VKP_WF_QUEUES, &queues},
+                       {VKP_WF_COUNTERS, &counters}},
                       shared::WavePush{sampleIndex, 0, count, 0, 0});
     const auto gpu = rays.download<shared::Ray>();
     // Every path starts alive in ray queue 0 with throughput 1.
@@ -59,11 +67,12 @@ TEST(CameraStage, GpuRaysMatchCpu) {
     for (uint32_t i = 0; i < count; ++i) {
         const glm::uvec2 xy(i % width, i / width);
         const auto key = shared::makeRngKey(i, sampleIndex, seed);
-        const shared::Ray cpu =
-            shared::generateCameraRay(gpuCamera, xy, shared::rngUniform2(key, VKP_DIM_PIXEL_JITTER));
+        const shared::Ray cpu = shared::generateCameraRay(
+            gpuCamera, xy, shared::rngUniform2(key, VKP_DIM_PIXEL_JITTER));
         ASSERT_EQ(gpu[i].origin, cpu.origin) << "pixel " << i;
         ASSERT_EQ(gpu[i].pixel, i);
-        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(gpu[i].direction[c] - cpu.direction[c]));
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(gpu[i].direction[c] - cpu.direction[c]));
     }
     EXPECT_LE(worst, TOLERANCE);
 }

@@ -107,9 +107,11 @@ double cellIntegral(const image::Image& map, const shared::EnvironmentInfo& info
 }
 
 // The pdf of a world direction, from the CPU side of the same shared code.
-double pdfOf(const scene::EnvironmentTable& table, const shared::EnvironmentInfo& info, glm::vec3 d) {
+double pdfOf(const scene::EnvironmentTable& table, const shared::EnvironmentInfo& info,
+             glm::vec3 d) {
     const glm::vec2 uv = shared::equirectUv(shared::envWorldToMap(info, d));
-    return shared::envDirectionPdf(info, table.entries[shared::envTexelOfUv(info, uv)].probability, d);
+    return shared::envDirectionPdf(info, table.entries[shared::envTexelOfUv(info, uv)].probability,
+                                   d);
 }
 
 // The integral over the sphere of directions of pdfOf, in the map's own
@@ -120,8 +122,8 @@ double pdfOf(const scene::EnvironmentTable& table, const shared::EnvironmentInfo
 // wrong texel, would show. (The (phi, cos theta) grid of the chi-square
 // tests cuts texels anywhere and resolves the poles' 1/sin(theta) poorly:
 // it integrates these pdfs only to ~2e-3.)
-double integrateInMapCoordinates(const scene::EnvironmentTable& table, const shared::EnvironmentInfo& info,
-                                 uint32_t k = 2) {
+double integrateInMapCoordinates(const scene::EnvironmentTable& table,
+                                 const shared::EnvironmentInfo& info, uint32_t k = 2) {
     const uint32_t nu = info.width * k, nv = info.height * k;
     double sum = 0;
     for (uint32_t j = 0; j < nv; ++j) {
@@ -155,7 +157,8 @@ void expectDirectionsFit(const scene::EnvironmentTable& table, const shared::Env
     test::DirectionGrid grid;
     auto pdf = [&](glm::vec3 d) { return pdfOf(table, info, d); };
     EXPECT_NEAR(integrateInMapCoordinates(table, info), 1.0, 1e-3) << "pdf does not integrate to 1";
-    EXPECT_NEAR(test::integrateOverSphere(grid, pdf), 1.0, 2e-3) << "the chi-square's expected counts";
+    EXPECT_NEAR(test::integrateOverSphere(grid, pdf), 1.0, 2e-3)
+        << "the chi-square's expected counts";
     std::vector<glm::vec3> directions;
     for (const auto& r : results) directions.push_back(r.direction);
     const auto chi = test::chiSquareDirections(grid, directions, pdf);
@@ -208,7 +211,9 @@ TEST(EnvironmentSampling, ChiSquareRejectsAWrongMap) {
     const auto constant = scene::buildEnvironmentTable(constantMap(64, 32));
     std::vector<glm::vec3> directions;
     for (const auto& r : results) directions.push_back(r.direction);
-    EXPECT_LT(test::chiSquareDirections({}, directions, [&](glm::vec3 d) { return pdfOf(constant, info, d); }).pValue,
+    EXPECT_LT(test::chiSquareDirections({}, directions,
+                                        [&](glm::vec3 d) { return pdfOf(constant, info, d); })
+                  .pValue,
               1e-10);
 }
 
@@ -398,9 +403,11 @@ image::Image skyWithSun(float ratio) {
     const float cosSun = std::cos(glm::radians(0.25f));
     for (uint32_t y = 0; y < map.height; ++y)
         for (uint32_t x = 0; x < map.width; ++x) {
-            const glm::vec3 d = shared::equirectDirection((x + 0.5f) / map.width, (y + 0.5f) / map.height);
+            const glm::vec3 d =
+                shared::equirectDirection((x + 0.5f) / map.width, (y + 0.5f) / map.height);
             const float sky = d.y > 0 ? 0.3f + 0.7f * d.y : 0.05f;
-            map.at(x, y) = glm::dot(d, sun) >= cosSun ? glm::vec3(ratio) : glm::vec3(0.4f, 0.6f, 1.0f) * sky;
+            map.at(x, y) =
+                glm::dot(d, sun) >= cosSun ? glm::vec3(ratio) : glm::vec3(0.4f, 0.6f, 1.0f) * sky;
         }
     return map;
 }
@@ -409,7 +416,8 @@ image::Image skyWithSun(float ratio) {
 // bilinear luminance x sin(theta), computed here by the midpoint rule
 // (independently of the table's closed form), summed over 32 x 32 blocks so
 // that most cells are well populated.
-void expectTexelsFollowLuminance(const image::Image& map, const std::vector<EnvTestResult>& results) {
+void expectTexelsFollowLuminance(const image::Image& map,
+                                 const std::vector<EnvTestResult>& results) {
     constexpr uint32_t BLOCK = 32;
     const uint32_t bw = map.width / BLOCK, bh = map.height / BLOCK;
     const auto info = infoFor(map);
@@ -422,7 +430,8 @@ void expectTexelsFollowLuminance(const image::Image& map, const std::vector<EnvT
             total += w;
         }
     for (double& e : expected) e *= double(results.size()) / total;
-    for (const auto& r : results) observed[(r.texel / map.width / BLOCK) * bw + (r.texel % map.width) / BLOCK] += 1;
+    for (const auto& r : results)
+        observed[(r.texel / map.width / BLOCK) * bw + (r.texel % map.width) / BLOCK] += 1;
     const auto chi = test::chiSquareTest(observed, expected);
     EXPECT_GT(chi.pValue, ALPHA) << "chi2 " << chi.statistic << " dof " << chi.degreesOfFreedom;
 }
@@ -439,7 +448,8 @@ TEST(EnvironmentSampling, SkyWithSunAtExtremeRatios) {
         const auto results = sample(map, table, infoFor(map));
         expectPdfsAgree(results);
         expectTexelsFollowLuminance(map, results);
-        EXPECT_NEAR(integrateInMapCoordinates(table, infoFor(map)), 1.0, 1e-3) << "pdf does not integrate to 1";
+        EXPECT_NEAR(integrateInMapCoordinates(table, infoFor(map)), 1.0, 1e-3)
+            << "pdf does not integrate to 1";
     }
 }
 
@@ -455,7 +465,8 @@ TEST(EnvironmentSampling, LargestUniformsStayInRangeOnTheGpu) {
         const auto results = sample(map, table, infoFor(map), 8, /*largestUniforms*/ true);
         for (const auto& r : results) {
             ASSERT_LT(r.texel, map.width * map.height);
-            ASSERT_TRUE(std::isfinite(r.direction.x) && std::isfinite(r.direction.y) && std::isfinite(r.direction.z));
+            ASSERT_TRUE(std::isfinite(r.direction.x) && std::isfinite(r.direction.y) &&
+                        std::isfinite(r.direction.z));
             ASSERT_NEAR(glm::length(r.direction), 1.0f, 1e-6f);
             ASSERT_GT(r.pdf, 0.0f);
             ASSERT_EQ(r.pdfLookup, r.pdf);
@@ -486,7 +497,8 @@ TEST(EnvironmentSampling, TableProbabilitiesSumToOne) {
     double sum = 0;
     for (const auto& e : table.entries) sum += e.probability;
     EXPECT_NEAR(sum, 1.0, 1e-6);
-    EXPECT_TRUE(scene::buildEnvironmentTable(image::Image(8, 4)).entries.empty());  // black map: no sampling
+    EXPECT_TRUE(scene::buildEnvironmentTable(image::Image(8, 4))
+                    .entries.empty());  // black map: no sampling
 }
 
 }  // namespace

@@ -25,9 +25,11 @@ bool preservesNonFinite32(std::string_view kernel) {
     const vk::SpirvReflection r = vk::reflectSpirv(shaders::findKernel(kernel));
     const bool capability = std::count(r.capabilities.begin(), r.capabilities.end(),
                                        CAPABILITY_SIGNED_ZERO_INF_NAN_PRESERVE) > 0;
-    const bool mode = std::any_of(r.executionModes.begin(), r.executionModes.end(), [](const auto& m) {
-        return m.mode == EXECUTION_MODE_SIGNED_ZERO_INF_NAN_PRESERVE && m.operands == std::vector<uint32_t>{32};
-    });
+    const bool mode =
+        std::any_of(r.executionModes.begin(), r.executionModes.end(), [](const auto& m) {
+            return m.mode == EXECUTION_MODE_SIGNED_ZERO_INF_NAN_PRESERVE &&
+                   m.operands == std::vector<uint32_t>{32};
+        });
     return capability && mode;
 }
 
@@ -39,11 +41,14 @@ TEST(FloatControls, EveryStageKernelPreservesNanAndInfinity) {
     ASSERT_FALSE(shaders::stageKernels().empty());
     for (const shaders::EmbeddedShader& kernel : shaders::stageKernels())
         EXPECT_TRUE(preservesNonFinite32(kernel.name)) << kernel.name;
-    for (const char* kernel : {"bvh_closest", "bvh_anyhit"}) EXPECT_TRUE(preservesNonFinite32(kernel)) << kernel;
+    for (const char* kernel : {"bvh_closest", "bvh_anyhit"})
+        EXPECT_TRUE(preservesNonFinite32(kernel)) << kernel;
 }
 
 // The check can fail: a kernel that does not include float_controls.glsl
 // does not carry the mode.
-TEST(FloatControls, KernelsWithoutTheDeclarationLackTheMode) { EXPECT_FALSE(preservesNonFinite32("rng_fill")); }
+TEST(FloatControls, KernelsWithoutTheDeclarationLackTheMode) {
+    EXPECT_FALSE(preservesNonFinite32("rng_fill"));
+}
 
 }  // namespace

@@ -17,8 +17,9 @@ TEST(KernelHarness, ReflectsBindingsAndPushConstants) {
     vk::Kernel generate(test::context(), "generate");
     std::vector<uint32_t> bindings;
     for (const auto& b : generate.reflection().bindings) bindings.push_back(b.binding);
-    EXPECT_EQ(bindings, (std::vector<uint32_t>{VKP_WF_SCENE_INFO, VKP_WF_CAMERA, VKP_WF_RAYS, VKP_WF_THROUGHPUT,
-                                               VKP_WF_RADIANCE, VKP_WF_VERTEX, VKP_WF_QUEUES, VKP_WF_COUNTERS}));
+    EXPECT_EQ(bindings, (std::vector<uint32_t>{VKP_WF_SCENE_INFO, VKP_WF_CAMERA, VKP_WF_RAYS,
+                                               VKP_WF_THROUGHPUT, VKP_WF_RADIANCE, VKP_WF_VERTEX,
+                                               VKP_WF_QUEUES, VKP_WF_COUNTERS}));
     EXPECT_EQ(generate.reflection().pushConstantSize, sizeof(shared::WavePush));
 }
 
@@ -26,10 +27,11 @@ TEST(KernelHarness, RejectsWrongBindingsAndPushSize) {
     vk::Context& context = test::context();
     vk::Kernel fill(context, "rng_fill");
     vk::Buffer a(context, 64), b(context, 64);
-    EXPECT_THROW(fill.bind({}), std::invalid_argument);                          // binding 0 missing
-    EXPECT_THROW(fill.bind({{0, &a}, {7, &b}}), std::invalid_argument);          // unknown binding
-    EXPECT_THROW(fill.bind({{0, &a}, {0, &b}}), std::invalid_argument);          // given twice
-    EXPECT_THROW(fill.dispatch(1, {{0, &a}}, uint32_t{0}), std::invalid_argument);  // 4 bytes, not 24
+    EXPECT_THROW(fill.bind({}), std::invalid_argument);                  // binding 0 missing
+    EXPECT_THROW(fill.bind({{0, &a}, {7, &b}}), std::invalid_argument);  // unknown binding
+    EXPECT_THROW(fill.bind({{0, &a}, {0, &b}}), std::invalid_argument);  // given twice
+    EXPECT_THROW(fill.dispatch(1, {{0, &a}}, uint32_t{0}),
+                 std::invalid_argument);  // 4 bytes, not 24
     EXPECT_THROW(vk::Kernel(context, "no_such_kernel"), std::out_of_range);
     EXPECT_THROW(vk::Kernel(context, "generate", {.workgroupSize = 100000}), std::invalid_argument);
 }
@@ -48,7 +50,8 @@ TEST(KernelHarness, SpecialisedWorkgroupSizesGiveTheSameResult) {
         results.push_back(bits.download<uint32_t>());
     }
     for (size_t r = 1; r < results.size(); ++r) EXPECT_EQ(results[r], results[0]);
-    for (uint32_t i = count; i < count + 256; ++i) EXPECT_EQ(results[3][i], 0u) << "wrote past count";
+    for (uint32_t i = count; i < count + 256; ++i)
+        EXPECT_EQ(results[3][i], 0u) << "wrote past count";
 }
 
 TEST(Buffers, UploadDownloadRoundTripAtOffsets) {
@@ -59,7 +62,8 @@ TEST(Buffers, UploadDownloadRoundTripAtOffsets) {
     buffer.clear();
     buffer.upload(std::as_bytes(std::span(values).subspan(100, 50)), 400);
     const auto back = buffer.download<uint32_t>();
-    for (uint32_t i = 0; i < values.size(); ++i) ASSERT_EQ(back[i], i >= 100 && i < 150 ? values[i] : 0u) << i;
+    for (uint32_t i = 0; i < values.size(); ++i)
+        ASSERT_EQ(back[i], i >= 100 && i < 150 ? values[i] : 0u) << i;
     EXPECT_THROW(buffer.upload(std::as_bytes(std::span(values)), 4), std::out_of_range);
 }
 
@@ -74,7 +78,8 @@ void createZeroSizeBuffer() {
     create.size = 0;
     create.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBuffer buffer = VK_NULL_HANDLE;
-    if (vkCreateBuffer(device, &create, nullptr, &buffer) == VK_SUCCESS) vkDestroyBuffer(device, buffer, nullptr);
+    if (vkCreateBuffer(device, &create, nullptr, &buffer) == VK_SUCCESS)
+        vkDestroyBuffer(device, buffer, nullptr);
 }
 
 // The test context turns a validation message into a failure of the running

@@ -27,7 +27,8 @@ struct LightRow {
 };
 
 constexpr LightRow LIGHT_ROWS[] = {
-#define VKP_LIGHT_ROW(id, NAME, Type, label, feature, shape, flags) {id, label, feature, shape, flags},
+#define VKP_LIGHT_ROW(id, NAME, Type, label, feature, shape, flags) \
+    {id, label, feature, shape, flags},
     VKP_LIGHT_TYPES(VKP_LIGHT_ROW)
 #undef VKP_LIGHT_ROW
 };
@@ -104,9 +105,11 @@ TEST(LightRegistry, EveryTypeSamplesAsItsFlagsSay) {
         int lit = 0;
         for (int i = 0; i < 1024; ++i) {
             // Points above the floor, in render space (the tables' space).
-            const glm::vec3 p(-1.5f + 3.0f * uniform(rng), 0.2f + uniform(rng), -1.5f + 3.0f * uniform(rng));
+            const glm::vec3 p(-1.5f + 3.0f * uniform(rng), 0.2f + uniform(rng),
+                              -1.5f + 3.0f * uniform(rng));
             const glm::vec3 origin = p - glm::vec3(tables.worldOrigin);
-            const shared::LightSample s = shared::sampleLight(light, origin, glm::vec2(uniform(rng), uniform(rng)));
+            const shared::LightSample s =
+                shared::sampleLight(light, origin, glm::vec2(uniform(rng), uniform(rng)));
             if (row.id == VKP_LIGHT_ENVIRONMENT) {
                 EXPECT_EQ(s.pdf, 0.0f) << "the environment is sampled by its caller";
                 continue;

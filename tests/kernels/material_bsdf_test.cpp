@@ -64,12 +64,13 @@ const glm::vec3 NORMAL = glm::normalize(glm::vec3(0.3f, -0.2f, 0.93f));
 // The world direction at cosine cosTheta to NORMAL, azimuth phi in its frame.
 glm::vec3 worldDirection(double cosTheta, double phi = 0.4) {
     const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-    const glm::vec3 local(float(sinTheta * std::cos(phi)), float(sinTheta * std::sin(phi)), float(cosTheta));
+    const glm::vec3 local(float(sinTheta * std::cos(phi)), float(sinTheta * std::sin(phi)),
+                          float(cosTheta));
     return glm::normalize(shared::frameToWorld(shared::makeFrame(NORMAL), local));
 }
 
-std::vector<MicrofacetResult> runDispatch(const shared::Material& material, glm::vec3 wo, uint32_t seed = 1,
-                                          uint32_t count = SAMPLES) {
+std::vector<MicrofacetResult> runDispatch(const shared::Material& material, glm::vec3 wo,
+                                          uint32_t seed = 1, uint32_t count = SAMPLES) {
     vk::Context& context = test::context();
     vk::Buffer results(context, count * sizeof(MicrofacetResult));
     vk::Buffer materials = vk::Buffer::fromSpan(context, std::span(&material, 1), "material");
@@ -96,7 +97,8 @@ double ggxD(glm::dvec3 m, double alpha) {
     if (m.z <= 0) return 0;
     const double tan2 = (m.x * m.x + m.y * m.y) / (m.z * m.z);
     const double c4 = m.z * m.z * m.z * m.z;
-    return 1 / (PI * alpha * alpha * c4 * (1 + tan2 / (alpha * alpha)) * (1 + tan2 / (alpha * alpha)));
+    return 1 /
+           (PI * alpha * alpha * c4 * (1 + tan2 / (alpha * alpha)) * (1 + tan2 / (alpha * alpha)));
 }
 
 double smithG1(glm::dvec3 w, double alpha) {
@@ -135,7 +137,8 @@ std::vector<LayeredCase> layeredCases() {
     specular.ior = 1.8f;
     return {
         {"plastic", metallicRoughness({0.8f, 0.3f, 0.1f}, 0.0f, 0.5f), 0.8},
-        {"glossy plastic at normal incidence", metallicRoughness({0.2f, 0.2f, 0.7f}, 0.0f, 0.3f), 1.0},
+        {"glossy plastic at normal incidence", metallicRoughness({0.2f, 0.2f, 0.7f}, 0.0f, 0.3f),
+         1.0},
         {"half metal", metallicRoughness({0.9f, 0.6f, 0.3f}, 0.5f, 0.4f), 0.3},
         {"metal", metallicRoughness({0.95f, 0.64f, 0.54f}, 1.0f, 0.6f), 0.9},
         {"grazing", metallicRoughness({0.5f, 0.5f, 0.5f}, 0.2f, 0.7f), 0.05},
@@ -173,8 +176,10 @@ TEST(MetallicRoughness, SamplesFollowTheMixtureDensity) {
         }
         EXPECT_LT(worstPdf, 1e-3) << "sample pdf against the test's density";
         EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
-        const auto result = test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
-        EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+        const auto result =
+            test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
+        EXPECT_GT(result.pValue, ALPHA)
+            << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
     }
 }
 
@@ -201,7 +206,9 @@ TEST(MetallicRoughness, ChiSquareRejectsAWrongMixture) {
         return (pSpec + 0.05) * specular + (1 - pSpec - 0.05) * cosine;
     };
     EXPECT_LT(test::chiSquareDirectionsWithLosses(grid, valid, lost, shifted).pValue, 1e-10);
-    auto cosineOnly = [&](glm::vec3 wi) { return std::max(0.0, double(shared::frameToLocal(frame, wi).z)) / PI; };
+    auto cosineOnly = [&](glm::vec3 wi) {
+        return std::max(0.0, double(shared::frameToLocal(frame, wi).z)) / PI;
+    };
     EXPECT_LT(test::chiSquareDirectionsWithLosses(grid, valid, lost, cosineOnly).pValue, 1e-10);
 }
 
@@ -222,7 +229,8 @@ std::vector<WeightCase> weightCases() {
         return m;
     };
     scene::Material gold = conductor(glm::vec3(1.0f), 0.4f);
-    gold.conductorEta = {0.18f, 0.42f, 1.37f};  // gold at 650, 550, 450 nm (Johnson and Christy 1972)
+    gold.conductorEta = {0.18f, 0.42f,
+                         1.37f};  // gold at 650, 550, 450 nm (Johnson and Christy 1972)
     gold.conductorK = {3.42f, 2.35f, 1.77f};
     auto roughGlass = [](float ior, float roughness) {
         scene::Material m;
@@ -254,7 +262,8 @@ std::vector<WeightCase> weightCases() {
 double fresnelRounding(const shared::Material& material, glm::vec3 worldWo, glm::vec3 worldWi) {
     if (material.kind != VKP_MATERIAL_ROUGH_DIELECTRIC) return 0;
     const shared::Frame frame = shared::makeFrame(NORMAL);
-    const glm::vec3 wo = shared::frameToLocal(frame, worldWo), wi = shared::frameToLocal(frame, worldWi);
+    const glm::vec3 wo = shared::frameToLocal(frame, worldWo),
+                    wi = shared::frameToLocal(frame, worldWi);
     return test::fresnelRounding(material.ior, wo, wi);
 }
 
@@ -287,7 +296,8 @@ TEST(MaterialDispatch, WeightIsEvalOverPdf) {
             ++nonDelta;
             ASSERT_GT(r.evalPdf, 0.0f);
             const double cosI = std::abs(glm::dot(r.direction, NORMAL));
-            const double bound = 1e-5 + 1e-7 / cosI + 4e-6 / alpha + fresnelRounding(m, wo, r.direction);
+            const double bound =
+                1e-5 + 1e-7 / cosI + 4e-6 / alpha + fresnelRounding(m, wo, r.direction);
             worst = std::max(worst, std::abs(double(r.evalPdf) / r.pdf - 1) / bound);
             const glm::vec3 expected = r.eval / r.evalPdf;
             for (int k = 0; k < 3; ++k)
@@ -347,12 +357,14 @@ TEST(MetallicRoughness, Reciprocity) {
 TEST(MetallicRoughness, SmoothLayerIsADeltaBesideTheDiffuseLobe) {
     for (float roughness : {0.0f, 0.03f}) {
         SCOPED_TRACE(testing::Message() << "roughness " << roughness);
-        const shared::Material m = gpuMaterial(metallicRoughness({0.6f, 0.3f, 0.2f}, 0.3f, roughness));
+        const shared::Material m =
+            gpuMaterial(metallicRoughness({0.6f, 0.3f, 0.2f}, 0.3f, roughness));
         const float cosTheta = 0.6f;
         const glm::vec3 wo = worldDirection(cosTheta);
         const shared::MetallicRoughness p = shared::materialMetallicRoughness(m);
         const double pSpec = shared::specularProbability(p, cosTheta);
-        const glm::vec3 weight = shared::metallicRoughnessSpecularFresnel(p, cosTheta) / float(pSpec);
+        const glm::vec3 weight =
+            shared::metallicRoughnessSpecularFresnel(p, cosTheta) / float(pSpec);
         const glm::vec3 mirror = shared::reflectAbout(wo, NORMAL);
         const auto results = runDispatch(m, wo, 9, 200000);
         size_t delta = 0;
@@ -371,7 +383,8 @@ TEST(MetallicRoughness, SmoothLayerIsADeltaBesideTheDiffuseLobe) {
         }
         const double n = double(results.size());
         const double z = (double(delta) - n * pSpec) / std::sqrt(n * pSpec * (1 - pSpec));
-        EXPECT_LT(std::abs(z), Z_CRITICAL) << delta << " delta samples of " << n << ", expected p " << pSpec;
+        EXPECT_LT(std::abs(z), Z_CRITICAL)
+            << delta << " delta samples of " << n << ", expected p " << pSpec;
     }
 }
 

@@ -8,12 +8,12 @@
 // Mitsuba export writes a BSDF for it. The lobes' own statistics are
 // microfacet_test.cpp's and material_bsdf_test.cpp's.
 #include <gtest/gtest.h>
-#include <pugixml.hpp>
 
 #include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <pugixml.hpp>
 #include <random>
 #include <set>
 #include <string>
@@ -40,9 +40,14 @@ scene::Material exampleMaterial(scene::MaterialKind kind) {
     switch (kind) {
         case scene::MaterialKind::Diffuse:
         case scene::MaterialKind::Mirror:
-        case scene::MaterialKind::Dielectric: break;
-        case scene::MaterialKind::Conductor: m.roughness = 0.5f; break;
-        case scene::MaterialKind::RoughDielectric: m.roughness = 0.5f; break;
+        case scene::MaterialKind::Dielectric:
+            break;
+        case scene::MaterialKind::Conductor:
+            m.roughness = 0.5f;
+            break;
+        case scene::MaterialKind::RoughDielectric:
+            m.roughness = 0.5f;
+            break;
         case scene::MaterialKind::MetallicRoughness:
             m.roughness = 0.5f;
             m.metallic = 0.3f;
@@ -60,19 +65,27 @@ wavefront::SceneTables sphereTables(const scene::Material& m) {
 }
 
 // The kernels' record of `m`.
-shared::Material gpuMaterial(const scene::Material& m) { return sphereTables(m).materials.at(0); }
+shared::Material gpuMaterial(const scene::Material& m) {
+    return sphereTables(m).materials.at(0);
+}
 
 // A file an importer makes a material of `kind` from, relative to the
 // repository (assets/) or to the assignment's scenes (scotty3d/); empty
 // where no importer makes the kind, with the reason in `why`.
 std::string importedFrom(scene::MaterialKind kind, std::string& why) {
     switch (kind) {
-        case scene::MaterialKind::Diffuse: return "assets/cornell_box_diffuse.gltf";
-        case scene::MaterialKind::Mirror: return "scotty3d/CBspheres.dae";
-        case scene::MaterialKind::Dielectric: return "assets/cornell_box.gltf";
-        case scene::MaterialKind::Conductor: return "assets/material_spheres.gltf";
-        case scene::MaterialKind::RoughDielectric: return "assets/material_spheres.gltf";
-        case scene::MaterialKind::MetallicRoughness: return "assets/material_spheres.gltf";
+        case scene::MaterialKind::Diffuse:
+            return "assets/cornell_box_diffuse.gltf";
+        case scene::MaterialKind::Mirror:
+            return "scotty3d/CBspheres.dae";
+        case scene::MaterialKind::Dielectric:
+            return "assets/cornell_box.gltf";
+        case scene::MaterialKind::Conductor:
+            return "assets/material_spheres.gltf";
+        case scene::MaterialKind::RoughDielectric:
+            return "assets/material_spheres.gltf";
+        case scene::MaterialKind::MetallicRoughness:
+            return "assets/material_spheres.gltf";
     }
     why = "no importer";
     return {};
@@ -95,9 +108,12 @@ TEST(MaterialRegistry, RowsAreNumberedInOrderWithUniqueNamesAndBits) {
         // The kernels' view of the row.
         EXPECT_EQ(shared::materialFeature(i), row.feature);
         EXPECT_EQ(shared::materialKindFlags(i), row.flags);
-        EXPECT_EQ((VKP_FEATURES_NON_DELTA & row.feature) != 0, (row.flags & VKP_KIND_NON_DELTA) != 0);
-        EXPECT_EQ((VKP_FEATURES_MICROFACET & row.feature) != 0, (row.flags & VKP_KIND_MICROFACET) != 0);
-        EXPECT_EQ((VKP_FEATURES_TRANSMITS & row.feature) != 0, (row.flags & VKP_KIND_TRANSMITS) != 0);
+        EXPECT_EQ((VKP_FEATURES_NON_DELTA & row.feature) != 0,
+                  (row.flags & VKP_KIND_NON_DELTA) != 0);
+        EXPECT_EQ((VKP_FEATURES_MICROFACET & row.feature) != 0,
+                  (row.flags & VKP_KIND_MICROFACET) != 0);
+        EXPECT_EQ((VKP_FEATURES_TRANSMITS & row.feature) != 0,
+                  (row.flags & VKP_KIND_TRANSMITS) != 0);
     }
     EXPECT_EQ(features, uint32_t(VKP_FEATURES_MATERIALS));
 }
@@ -124,8 +140,8 @@ TEST(MaterialRegistry, EveryKindSamplesEvaluatesAndGivesItsDensity) {
             const float sinTheta = std::sqrt(1.0f - cosTheta * cosTheta);
             glm::vec3 wo(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
             if (i % 2 == 1) wo.z = -wo.z;  // from the other side
-            const shared::BsdfSample s =
-                shared::sampleBsdf(m, n, n, wo, glm::vec2(uniform(rng), uniform(rng)), uniform(rng));
+            const shared::BsdfSample s = shared::sampleBsdf(
+                m, n, n, wo, glm::vec2(uniform(rng), uniform(rng)), uniform(rng));
             if (!s.valid) continue;
             ++valid;
             EXPECT_NEAR(glm::length(s.direction), 1.0f, 1e-5f);
@@ -139,7 +155,8 @@ TEST(MaterialRegistry, EveryKindSamplesEvaluatesAndGivesItsDensity) {
             ++nonDelta;
             ASSERT_GT(pdf, 0.0f);
             EXPECT_NEAR(s.pdf, pdf, 2e-3f * pdf);
-            for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.weight[c], f[c] / pdf, 2e-3f * (1.0f + s.weight[c]));
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(s.weight[c], f[c] / pdf, 2e-3f * (1.0f + s.weight[c]));
         }
         EXPECT_GT(valid, 2048);
         EXPECT_EQ(nonDelta > 0, (row.flags & VKP_KIND_NON_DELTA) != 0);
@@ -199,7 +216,8 @@ TEST(MaterialRegistry, EveryKindIsExportedToMitsuba) {
         const scene::MitsubaExportResult result = scene::exportMitsuba(s, {}, dir.path());
         pugi::xml_document xml;
         ASSERT_TRUE(xml.load_file(result.xml.c_str()));
-        const pugi::xml_node bsdf = xml.child("scene").find_child_by_attribute("bsdf", "id", "mat0");
+        const pugi::xml_node bsdf =
+            xml.child("scene").find_child_by_attribute("bsdf", "id", "mat0");
         ASSERT_TRUE(bsdf) << "no BSDF for the " << row.label << " material";
         EXPECT_FALSE(std::string(bsdf.attribute("type").value()).empty());
     }

@@ -13,13 +13,13 @@
 VKP_NAMESPACE_BEGIN
 
 struct MicrofacetPush {
-    uint routine;         // MICROFACET_*
-    uint count;           // samples
+    uint routine;  // MICROFACET_*
+    uint count;    // samples
     uint seed;
-    uint fresnel;         // conductor: VKP_FRESNEL_* (shared/microfacet.h)
+    uint fresnel;  // conductor: VKP_FRESNEL_* (shared/microfacet.h)
     vec2 alpha;
-    float ior;            // dielectric
-    vec3 wo;              // local, unit
+    float ior;  // dielectric
+    vec3 wo;    // local, unit
     vec3 f0;
     vec3 eta;
     vec3 k;

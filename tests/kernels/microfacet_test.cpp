@@ -5,6 +5,8 @@
 // normalised, Lambda agreeing with D) are integrated numerically in C++.
 // Significance: 1% for the whole file, Sidak-corrected over its chi-square
 // tests (MICROFACET_CHI2_TESTS).
+#include "shared/microfacet.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +18,6 @@
 
 #include "image/statistics.h"
 #include "kernels/microfacet_routines.h"
-#include "shared/microfacet.h"
 #include "shared/rng.h"
 #include "support/direction_chi2.h"
 #include "support/fresnel_rounding.h"
@@ -121,8 +122,8 @@ void expectFits(const test::DirectionGrid& grid, const std::vector<MicrofacetRes
 
 // ---- the distribution ---------------------------------------------------------------
 
-const glm::vec2 ALPHAS[] = {{0.05f, 0.05f}, {0.2f, 0.2f}, {0.5f, 0.5f}, {1.0f, 1.0f},
-                            {0.08f, 0.5f}};
+const glm::vec2 ALPHAS[] = {
+    {0.05f, 0.05f}, {0.2f, 0.2f}, {0.5f, 0.5f}, {1.0f, 1.0f}, {0.08f, 0.5f}};
 
 // D is a distribution of normals whose projected area is the macro surface's:
 // the integral of D(m) m.z over the hemisphere is 1 (Walter et al. 2007).
@@ -132,12 +133,11 @@ TEST(Ggx, ProjectedAreaIsOne) {
     for (glm::vec2 alpha : ALPHAS) {
         SCOPED_TRACE(testing::Message() << "alpha " << alpha.x << ", " << alpha.y);
         const auto grid = gridFor(std::min(alpha.x, alpha.y));
-        EXPECT_NEAR(test::integrateOverSphere(grid,
-                                              [&](glm::vec3 m) {
-                                                  return double(shared::ggxD(m, alpha)) *
-                                                         std::max(0.0f, m.z);
-                                              }),
-                    1.0, 1e-3);
+        EXPECT_NEAR(
+            test::integrateOverSphere(
+                grid,
+                [&](glm::vec3 m) { return double(shared::ggxD(m, alpha)) * std::max(0.0f, m.z); }),
+            1.0, 1e-3);
     }
 }
 
@@ -189,8 +189,8 @@ TEST(GgxVisibleNormals, FollowTheirDensity) {
     cases.push_back({{0.08f, 0.5f}, 0.4, 0.5});
     ASSERT_EQ(cases.size(), 17u);
     for (const Case& c : cases) {
-        SCOPED_TRACE(testing::Message() << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos "
-                                        << c.cosTheta);
+        SCOPED_TRACE(testing::Message()
+                     << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos " << c.cosTheta);
         const glm::vec3 wo = direction(c.cosTheta, c.phi);
         const auto results = runRoutine(pushFor(MICROFACET_VISIBLE_NORMAL, c.alpha, wo, 3));
         auto pdf = [&](glm::vec3 m) {
@@ -297,8 +297,8 @@ TEST(RoughConductor, SamplesFollowTheirDensity) {
     cases.push_back({{0.3f, 0.3f}, -0.6});
     ASSERT_EQ(cases.size(), 14u);
     for (const Case& c : cases) {
-        SCOPED_TRACE(testing::Message() << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos "
-                                        << c.cosTheta);
+        SCOPED_TRACE(testing::Message()
+                     << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos " << c.cosTheta);
         const glm::vec3 wo = direction(c.cosTheta, 0.4);
         const auto results = runRoutine(pushFor(MICROFACET_CONDUCTOR, c.alpha, wo, 7));
         auto pdf = [&](glm::vec3 wi) { return conductorDensity(wo, wi, c.alpha); };
@@ -322,12 +322,13 @@ TEST(RoughConductor, WeightIsEvalOverPdf) {
         double cosTheta;
         uint32_t fresnel;
     };
-    const Case cases[] = {{{0.05f, 0.05f}, 0.9, VKP_FRESNEL_SCHLICK}, {{0.5f, 0.5f}, 0.3, VKP_FRESNEL_COMPLEX},
-                          {{1.0f, 1.0f}, 0.02, VKP_FRESNEL_SCHLICK},  {{0.02f, 0.4f}, 0.7, VKP_FRESNEL_COMPLEX},
-                          {{0.3f, 0.3f}, -0.8, VKP_FRESNEL_COMPLEX},  {{0.3f, 0.3f}, 0.6, VKP_FRESNEL_CONSTANT}};
+    const Case cases[] = {
+        {{0.05f, 0.05f}, 0.9, VKP_FRESNEL_SCHLICK}, {{0.5f, 0.5f}, 0.3, VKP_FRESNEL_COMPLEX},
+        {{1.0f, 1.0f}, 0.02, VKP_FRESNEL_SCHLICK},  {{0.02f, 0.4f}, 0.7, VKP_FRESNEL_COMPLEX},
+        {{0.3f, 0.3f}, -0.8, VKP_FRESNEL_COMPLEX},  {{0.3f, 0.3f}, 0.6, VKP_FRESNEL_CONSTANT}};
     for (const Case& c : cases) {
-        SCOPED_TRACE(testing::Message() << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos "
-                                        << c.cosTheta);
+        SCOPED_TRACE(testing::Message()
+                     << "alpha " << c.alpha.x << ", " << c.alpha.y << " cos " << c.cosTheta);
         MicrofacetPush p = pushFor(MICROFACET_CONDUCTOR, c.alpha, direction(c.cosTheta, 1.1), 9);
         p.fresnel = c.fresnel;
         p.f0 = glm::vec3(0.95f, 0.64f, 0.54f);  // copper, glTF style
@@ -368,7 +369,9 @@ TEST(RoughConductor, Reciprocity) {
         c.f0 = glm::vec3(0.95f, 0.64f, 0.54f);
         c.eta = GOLD_ETA;
         c.k = GOLD_K;
-        c.fresnel = n % 3 == 0 ? VKP_FRESNEL_COMPLEX : n % 3 == 1 ? VKP_FRESNEL_SCHLICK : VKP_FRESNEL_CONSTANT;
+        c.fresnel = n % 3 == 0   ? VKP_FRESNEL_COMPLEX
+                    : n % 3 == 1 ? VKP_FRESNEL_SCHLICK
+                                 : VKP_FRESNEL_CONSTANT;
         glm::vec3 a = randomDirection(), b = randomDirection();
         if (std::abs(a.z) < 1e-3f || std::abs(b.z) < 1e-3f) continue;
         if (a.z * b.z < 0) b.z = -b.z;
@@ -509,7 +512,7 @@ TEST(RoughConductor, ApproachesTheMirrorAsAlphaGoesToZero) {
     p.k = GOLD_K;
     const glm::vec3 fresnel = shared::fresnelComplex3(p.wo.z, GOLD_ETA, GOLD_K);
     for (const auto& r : runRoutine(p)) {
-        ASSERT_EQ(r.flags, 3u);  // valid, delta
+        ASSERT_EQ(r.flags, 3u);                                       // valid, delta
         ASSERT_EQ(r.direction, glm::vec3(-p.wo.x, -p.wo.y, p.wo.z));  // exact: a sign flip
         ASSERT_EQ(r.pdf, 1.0f);
         for (int k = 0; k < 3; ++k) ASSERT_NEAR(r.weight[k], fresnel[k], 1e-5f);
@@ -576,9 +579,9 @@ struct DielectricCase {
 // beyond the critical angle (41.8 degrees for 1.5: cos 0.745), where total
 // internal reflection dominates and only steep microfacets transmit.
 const DielectricCase DIELECTRIC_CASES[] = {
-    {1.5f, 0.8, {0.2f, 0.2f}},    {1.5f, 1.0, {0.5f, 0.5f}},   {1.5f, 0.05, {0.5f, 0.5f}},
-    {1.33f, 0.5, {0.05f, 0.05f}}, {1.5f, -0.9, {0.2f, 0.2f}},  {1.5f, -0.5, {0.2f, 0.2f}},
-    {1.5f, -0.3, {0.05f, 0.05f}}, {2.4f, -0.7, {1.0f, 1.0f}},  {1.5f, 0.6, {0.05f, 0.4f}}};
+    {1.5f, 0.8, {0.2f, 0.2f}},    {1.5f, 1.0, {0.5f, 0.5f}},  {1.5f, 0.05, {0.5f, 0.5f}},
+    {1.33f, 0.5, {0.05f, 0.05f}}, {1.5f, -0.9, {0.2f, 0.2f}}, {1.5f, -0.5, {0.2f, 0.2f}},
+    {1.5f, -0.3, {0.05f, 0.05f}}, {2.4f, -0.7, {1.0f, 1.0f}}, {1.5f, 0.6, {0.05f, 0.4f}}};
 
 MicrofacetPush dielectricPush(const DielectricCase& c, uint32_t seed) {
     MicrofacetPush p = pushFor(MICROFACET_DIELECTRIC, c.alpha, direction(c.cosTheta, 0.7), seed);
@@ -771,9 +774,8 @@ TEST(RoughDielectric, ApproachesSmoothGlassAsAlphaGoesToZero) {
             for (uint32_t i = 0; i < p.count; ++i) {
                 const auto& r = results[i];
                 const float uc = shared::rngUniform(shared::makeRngKey(i, 0u, p.seed), 2u);
-                const shared::BsdfSample s =
-                    shared::sampleDielectric(glm::vec3(1.0f), glm::vec3(1.0f), ior,
-                                             glm::vec3(0, 0, 1), p.wo, uc);
+                const shared::BsdfSample s = shared::sampleDielectric(
+                    glm::vec3(1.0f), glm::vec3(1.0f), ior, glm::vec3(0, 0, 1), p.wo, uc);
                 ASSERT_EQ(r.flags, 3u);  // valid, delta
                 for (int k = 0; k < 3; ++k) ASSERT_NEAR(r.direction[k], s.direction[k], 1e-5f);
                 ASSERT_NEAR(r.pdf, s.pdf, 1e-5f);

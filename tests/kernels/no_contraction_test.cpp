@@ -33,24 +33,30 @@ std::string run(const std::string& command) {
     return out;
 }
 
-std::filesystem::path writeModule(const test::TempDir& dir, const std::string& name, const std::vector<uint32_t>& words) {
-    return dir.write(name + ".spv", std::string(reinterpret_cast<const char*>(words.data()), words.size() * 4));
+std::filesystem::path writeModule(const test::TempDir& dir, const std::string& name,
+                                  const std::vector<uint32_t>& words) {
+    return dir.write(name + ".spv",
+                     std::string(reinterpret_cast<const char*>(words.data()), words.size() * 4));
 }
 
 struct Listing {
-    std::vector<std::string> arithmetic;     // result ids of float multiplies, adds, divisions, dot products
+    std::vector<std::string>
+        arithmetic;  // result ids of float multiplies, adds, divisions, dot products
     std::map<std::string, int> decorations;  // NoContraction decorations per id
 };
 
 Listing disassemble(const std::filesystem::path& file) {
-    const std::regex arithmetic(R"(^\s*(%\S+) = Op(FAdd|FSub|FMul|FDiv|Dot|VectorTimesScalar|MatrixTimes\w+|OuterProduct) )");
+    const std::regex arithmetic(
+        R"(^\s*(%\S+) = Op(FAdd|FSub|FMul|FDiv|Dot|VectorTimesScalar|MatrixTimes\w+|OuterProduct) )");
     const std::regex decoration(R"(^\s*OpDecorate (%\S+) NoContraction\s*$)");
     Listing listing;
     std::istringstream text(run("spirv-dis --raw-id " + file.string()));
     std::smatch m;
     for (std::string line; std::getline(text, line);) {
-        if (std::regex_search(line, m, decoration)) ++listing.decorations[m[1]];
-        else if (std::regex_search(line, m, arithmetic)) listing.arithmetic.push_back(m[1]);
+        if (std::regex_search(line, m, decoration))
+            ++listing.decorations[m[1]];
+        else if (std::regex_search(line, m, arithmetic))
+            listing.arithmetic.push_back(m[1]);
     }
     return listing;
 }
@@ -63,10 +69,12 @@ TEST(NoContraction, EveryFloatArithmeticResultOfEveryStageKernelIsDecoratedOnce)
         SCOPED_TRACE(kernel.name);
         const std::vector<uint32_t> decorated = vk::decorateNoContraction(kernel.spirv);
         const std::filesystem::path file = writeModule(dir, kernel.name, decorated);
-        EXPECT_EQ(run("spirv-val --target-env vulkan1.2 --scalar-block-layout " + file.string()), "");
+        EXPECT_EQ(run("spirv-val --target-env vulkan1.2 --scalar-block-layout " + file.string()),
+                  "");
 
-        const Listing before = disassemble(writeModule(dir, std::string(kernel.name) + "-before",
-                                                       std::vector<uint32_t>(kernel.spirv.begin(), kernel.spirv.end())));
+        const Listing before = disassemble(
+            writeModule(dir, std::string(kernel.name) + "-before",
+                        std::vector<uint32_t>(kernel.spirv.begin(), kernel.spirv.end())));
         const Listing after = disassemble(file);
         EXPECT_EQ(after.arithmetic, before.arithmetic);
         total += after.arithmetic.size();

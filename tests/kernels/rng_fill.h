@@ -6,8 +6,8 @@
 namespace vkpath::test {
 
 struct RngFillPush {
-    uint32_t count;        // values to write
-    uint32_t pixels;       // counter layout: i = (sample * dimensions + dimension) * pixels + pixel
+    uint32_t count;   // values to write
+    uint32_t pixels;  // counter layout: i = (sample * dimensions + dimension) * pixels + pixel
     uint32_t dimensions;
     uint32_t seed;
     uint32_t sampler;      // VKP_SAMPLER_*

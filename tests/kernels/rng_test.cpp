@@ -1,12 +1,13 @@
 // The counter-based RNG: the GPU produces the same bits as the CPU for 10^6
 // counters, and its floats are uniform in 1-D and in 2-D pairs.
+#include "shared/rng.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "kernels/rng_fill.h"
-#include "shared/rng.h"
 #include "support/statistics.h"
 #include "support/test_context.h"
 #include "vk/buffer.h"
@@ -25,12 +26,14 @@ std::vector<uint32_t> gpuBits(uint32_t seed) {
     vk::Context& context = test::context();
     vk::Buffer bits(context, COUNT * sizeof(uint32_t));
     vk::Kernel kernel(context, "rng_fill");
-    kernel.dispatch(COUNT, {{0, &bits}}, RngFillPush{COUNT, PIXELS, DIMENSIONS, seed, VKP_SAMPLER_INDEPENDENT, 0});
+    kernel.dispatch(COUNT, {{0, &bits}},
+                    RngFillPush{COUNT, PIXELS, DIMENSIONS, seed, VKP_SAMPLER_INDEPENDENT, 0});
     return bits.download<uint32_t>();
 }
 
 uint32_t cpuBits(uint32_t i, uint32_t seed) {
-    const uint32_t pixel = i % PIXELS, dimension = (i / PIXELS) % DIMENSIONS, sample = i / (PIXELS * DIMENSIONS);
+    const uint32_t pixel = i % PIXELS, dimension = (i / PIXELS) % DIMENSIONS,
+                   sample = i / (PIXELS * DIMENSIONS);
     return shared::rngBits(shared::makeRngKey(pixel, sample, seed), dimension);
 }
 
@@ -61,7 +64,8 @@ TEST(Rng, UniformIn64Bins) {
     std::vector<double> observed(64, 0), expected(64, double(COUNT) / 64);
     for (uint32_t b : bits) observed[static_cast<size_t>(shared::uintToUnitFloat(b) * 64)] += 1;
     const auto result = test::chiSquareTest(observed, expected);
-    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << " dof " << result.degreesOfFreedom;
+    EXPECT_GT(result.pValue, ALPHA)
+        << "chi2 " << result.statistic << " dof " << result.degreesOfFreedom;
 }
 
 TEST(Rng, PairsOfDimensionsUniformIn2D) {
@@ -82,7 +86,8 @@ TEST(Rng, PairsOfDimensionsUniformIn2D) {
             }
     std::vector<double> expected(N * N, pairs / (N * N));
     const auto result = test::chiSquareTest(observed, expected);
-    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << " dof " << result.degreesOfFreedom;
+    EXPECT_GT(result.pValue, ALPHA)
+        << "chi2 " << result.statistic << " dof " << result.degreesOfFreedom;
 }
 
 // The uniformity tests have power: a biased generator (u^1.02) is rejected.

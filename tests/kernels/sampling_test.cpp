@@ -2,6 +2,8 @@
 // follow its own pdf (chi-square, 10^6 samples), its pdf integrates to 1, and
 // the discrete choices of the dielectric follow Fresnel. Significance: 1% for
 // the whole file, Sidak-corrected over its chi-square and z tests.
+#include "shared/sampling.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -12,10 +14,9 @@
 
 #include "kernels/sampling_routines.h"
 #include "shared/bsdf.h"
-#include "shared/sampling.h"
 #include "support/direction_chi2.h"
-#include "support/test_scale.h"
 #include "support/test_context.h"
+#include "support/test_scale.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
 
@@ -26,7 +27,8 @@ using shared::SamplingPush;
 using shared::SamplingResult;
 
 constexpr uint32_t SAMPLES = 1000000;
-constexpr int TESTS_IN_FILE = 9;  // 7 chi-square tests, the solid-angle z-test, the dielectric z-tests
+constexpr int TESTS_IN_FILE =
+    9;  // 7 chi-square tests, the solid-angle z-test, the dielectric z-tests
 const double ALPHA = test::sidakAlpha(0.01, TESTS_IN_FILE);
 
 std::vector<SamplingResult> runRoutine(SamplingPush push) {
@@ -56,8 +58,8 @@ void expectFits(const test::DirectionGrid& grid, const std::vector<glm::vec3>& d
                 const std::function<double(glm::vec3)>& pdf) {
     EXPECT_NEAR(test::integrateOverSphere(grid, pdf), 1.0, 1e-3) << "pdf does not integrate to 1";
     const auto result = test::chiSquareDirections(grid, directions, pdf);
-    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom
-                                    << ", pooled " << result.pooledCells;
+    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof "
+                                    << result.degreesOfFreedom << ", pooled " << result.pooledCells;
 }
 
 // The concentric map's cosine and sine without libm: within one ulp of the
@@ -73,8 +75,10 @@ TEST(Sampling, QuarterPiCosineAndSineWithinOneUlp) {
     for (int64_t k = -STEPS; k <= STEPS; ++k) {
         const float a = float(double(k) / double(STEPS) * (M_PI / 4.0));
         const glm::vec2 cs = shared::cosSinQuarterPi(a);
-        worstCos = std::max(worstCos, std::abs(ordered(cs.x) - ordered(float(std::cos(double(a))))));
-        worstSin = std::max(worstSin, std::abs(ordered(cs.y) - ordered(float(std::sin(double(a))))));
+        worstCos =
+            std::max(worstCos, std::abs(ordered(cs.x) - ordered(float(std::cos(double(a))))));
+        worstSin =
+            std::max(worstSin, std::abs(ordered(cs.y) - ordered(float(std::sin(double(a))))));
     }
     EXPECT_LE(worstCos, 1);
     EXPECT_LE(worstSin, 1);
@@ -82,8 +86,10 @@ TEST(Sampling, QuarterPiCosineAndSineWithinOneUlp) {
 
 TEST(Sampling, CosineHemisphere) {
     const auto results = runRoutine(pushFor(ROUTINE_COSINE_HEMISPHERE));
-    for (const auto& r : results) ASSERT_NEAR(r.pdf, shared::cosineHemispherePdf(r.direction.z), 1e-5f);
-    expectFits({}, directionsOf(results), [](glm::vec3 d) { return shared::cosineHemispherePdf(d.z); });
+    for (const auto& r : results)
+        ASSERT_NEAR(r.pdf, shared::cosineHemispherePdf(r.direction.z), 1e-5f);
+    expectFits({}, directionsOf(results),
+               [](glm::vec3 d) { return shared::cosineHemispherePdf(d.z); });
 }
 
 // The test has power: cosine-weighted samples do not pass as uniform ones.
@@ -108,7 +114,8 @@ TEST(Sampling, UniformHemisphere) {
 TEST(Sampling, LambertianAroundAnArbitraryNormal) {
     SamplingPush p = pushFor(ROUTINE_LAMBERTIAN);
     p.a = glm::normalize(glm::vec3(0.3f, -0.8f, 0.52f));
-    p.b = glm::normalize(glm::vec3(-0.9f, 0.9f, -0.2f));  // wo below the normal: reflects on wo's side
+    p.b = glm::normalize(
+        glm::vec3(-0.9f, 0.9f, -0.2f));  // wo below the normal: reflects on wo's side
     const auto results = runRoutine(p);
     for (const auto& r : results) {
         ASSERT_EQ(r.flags & 1u, 1u);
@@ -116,7 +123,8 @@ TEST(Sampling, LambertianAroundAnArbitraryNormal) {
     }
     test::DirectionGrid grid;
     grid.frame = shared::makeFrame(p.a);
-    expectFits(grid, directionsOf(results), [&](glm::vec3 d) { return shared::lambertianPdf(p.a, p.b, d); });
+    expectFits(grid, directionsOf(results),
+               [&](glm::vec3 d) { return shared::lambertianPdf(p.a, p.b, d); });
 }
 
 // The cone of a sphere light, seen from outside. The grid is aligned with the
@@ -136,7 +144,8 @@ TEST(Sampling, SphereLightCone) {
     test::DirectionGrid grid;
     grid.frame = shared::makeFrame(axis);
     expectFits(grid, directionsOf(results), [&](glm::vec3 d) {
-        return double(glm::dot(d, axis)) >= cone.cosThetaMax ? double(shared::sphereConePdf(cone)) : 0.0;
+        return double(glm::dot(d, axis)) >= cone.cosThetaMax ? double(shared::sphereConePdf(cone))
+                                                             : 0.0;
     });
 }
 
@@ -181,11 +190,13 @@ TEST(Sampling, TriangleAreaUniform) {
     const float area = glm::length(shared::triangleArea3(p.a, p.b, p.c));
     for (const auto& r : results) {
         ASSERT_NEAR(r.pdf, 1.0f / area, 1e-6f);
-        const int i = std::min(N - 1, int(r.direction.x * N)), j = std::min(N - 1, int(r.direction.y * N));
+        const int i = std::min(N - 1, int(r.direction.x * N)),
+                  j = std::min(N - 1, int(r.direction.y * N));
         observed[i * N + j] += 1;
     }
     const auto result = test::chiSquareTest(observed, expected);
-    EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+    EXPECT_GT(result.pValue, ALPHA)
+        << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
 }
 
 // Area samples converted to solid angle estimate the triangle's solid angle:
@@ -206,7 +217,8 @@ TEST(Sampling, TriangleSolidAngleFromAreaSamples) {
         const glm::dvec3 x = b0 * a + b1 * b + (1 - b0 - b1) * c;  // viewed from the origin
         const double dist2 = glm::dot(x, x);
         const double cosLight = glm::dot(normal, x) / std::sqrt(dist2);
-        const double pdfOmega = shared::areaToSolidAnglePdf(float(area), float(dist2), float(cosLight));
+        const double pdfOmega =
+            shared::areaToSolidAnglePdf(float(area), float(dist2), float(cosLight));
         sum += 1 / pdfOmega;
         sum2 += 1 / (pdfOmega * pdfOmega);
     }
@@ -214,7 +226,8 @@ TEST(Sampling, TriangleSolidAngleFromAreaSamples) {
     const double standardError = std::sqrt((sum2 / n - mean * mean) / n);
     const double numerator = std::abs(glm::dot(a, glm::cross(b, c)));
     const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-    const double denominator = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    const double denominator =
+        la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
     const double exact = 2 * std::atan2(numerator, denominator);
     EXPECT_NEAR(mean, exact, 5 * standardError);
 }
@@ -257,7 +270,8 @@ TEST(Sampling, TriangleLightDirectionsFromAPoint) {
                              (1 - double(r.direction.x) - double(r.direction.y)) * c;
         const glm::dvec3 d = glm::normalize(x);
         const double cosLight = glm::dot(normal, d);
-        const float shaded = shared::areaToSolidAnglePdf(float(area), float(glm::dot(x, x)), float(cosLight));
+        const float shaded =
+            shared::areaToSolidAnglePdf(float(area), float(glm::dot(x, x)), float(cosLight));
         const double exact = glm::dot(x, x) / (area * std::abs(cosLight));
         ASSERT_NEAR(shaded, exact, 1e-4 * exact);
         directions.push_back(glm::vec3(d));
@@ -268,10 +282,12 @@ TEST(Sampling, TriangleLightDirectionsFromAPoint) {
     expectFits(grid, directions, pdf);
     // Power: the same samples judged against the pdf without the light's
     // cosine (area to solid angle by t^2 alone, renormalised) are rejected.
-    auto noCosine = [&](glm::vec3 d) { return pdf(d) * std::abs(glm::dot(normal, glm::normalize(glm::dvec3(d)))); };
+    auto noCosine = [&](glm::vec3 d) {
+        return pdf(d) * std::abs(glm::dot(normal, glm::normalize(glm::dvec3(d))));
+    };
     const double total = test::integrateOverSphere(grid, noCosine);
-    const auto wrong =
-        test::chiSquareDirections(grid, directions, [&](glm::vec3 d) { return noCosine(d) / total; });
+    const auto wrong = test::chiSquareDirections(grid, directions,
+                                                 [&](glm::vec3 d) { return noCosine(d) / total; });
     EXPECT_LT(wrong.pValue, 1e-10) << "chi2 " << wrong.statistic;
 }
 
@@ -279,7 +295,8 @@ TEST(Sampling, TriangleLightDirectionsFromAPoint) {
 
 TEST(Fresnel, AnalyticValues) {
     EXPECT_NEAR(shared::fresnelDielectric(1.0f, 1.5f), 0.04f, 1e-6f);  // ((1.5-1)/(1.5+1))^2
-    EXPECT_NEAR(shared::fresnelDielectric(-1.0f, 1.5f), 0.04f, 1e-6f);  // symmetric at normal incidence
+    EXPECT_NEAR(shared::fresnelDielectric(-1.0f, 1.5f), 0.04f,
+                1e-6f);  // symmetric at normal incidence
     // From glass (1.5) to air at 45 degrees: sin 45 * 1.5 = 1.06 > 1, total internal reflection.
     EXPECT_EQ(shared::fresnelDielectric(-std::sqrt(0.5f), 1.5f), 1.0f);
     // Just inside the critical angle (41.8 degrees) there is still transmission.
@@ -302,10 +319,12 @@ struct DielectricCase {
 // z-test's power: a reflection probability off by 0.01 moves z by 4.5 at
 // F = 0.5), 10^6 under `make test-long`.
 TEST(Dielectric, ChoiceDirectionsAndWeights) {
-    // ior 10 from inside: the critical angle has cosine 0.995, so -0.999 refracts and -0.9 reflects totally.
-    const DielectricCase cases[] = {{1.0f, 0.7f},  {1.33f, 0.9f}, {1.33f, -0.9f}, {1.5f, 0.2f},    {1.5f, -0.8f},
-                                    {1.5f, -0.5f}, {2.4f, 0.6f},  {2.4f, -0.95f}, {1.5f, 1.0f},    {10.0f, 0.5f},
-                                    {10.0f, 1e-3f}, {10.0f, -0.999f}, {10.0f, -0.9f}};
+    // ior 10 from inside: the critical angle has cosine 0.995, so -0.999 refracts and -0.9 reflects
+    // totally.
+    const DielectricCase cases[] = {{1.0f, 0.7f},  {1.33f, 0.9f}, {1.33f, -0.9f}, {1.5f, 0.2f},
+                                    {1.5f, -0.8f}, {1.5f, -0.5f}, {2.4f, 0.6f},   {2.4f, -0.95f},
+                                    {1.5f, 1.0f},  {10.0f, 0.5f}, {10.0f, 1e-3f}, {10.0f, -0.999f},
+                                    {10.0f, -0.9f}};
     const glm::vec3 n = glm::normalize(glm::vec3(0.2f, 0.9f, -0.3f));
     const shared::Frame frame = shared::makeFrame(n);
     const double zCritical = 4.0;  // two-sided; p ~ 6e-5 per case, well under ALPHA / cases
@@ -342,7 +361,8 @@ TEST(Dielectric, ChoiceDirectionsAndWeights) {
         const double expected = n0 * fresnel;
         const double sigma = std::sqrt(n0 * fresnel * (1 - fresnel));
         if (sigma > 0)
-            EXPECT_LT(std::abs(reflections - expected) / sigma, zCritical) << "reflected " << reflections;
+            EXPECT_LT(std::abs(reflections - expected) / sigma, zCritical)
+                << "reflected " << reflections;
         else
             EXPECT_EQ(reflections, expected);
     }
@@ -374,12 +394,14 @@ TEST(Dielectric, IndexOneLeavesDirectionAndWeightUnchanged) {
         p.count = 10000;
         p.scalar = 1.0f;
         p.a = n;
-        p.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
+        p.b = glm::normalize(
+            shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
         for (const auto& r : runRoutine(p)) {
             ASSERT_EQ(r.flags, 3u);
             ASSERT_EQ(r.pdf, 1.0f);
             ASSERT_EQ(r.weight, glm::vec3(1.0f));
-            for (int k = 0; k < 3; ++k) ASSERT_NEAR(r.direction[k], -p.b[k], 4.8e-7f / std::abs(cosO));
+            for (int k = 0; k < 3; ++k)
+                ASSERT_NEAR(r.direction[k], -p.b[k], 4.8e-7f / std::abs(cosO));
         }
     }
 }
@@ -409,9 +431,11 @@ TEST(Bsdf, WhiteFurnaceAlbedoAtMostOne) {
     }
     test::DirectionGrid grid;
     grid.frame = shared::makeFrame(n);
-    EXPECT_NEAR(test::integrateOverSphere(grid, [&](glm::vec3 d) {
-                    return double(shared::evalLambertian(glm::vec3(1.0f), n, wo, d).x);
-                }),
+    EXPECT_NEAR(test::integrateOverSphere(
+                    grid,
+                    [&](glm::vec3 d) {
+                        return double(shared::evalLambertian(glm::vec3(1.0f), n, wo, d).x);
+                    }),
                 1.0, 1e-3);
 
     p.routine = ROUTINE_MIRROR;
@@ -426,7 +450,8 @@ TEST(Bsdf, WhiteFurnaceAlbedoAtMostOne) {
             d.scalar = ior;
             d.a = n;
             const shared::Frame frame = shared::makeFrame(n);
-            d.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
+            d.b = glm::normalize(
+                shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
             const float eta = cosO > 0 ? ior : 1 / ior;
             for (const auto& r : runRoutine(d)) {
                 const bool refracted = glm::dot(r.direction, n) * cosO < 0;
@@ -451,7 +476,9 @@ TEST(Bsdf, WhiteFurnaceAlbedoAtMostOne) {
 TEST(Bsdf, Reciprocity) {
     std::mt19937 rng(17);
     std::normal_distribution<float> gauss;
-    auto randomDirection = [&] { return glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng))); };
+    auto randomDirection = [&] {
+        return glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
+    };
     for (int i = 0; i < 10000; ++i) {
         const glm::vec3 n = randomDirection(), a = randomDirection(), b = randomDirection();
         const float ca = std::abs(glm::dot(n, a)), cb = std::abs(glm::dot(n, b));
@@ -466,13 +493,15 @@ TEST(Bsdf, Reciprocity) {
     for (float ior : {1.33f, 1.5f, 2.4f, 10.0f})
         for (float cosO : {0.95f, 0.5f, 0.1f, -0.999f, -0.97f}) {
             const float eta = cosO > 0 ? ior : 1 / ior;
-            if ((1 - cosO * cosO) / (eta * eta) >= 1) continue;  // total internal reflection: nothing to reverse
+            if ((1 - cosO * cosO) / (eta * eta) >= 1)
+                continue;  // total internal reflection: nothing to reverse
             SCOPED_TRACE(testing::Message() << "ior " << ior << " cos " << cosO);
             SamplingPush there = pushFor(ROUTINE_DIELECTRIC, 19);
             there.count = 256;
             there.scalar = ior;
             there.a = n;
-            there.b = glm::normalize(shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
+            there.b = glm::normalize(
+                shared::frameToWorld(frame, glm::vec3(std::sqrt(1 - cosO * cosO), 0, cosO)));
             SamplingResult forward{};
             for (const auto& r : runRoutine(there))
                 if (glm::dot(r.direction, n) * cosO < 0) forward = r;

@@ -36,8 +36,9 @@ std::vector<uint32_t> gpuBits(const Grid& g) {
     vk::Context& context = test::context();
     vk::Buffer bits(context, g.count() * sizeof(uint32_t));
     vk::Kernel kernel(context, "rng_fill");
-    kernel.dispatch(g.count(), {{0, &bits}},
-                    RngFillPush{g.count(), g.pixels, g.dimensions, g.seed, VKP_SAMPLER_SOBOL, g.firstSample});
+    kernel.dispatch(
+        g.count(), {{0, &bits}},
+        RngFillPush{g.count(), g.pixels, g.dimensions, g.seed, VKP_SAMPLER_SOBOL, g.firstSample});
     return bits.download<uint32_t>();
 }
 
@@ -64,7 +65,8 @@ TEST(SobolSampler, GpuMatchesCpuBitForBit) {
                         ++mismatches;
                     }
                 }
-        EXPECT_EQ(mismatches, 0u) << "first sample " << g.firstSample << ", first mismatch at " << first;
+        EXPECT_EQ(mismatches, 0u) << "first sample " << g.firstSample << ", first mismatch at "
+                                  << first;
     }
 }
 
@@ -77,10 +79,13 @@ TEST(SobolSampler, PairsOfNumbersAreTwoSingleNumbers) {
         for (uint32_t pixel = 0; pixel < 64; ++pixel)
             for (const uint32_t sample : {0u, 1u, 7u, 1000u, 0xffffffffu})
                 for (uint32_t d = 0; d < 42; ++d) {
-                    const shared::RngKey key = shared::makeRngKey(pixel * 7919u, sample, 12345u, sampler);
+                    const shared::RngKey key =
+                        shared::makeRngKey(pixel * 7919u, sample, 12345u, sampler);
                     const glm::uvec2 pair = shared::rngBits2(key, d);
-                    ASSERT_EQ(pair.x, shared::rngBits(key, d)) << sampler << " " << pixel << " " << sample << " " << d;
-                    ASSERT_EQ(pair.y, shared::rngBits(key, d + 1u)) << sampler << " " << pixel << " " << sample << " " << d;
+                    ASSERT_EQ(pair.x, shared::rngBits(key, d))
+                        << sampler << " " << pixel << " " << sample << " " << d;
+                    ASSERT_EQ(pair.y, shared::rngBits(key, d + 1u))
+                        << sampler << " " << pixel << " " << sample << " " << d;
                 }
 }
 
@@ -128,7 +133,8 @@ TEST(SobolSampler, ClosedFormMatchesTheDirectionNumbers) {
 // shared::bitfieldReverse, GFNI's on x86 machines that have it
 // (shared/compat.h), against GLM's: every single bit, then hashed words.
 TEST(SobolSampler, BitReversalIsGlms) {
-    for (uint32_t bit = 0; bit < 32; ++bit) EXPECT_EQ(shared::bitfieldReverse(1u << bit), 1u << (31u - bit));
+    for (uint32_t bit = 0; bit < 32; ++bit)
+        EXPECT_EQ(shared::bitfieldReverse(1u << bit), 1u << (31u - bit));
     uint32_t mismatches = 0;
     for (uint32_t i = 0; i < 1000000u; ++i) {
         const uint32_t word = shared::pcg4d(glm::uvec4(i, 3u, 5u, 7u)).x;
@@ -157,7 +163,8 @@ TEST(SobolSampler, EachDimensionUniformIn64Bins) {
         std::vector<double> observed(64, 0), expected(64, double(g.pixels) * g.samples / 64);
         for (uint32_t s = 0; s < g.samples; ++s)
             for (uint32_t p = 0; p < g.pixels; ++p)
-                observed[static_cast<size_t>(shared::uintToUnitFloat(bits[g.index(p, s, d)]) * 64)] += 1;
+                observed[static_cast<size_t>(shared::uintToUnitFloat(bits[g.index(p, s, d)]) *
+                                             64)] += 1;
         const auto result = test::chiSquareTest(observed, expected);
         EXPECT_GT(result.pValue, ALPHA) << "dimension " << d << ": chi2 " << result.statistic;
     }
@@ -183,7 +190,8 @@ TEST(SobolSampler, PairsOfDimensionsUniformIn2D) {
                 }
         std::vector<double> expected(N * N, pairs / (N * N));
         const auto result = test::chiSquareTest(observed, expected);
-        EXPECT_GT(result.pValue, ALPHA) << "pairs from dimension " << offset << ": chi2 " << result.statistic;
+        EXPECT_GT(result.pValue, ALPHA)
+            << "pairs from dimension " << offset << ": chi2 " << result.statistic;
     }
 }
 
@@ -195,7 +203,8 @@ TEST(SobolSampler, FirstSampleUniformOverPixels) {
     std::vector<double> observed(64, 0), expected(64, double(g.pixels) * g.dimensions / 64);
     for (uint32_t d = 0; d < g.dimensions; ++d)
         for (uint32_t p = 0; p < g.pixels; ++p)
-            observed[static_cast<size_t>(shared::uintToUnitFloat(bits[g.index(p, 0, d)]) * 64)] += 1;
+            observed[static_cast<size_t>(shared::uintToUnitFloat(bits[g.index(p, 0, d)]) * 64)] +=
+                1;
     const auto result = test::chiSquareTest(observed, expected);
     EXPECT_GT(result.pValue, ALPHA) << "chi2 " << result.statistic;
 }
@@ -204,13 +213,15 @@ TEST(SobolSampler, FirstSampleUniformOverPixels) {
 // as the floats paths use, put exactly one point in each elementary interval
 // [a 2^-i, (a+1) 2^-i) x [b 2^-(k-i), (b+1) 2^-(k-i)), for every i in 0..k.
 // Also checks that every value is in [0, 1).
-bool isNet(uint32_t sampler, uint32_t pixel, uint32_t d, uint32_t seed, uint32_t first, uint32_t k) {
+bool isNet(uint32_t sampler, uint32_t pixel, uint32_t d, uint32_t seed, uint32_t first,
+           uint32_t k) {
     const uint32_t n = 1u << k;
     std::vector<float> u(n), v(n);
     for (uint32_t s = 0; s < n; ++s) {
         const auto key = shared::makeRngKey(pixel, first + s, seed, sampler);
         const glm::vec2 uv = shared::rngUniform2(key, d);
-        EXPECT_TRUE(uv.x >= 0.0f && uv.x < 1.0f && uv.y >= 0.0f && uv.y < 1.0f) << uv.x << ", " << uv.y;
+        EXPECT_TRUE(uv.x >= 0.0f && uv.x < 1.0f && uv.y >= 0.0f && uv.y < 1.0f)
+            << uv.x << ", " << uv.y;
         u[s] = uv.x;
         v[s] = uv.y;
     }
@@ -236,8 +247,8 @@ TEST(SobolSampler, AlignedBlocksAreNetsInEveryPair) {
                 for (uint32_t k = 0; k <= 12; ++k)
                     for (uint32_t first : {0u, 3u << k, 0u - (1u << k)}) {
                         EXPECT_TRUE(isNet(VKP_SAMPLER_SOBOL, pixel, d, seed, first, k))
-                            << "seed " << seed << " pixel " << pixel << " dimension " << d << " samples " << first
-                            << " + 2^" << k;
+                            << "seed " << seed << " pixel " << pixel << " dimension " << d
+                            << " samples " << first << " + 2^" << k;
                     }
 }
 
@@ -245,7 +256,8 @@ TEST(SobolSampler, AlignedBlocksAreNetsInEveryPair) {
 // chance that 16 uniform points form a (0,4,2)-net is below 10^-5).
 TEST(SobolSampler, IndependentSamplesAreNoNet) {
     for (uint32_t pixel : {0u, 1u, 777u})
-        for (uint32_t d : {0u, 2u, 6u}) EXPECT_FALSE(isNet(VKP_SAMPLER_INDEPENDENT, pixel, d, 0u, 0u, 4));
+        for (uint32_t d : {0u, 2u, 6u})
+            EXPECT_FALSE(isNet(VKP_SAMPLER_INDEPENDENT, pixel, d, 0u, 0u, 4));
 }
 
 }  // namespace

@@ -1,14 +1,15 @@
 // The log-log chart's axis logic, its font and what a rendered chart holds.
-#include <glm/glm.hpp>
+#include "plot/plot.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <glm/glm.hpp>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "plot/font.h"
-#include "plot/plot.h"
 
 namespace {
 
@@ -29,8 +30,10 @@ TEST(PlotAxis, DecadeRangeCoversTheDataInWholeDecades) {
 
 TEST(PlotAxis, DecadeLabelsReadAsPeopleWriteThem) {
     const std::vector<std::pair<int, std::string>> expected = {
-        {-4, "1e-4"}, {-3, "1e-3"}, {-2, "0.01"}, {-1, "0.1"}, {0, "1"}, {1, "10"}, {2, "100"}, {3, "1e3"}};
-    for (const auto& [exponent, label] : expected) EXPECT_EQ(plot::decadeLabel(exponent), label) << exponent;
+        {-4, "1e-4"}, {-3, "1e-3"}, {-2, "0.01"}, {-1, "0.1"},
+        {0, "1"},     {1, "10"},    {2, "100"},   {3, "1e3"}};
+    for (const auto& [exponent, label] : expected)
+        EXPECT_EQ(plot::decadeLabel(exponent), label) << exponent;
 }
 
 TEST(PlotAxis, DecadesAreEvenlySpacedAndMinorTicksFallBetween) {
@@ -70,7 +73,8 @@ TEST(PlotFont, EveryLabelCharacterHasItsOwnGlyph) {
 
 int countColor(const image::Image& image, glm::vec3 color) {
     int n = 0;
-    for (const glm::vec3& p : image.pixels) n += glm::all(glm::lessThan(glm::abs(p - color), glm::vec3(1e-6f)));
+    for (const glm::vec3& p : image.pixels)
+        n += glm::all(glm::lessThan(glm::abs(p - color), glm::vec3(1e-6f)));
     return n;
 }
 

@@ -48,8 +48,10 @@ TEST(BlockZTest, FalseAlarmRateIsAlpha) {
     for (uint32_t trial = 0; trial < 200; ++trial) {
         const Render a = synthetic(48, 40, 1.0f, 0.0f, 0.1f, 2 * trial + 1);
         const Render b = synthetic(48, 40, 1.0f, 0.0f, 0.1f, 2 * trial + 2);
-        alarms05 += image::compareBlocks(a.image, a.variance, b.image, b.variance, 8, 0.05).rejected > 0;
-        alarms50 += image::compareBlocks(a.image, a.variance, b.image, b.variance, 8, 0.5).rejected > 0;
+        alarms05 +=
+            image::compareBlocks(a.image, a.variance, b.image, b.variance, 8, 0.05).rejected > 0;
+        alarms50 +=
+            image::compareBlocks(a.image, a.variance, b.image, b.variance, 8, 0.5).rejected > 0;
     }
     EXPECT_LE(alarms05, 25);
     EXPECT_GE(alarms50, 70);  // Binomial(200, 0.5): mean 100, sd 7.1
@@ -63,8 +65,10 @@ TEST(BlockZTest, PowerGrowsWithTheShift) {
     const Render a = synthetic(48, 40, 1.0f, 0.0f, 0.1f, 11);
     const Render small = synthetic(48, 40, 1.0f, 0.02f, 0.1f, 12);
     const Render large = synthetic(48, 40, 1.0f, 0.1f, 0.1f, 13);
-    const auto none = image::compareBlocks(a.image, a.variance, small.image, small.variance, 8, 0.01);
-    const auto most = image::compareBlocks(a.image, a.variance, large.image, large.variance, 8, 0.01);
+    const auto none =
+        image::compareBlocks(a.image, a.variance, small.image, small.variance, 8, 0.01);
+    const auto most =
+        image::compareBlocks(a.image, a.variance, large.image, large.variance, 8, 0.01);
     EXPECT_EQ(none.blocks, 30);
     EXPECT_LE(none.rejected, 3);
     EXPECT_GE(most.rejected, 27);
@@ -93,10 +97,14 @@ TEST(BlockZTest, EqualNoiselessImagesAgreeAndDifferentOnesDoNot) {
 TEST(BlockZTest, BadArgumentsAreInputErrors) {
     const Render a = synthetic(8, 8, 1.0f, 0.0f, 0.1f, 1);
     const Render b = synthetic(8, 4, 1.0f, 0.0f, 0.1f, 1);
-    EXPECT_THROW(image::compareBlocks(a.image, a.variance, b.image, b.variance, 8, 0.01), InputError);
-    EXPECT_THROW(image::compareBlocks(a.image, b.variance, a.image, a.variance, 8, 0.01), InputError);
-    EXPECT_THROW(image::compareBlocks(a.image, a.variance, a.image, a.variance, 0, 0.01), InputError);
-    EXPECT_THROW(image::compareBlocks(a.image, a.variance, a.image, a.variance, 8, 1.5), InputError);
+    EXPECT_THROW(image::compareBlocks(a.image, a.variance, b.image, b.variance, 8, 0.01),
+                 InputError);
+    EXPECT_THROW(image::compareBlocks(a.image, b.variance, a.image, a.variance, 8, 0.01),
+                 InputError);
+    EXPECT_THROW(image::compareBlocks(a.image, a.variance, a.image, a.variance, 0, 0.01),
+                 InputError);
+    EXPECT_THROW(image::compareBlocks(a.image, a.variance, a.image, a.variance, 8, 1.5),
+                 InputError);
 }
 
 TEST(BlockZTest, AovPathIsBesideTheRender) {

@@ -3,11 +3,12 @@
 // that holds the render's features, else the general code. That the builds
 // give the same image is tests/render/all_scenes_test.cpp's
 // TheCpuProfileGivesTheSameImage.
+#include "reference/path_sampler.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
 
-#include "reference/path_sampler.h"
 #include "reference/reference_renderer.h"
 #include "shared/features.h"
 #include "support/test_scenes.h"
@@ -38,20 +39,23 @@ TEST(CpuProfiles, ARenderRunsTheProfileThatHoldsItsFeatures) {
     wavefront::RenderSettings settings;
     settings.width = 8;
     settings.height = 6;
-    const scene::Scene glass = test::sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(0.5f));
+    const scene::Scene glass =
+        test::sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(0.5f));
     const reference::ReferenceRenderer smooth(glass, settings);
     EXPECT_STREQ(smooth.sampler().name(), "smooth");
     EXPECT_EQ(smooth.features() & ~smooth.sampler().features(), 0u);
     EXPECT_NE(smooth.describe().find("'smooth' profile"), std::string::npos) << smooth.describe();
 
-    const scene::Scene conductor = test::sphereInEnvironment(scene::MaterialKind::Conductor, glm::vec3(0.5f));
+    const scene::Scene conductor =
+        test::sphereInEnvironment(scene::MaterialKind::Conductor, glm::vec3(0.5f));
     const reference::ReferenceRenderer rough(conductor, settings);
     EXPECT_NE(rough.features() & VKP_FEATURE_CONDUCTOR, 0u);
     EXPECT_EQ(rough.sampler().features(), uint32_t(VKP_FEATURES_ALL));
     EXPECT_NE(rough.describe().find("no profile holds"), std::string::npos) << rough.describe();
 
     settings.regularize = 0.2f;
-    const scene::Scene mirror = test::sphereInEnvironment(scene::MaterialKind::Mirror, glm::vec3(0.5f));
+    const scene::Scene mirror =
+        test::sphereInEnvironment(scene::MaterialKind::Mirror, glm::vec3(0.5f));
     const reference::ReferenceRenderer regularized(mirror, settings);
     EXPECT_NE(regularized.features() & VKP_FEATURE_REGULARIZE, 0u);
     EXPECT_EQ(regularized.sampler().features(), uint32_t(VKP_FEATURES_ALL));

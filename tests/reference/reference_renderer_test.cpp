@@ -6,6 +6,8 @@
 // SameSeed.FollowsTheSamePaths for the bounds). Different seeds: a block z-test
 // with the variance AOVs accepts GPU against CPU and rejects a CPU render
 // whose light-selection pdf is 10% off, so the comparison has power.
+#include "reference/reference_renderer.h"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -18,10 +20,9 @@
 
 #include "image/metrics.h"
 #include "image/statistics.h"
-#include "reference/reference_renderer.h"
 #include "scene/load.h"
-#include "support/pixel_match.h"
 #include "support/gpu_render.h"
+#include "support/pixel_match.h"
 #include "support/test_context.h"
 #include "wavefront/renderer.h"
 
@@ -42,7 +43,8 @@ wavefront::RenderSettings smallSettings(uint32_t spp, uint32_t seed) {
 
 using test::renderGpu;
 
-wavefront::RenderResult renderCpu(const scene::Scene& scene, const wavefront::RenderSettings& settings) {
+wavefront::RenderResult renderCpu(const scene::Scene& scene,
+                                  const wavefront::RenderSettings& settings) {
     return reference::ReferenceRenderer(scene, settings).render();
 }
 
@@ -58,8 +60,8 @@ std::string sceneName(const testing::TestParamInfo<std::string>& param) {
     return name;
 }
 
-const auto SCENES =
-    testing::Values("cornell_box.gltf", "cornell_box_diffuse.gltf", "CBspheres.dae", "normal_maps.gltf");
+const auto SCENES = testing::Values("cornell_box.gltf", "cornell_box_diffuse.gltf", "CBspheres.dae",
+                                    "normal_maps.gltf");
 
 // Per pixel, relMSE's term averaged over the channels: (a - b)^2 / (b^2 + 0.01).
 std::vector<double> relMseTerms(const image::Image& a, const image::Image& b) {
@@ -130,7 +132,9 @@ constexpr double SAME_SEED_TRIM = 0.01;
 constexpr double SAME_SEED_MAX_RELMSE = 1e-3;
 
 // Where no diverged path was seen to carry a firefly (the table above).
-bool fullRelMseIsStable(const std::string& scene) { return scene != "cornell_box.gltf"; }
+bool fullRelMseIsStable(const std::string& scene) {
+    return scene != "cornell_box.gltf";
+}
 
 class SameSeed : public testing::TestWithParam<std::string> {};
 
@@ -159,7 +163,9 @@ TEST_P(SameSeed, FollowsTheSamePaths) {
     // rounding flips (at most 1 - SAME_SEED_MIN_MATCHING of the pixels).
     auto expectSameCount = [](uint64_t cpuCount, uint64_t gpuCount, const char* what) {
         EXPECT_GT(cpuCount, 0u) << what;
-        EXPECT_NEAR(double(gpuCount), double(cpuCount), (1 - SAME_SEED_MIN_MATCHING) * double(cpuCount)) << what;
+        EXPECT_NEAR(double(gpuCount), double(cpuCount),
+                    (1 - SAME_SEED_MIN_MATCHING) * double(cpuCount))
+            << what;
     };
     expectSameCount(cpu.rays.closest, gpu.rays.closest, "closest-hit rays");
     expectSameCount(cpu.rays.shadow, gpu.rays.shadow, "shadow rays");
@@ -196,7 +202,8 @@ TEST(SameSeedSobol, FollowsTheSamePaths) {
         settings.sampler = wavefront::SamplerKind::Independent;
         const auto independent = renderCpu(s, settings);
         EXPECT_LT(matchingPixelFraction(independent.image, gpu.image), SAME_SEED_MIN_MATCHING);
-        EXPECT_GT(trimmedRelMse(independent.image, gpu.image, SAME_SEED_TRIM), 10 * SAME_SEED_MAX_RELMSE);
+        EXPECT_GT(trimmedRelMse(independent.image, gpu.image, SAME_SEED_TRIM),
+                  10 * SAME_SEED_MAX_RELMSE);
     }
 }
 
@@ -270,9 +277,12 @@ TEST(Reference, ThreadCountDoesNotChangeTheImage) {
     settings.threads = 3;
     const auto three = renderCpu(s, settings);
     ASSERT_EQ(one.image.pixels.size(), three.image.pixels.size());
-    EXPECT_EQ(std::memcmp(one.image.pixels.data(), three.image.pixels.data(), one.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(one.image.pixels.data(), three.image.pixels.data(),
+                          one.image.pixels.size() * sizeof(glm::vec3)),
+              0);
     EXPECT_EQ(std::memcmp(one.varianceOfMean.pixels.data(), three.varianceOfMean.pixels.data(),
-                          one.varianceOfMean.pixels.size() * sizeof(glm::vec3)), 0);
+                          one.varianceOfMean.pixels.size() * sizeof(glm::vec3)),
+              0);
     EXPECT_EQ(one.samplesPerPixel, 3u);
     EXPECT_EQ(one.paths, 48u * 36u * 3u);
 }

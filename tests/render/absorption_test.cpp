@@ -36,7 +36,8 @@ wavefront::RenderResult render(const scene::Scene& s, wavefront::KernelForm form
 // Outside the sphere the sky is 1. The wavefront and the megakernel give the
 // same bits.
 TEST(Absorption, ChordThroughAnIndexMatchedSphereIsBeerLambert) {
-    scene::Scene s = test::sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(1.0f), 1.0f);
+    scene::Scene s =
+        test::sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(1.0f), 1.0f);
     s.materials[0].attenuation = {0.5f, 1.0f, 2.0f};
     const auto wavefront = render(s, wavefront::KernelForm::Wavefront);
     const auto megakernel = render(s, wavefront::KernelForm::Megakernel);
@@ -58,7 +59,8 @@ TEST(Absorption, ChordThroughAnIndexMatchedSphereIsBeerLambert) {
 // sky, clear and absorbing, with the same seed; the absorbing one is
 // nowhere brighter and darker on the whole.
 TEST(Absorption, AbsorbingGlassIsNowhereBrighter) {
-    scene::Scene clear = test::sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(1.0f), 1.5f);
+    scene::Scene clear =
+        test::sphereInEnvironment(scene::MaterialKind::Dielectric, glm::vec3(1.0f), 1.5f);
     scene::Scene absorbing = clear;
     absorbing.materials[0].attenuation = glm::vec3(1.0f);
     const auto a = render(clear, wavefront::KernelForm::Megakernel);

@@ -5,14 +5,13 @@
 // (wavefront or megakernel, specialised or general) give the same image bit
 // for bit, and so do the CPU reference's builds (a profile and the general
 // code).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-
-#include <fmt/format.h>
 
 #include "bvh/bvh.h"
 #include "reference/reference_renderer.h"
@@ -35,7 +34,8 @@ std::vector<std::string> sceneFiles() {
     for (const auto& dir : folders)
         for (const auto& entry : std::filesystem::directory_iterator(dir)) {
             const auto ext = entry.path().extension();
-            if (ext == ".dae" || ext == ".gltf" || ext == ".glb") files.push_back(entry.path().string());
+            if (ext == ".dae" || ext == ".gltf" || ext == ".glb")
+                files.push_back(entry.path().string());
         }
     std::sort(files.begin(), files.end());
     return files;
@@ -79,11 +79,13 @@ TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
 TEST_P(AllScenes, KeepTheirMaterialKinds) {
     const std::string name = std::filesystem::path(GetParam()).filename().string();
     const std::vector<std::string> showingMicrofacets = {"material_spheres.gltf"};
-    if (std::find(showingMicrofacets.begin(), showingMicrofacets.end(), name) != showingMicrofacets.end())
+    if (std::find(showingMicrofacets.begin(), showingMicrofacets.end(), name) !=
+        showingMicrofacets.end())
         GTEST_SKIP() << name << " is made to show the microfacet kinds";
     const scene::Scene s = scene::loadScene(GetParam());
     for (const scene::Material& m : s.materials) {
-        const bool smoothConductor = m.kind == scene::MaterialKind::Conductor && m.roughness == 0.0f;
+        const bool smoothConductor =
+            m.kind == scene::MaterialKind::Conductor && m.roughness == 0.0f;
         const bool microfacet = m.kind == scene::MaterialKind::Conductor ||
                                 m.kind == scene::MaterialKind::RoughDielectric ||
                                 m.kind == scene::MaterialKind::MetallicRoughness;
@@ -135,7 +137,9 @@ void expectSameRender(const wavefront::RenderResult& r, const wavefront::RenderR
         return;
     }
     EXPECT_LE(pixelsApart(r.image, expected.image, 1e-5), r.image.pixels.size() / 100);
-    auto near = [](uint64_t a, uint64_t b) { return std::abs(double(a) - double(b)) <= 1e-4 * double(b) + 2.0; };
+    auto near = [](uint64_t a, uint64_t b) {
+        return std::abs(double(a) - double(b)) <= 1e-4 * double(b) + 2.0;
+    };
     EXPECT_PRED2(near, r.rays.closest, expected.rays.closest);
     EXPECT_PRED2(near, r.rays.shadow, expected.rays.shadow);
     EXPECT_PRED2(near, r.rejectedLightSamples, expected.rejectedLightSamples);
@@ -169,20 +173,24 @@ wavefront::RenderSettings sameImageSettings(bool defaults) {
 TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
     const scene::Scene s = scene::loadScene(GetParam());
     for (const bool defaults : {true, false}) {
-        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, independent, no roulette, regularised");
+        SCOPED_TRACE(defaults ? "default settings"
+                              : "3 light samples, independent, no roulette, regularised");
         wavefront::RenderSettings settings = sameImageSettings(defaults);
         settings.kernel = wavefront::KernelForm::Wavefront;
         wavefront::GpuRenderer reference(test::context(), s, settings);
         const auto expected = reference.render();
         EXPECT_NE(reference.features(), uint32_t(VKP_FEATURES_ALL));
-        for (const auto form : {wavefront::KernelForm::Wavefront, wavefront::KernelForm::Megakernel})
+        for (const auto form :
+             {wavefront::KernelForm::Wavefront, wavefront::KernelForm::Megakernel})
             for (const bool specialize : {true, false}) {
                 if (form == wavefront::KernelForm::Wavefront && specialize) continue;
-                SCOPED_TRACE(fmt::format("{} {}", wavefront::kernelFormName(form), specialize ? "specialised" : "general"));
+                SCOPED_TRACE(fmt::format("{} {}", wavefront::kernelFormName(form),
+                                         specialize ? "specialised" : "general"));
                 settings.kernel = form;
                 settings.specialize = specialize;
                 wavefront::GpuRenderer renderer(test::context(), s, settings);
-                EXPECT_EQ(renderer.features(), specialize ? reference.features() : uint32_t(VKP_FEATURES_ALL));
+                EXPECT_EQ(renderer.features(),
+                          specialize ? reference.features() : uint32_t(VKP_FEATURES_ALL));
                 expectSameRender(renderer.render(), expected);
             }
     }
@@ -195,7 +203,8 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
 TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
     const scene::Scene s = scene::loadScene(GetParam());
     for (const bool defaults : {true, false}) {
-        SCOPED_TRACE(defaults ? "default settings" : "3 light samples, independent, no roulette, regularised");
+        SCOPED_TRACE(defaults ? "default settings"
+                              : "3 light samples, independent, no roulette, regularised");
         wavefront::RenderSettings settings = sameImageSettings(defaults);
         settings.specialize = false;
         const reference::ReferenceRenderer general(s, settings);
@@ -204,9 +213,9 @@ TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
         const reference::ReferenceRenderer specialised(s, settings);
         const uint32_t features = specialised.features();
         const auto profiles = reference::cpuProfiles();
-        const auto holding = std::find_if(profiles.begin(), profiles.end(), [&](const reference::CpuProfile& p) {
-            return (features & ~p.features) == 0;
-        });
+        const auto holding = std::find_if(
+            profiles.begin(), profiles.end(),
+            [&](const reference::CpuProfile& p) { return (features & ~p.features) == 0; });
         EXPECT_EQ(specialised.sampler().features(),
                   holding == profiles.end() ? uint32_t(VKP_FEATURES_ALL) : holding->features);
         SCOPED_TRACE(specialised.describe());
@@ -228,7 +237,8 @@ INSTANTIATE_TEST_SUITE_P(Scenes, AllScenes, testing::ValuesIn(sceneFiles()),
 TEST(AllScenesList, IncludeTheAssignmentsScenes) {
     VKPATH_SKIP_WITHOUT_SHARED_SCENES();
     const std::vector<std::string> files = sceneFiles();
-    EXPECT_TRUE(std::any_of(files.begin(), files.end(), [](const std::string& f) { return f.ends_with(".dae"); }));
+    EXPECT_TRUE(std::any_of(files.begin(), files.end(),
+                            [](const std::string& f) { return f.ends_with(".dae"); }));
 }
 
 }  // namespace

@@ -19,8 +19,8 @@
 #include "image/statistics.h"
 #include "reference/reference_renderer.h"
 #include "scene/load.h"
-#include "support/pixel_match.h"
 #include "support/gpu_render.h"
+#include "support/pixel_match.h"
 #include "support/test_context.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
@@ -81,7 +81,8 @@ scene::Scene furnace(const scene::Material& plane, float h = 1.5f) {
 // Material `material`'s base-colour texture: an image whose alpha is a
 // checker of `cells` x `cells` texels, texel (i, j) of alpha a0 where i + j is
 // even, a1 where odd (RGB black), read nearest.
-scene::Scene withAlphaChecker(scene::Scene s, int cells, double a0, double a1, uint32_t material = 0) {
+scene::Scene withAlphaChecker(scene::Scene s, int cells, double a0, double a1,
+                              uint32_t material = 0) {
     scene::TextureImage image;
     image.name = "checker";
     image.width = image.height = uint32_t(cells);
@@ -91,7 +92,8 @@ scene::Scene withAlphaChecker(scene::Scene s, int cells, double a0, double a1, u
             image.texels.push_back(glm::u16vec4(0, 0, 0, uint16_t(std::lround(a * 65535))));
         }
     s.images.push_back(image);
-    s.textures.push_back({0, scene::TextureWrap::Repeat, scene::TextureWrap::Repeat, /*nearest*/ true});
+    s.textures.push_back(
+        {0, scene::TextureWrap::Repeat, scene::TextureWrap::Repeat, /*nearest*/ true});
     s.materials.at(material).baseColorTexture.texture = 0;
     return s;
 }
@@ -107,10 +109,9 @@ wavefront::RenderSettings settings(uint32_t spp, uint32_t maxDepth = 4, uint32_t
 
 using test::renderGpu;
 
-image::RegionMean meanOf(const wavefront::RenderResult& r,
-                         const std::function<bool(uint32_t, uint32_t)>& select = [](uint32_t, uint32_t) {
-                             return true;
-                         }) {
+image::RegionMean meanOf(
+    const wavefront::RenderResult& r, const std::function<bool(uint32_t, uint32_t)>& select =
+                                          [](uint32_t, uint32_t) { return true; }) {
     const image::RegionMean m = image::regionMean(r.image, r.varianceOfMean, select);
     EXPECT_GT(m.pixels, 0u);
     return m;
@@ -121,9 +122,11 @@ double zScore(const image::RegionMean& m, double expected) {
     return std::abs(m.mean - expected) / m.standardError;
 }
 
-void expectEveryPixel(const wavefront::RenderResult& r, float expected, float tolerance, const char* what) {
+void expectEveryPixel(const wavefront::RenderResult& r, float expected, float tolerance,
+                      const char* what) {
     for (size_t i = 0; i < r.image.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(r.image.pixels[i][c], expected, tolerance) << what << ", pixel " << i;
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(r.image.pixels[i][c], expected, tolerance) << what << ", pixel " << i;
 }
 
 // ---- furnace: what the camera sees through the plane ------------------------------
@@ -141,8 +144,10 @@ TEST(AlphaFurnace, BlendPlaneTransmitsOneMinusAlpha) {
         const auto r = renderGpu(furnace(black(AlphaMode::Blend, alpha)), settings(64));
         EXPECT_EQ(r.nonFiniteSamples, 0u);
         const image::RegionMean m = meanOf(r);
-        EXPECT_LE(zScore(m, 1.0 - alpha), Z_BOUND) << "mean " << m.mean << ", standard error " << m.standardError;
-        EXPECT_GT(zScore(m, 1.0 - (alpha + 0.05)), Z_BOUND) << "the test cannot tell 0.05 of alpha apart";
+        EXPECT_LE(zScore(m, 1.0 - alpha), Z_BOUND)
+            << "mean " << m.mean << ", standard error " << m.standardError;
+        EXPECT_GT(zScore(m, 1.0 - (alpha + 0.05)), Z_BOUND)
+            << "the test cannot tell 0.05 of alpha apart";
 
         // Per-sample variance, pixel by pixel: n * variance of the mean.
         double sum = 0, sumSquares = 0;
@@ -152,19 +157,23 @@ TEST(AlphaFurnace, BlendPlaneTransmitsOneMinusAlpha) {
             sumSquares += s2 * s2;
         }
         const double n = double(r.varianceOfMean.pixels.size());
-        const double mean = sum / n, standardError = std::sqrt((sumSquares / n - mean * mean) / (n - 1));
+        const double mean = sum / n,
+                     standardError = std::sqrt((sumSquares / n - mean * mean) / (n - 1));
         EXPECT_NEAR(mean, alpha * (1.0 - alpha), Z_BOUND * standardError) << "per-sample variance";
-        RecordProperty(fmt::format("alpha{}", alpha), fmt::format("mean {} z {:.2f}; variance {} z {:.2f}", m.mean,
-                                                                   zScore(m, 1.0 - alpha), mean,
-                                                                   (mean - alpha * (1.0 - alpha)) / standardError));
+        RecordProperty(
+            fmt::format("alpha{}", alpha),
+            fmt::format("mean {} z {:.2f}; variance {} z {:.2f}", m.mean, zScore(m, 1.0 - alpha),
+                        mean, (mean - alpha * (1.0 - alpha)) / standardError));
     }
 }
 
 // Alpha 0 never covers (u < alpha, u in [0, 1)) and alpha 1 everywhere is
 // opaque: exactly the sky and exactly black, no noise.
 TEST(AlphaFurnace, BlendAlphaZeroAndOneAreExact) {
-    expectEveryPixel(renderGpu(furnace(black(AlphaMode::Blend, 0.0f)), settings(4)), 1.0f, 0.0f, "alpha 0");
-    expectEveryPixel(renderGpu(furnace(black(AlphaMode::Blend, 1.0f)), settings(4)), 0.0f, 0.0f, "alpha 1");
+    expectEveryPixel(renderGpu(furnace(black(AlphaMode::Blend, 0.0f)), settings(4)), 1.0f, 0.0f,
+                     "alpha 0");
+    expectEveryPixel(renderGpu(furnace(black(AlphaMode::Blend, 1.0f)), settings(4)), 0.0f, 0.0f,
+                     "alpha 1");
 }
 
 // MASK with a constant alpha 0.5: a cutoff below it keeps the whole plane
@@ -175,7 +184,8 @@ TEST(AlphaFurnace, MaskCutoffAboveOrBelowTheAlpha) {
         SCOPED_TRACE(cpu ? "CPU reference" : "GPU");
         auto render = [&](float cutoff) {
             const scene::Scene s = furnace(black(AlphaMode::Mask, 0.5f, cutoff));
-            return cpu ? reference::ReferenceRenderer(s, settings(2)).render() : renderGpu(s, settings(2));
+            return cpu ? reference::ReferenceRenderer(s, settings(2)).render()
+                       : renderGpu(s, settings(2));
         };
         expectEveryPixel(render(0.4f), 0.0f, 0.0f, "cutoff 0.4: opaque");
         expectEveryPixel(render(0.5f), 0.0f, 0.0f, "cutoff 0.5: alpha >= cutoff is opaque");
@@ -191,9 +201,13 @@ TEST(AlphaFurnace, MaskCutoffAboveOrBelowTheAlpha) {
 // standard errors.
 TEST(AlphaFurnace, CheckerTextureAlpha) {
     auto texelOf = [](uint32_t x, uint32_t y) { return glm::ivec2(x / 8, y / 8); };
-    auto inside = [](uint32_t x, uint32_t y) { return x % 8 != 0 && x % 8 != 7 && y % 8 != 0 && y % 8 != 7; };
+    auto inside = [](uint32_t x, uint32_t y) {
+        return x % 8 != 0 && x % 8 != 7 && y % 8 != 0 && y % 8 != 7;
+    };
     {
-        const auto r = renderGpu(withAlphaChecker(furnace(black(AlphaMode::Mask, 1.0f), 1.0f), 8, 0.0, 1.0), settings(4));
+        const auto r =
+            renderGpu(withAlphaChecker(furnace(black(AlphaMode::Mask, 1.0f), 1.0f), 8, 0.0, 1.0),
+                      settings(4));
         int holes = 0, solid = 0;
         for (uint32_t y = 0; y < FILM; ++y)
             for (uint32_t x = 0; x < FILM; ++x) {
@@ -208,15 +222,18 @@ TEST(AlphaFurnace, CheckerTextureAlpha) {
     }
     {
         const auto r =
-            renderGpu(withAlphaChecker(furnace(black(AlphaMode::Blend, 1.0f), 1.0f), 8, 0.25, 0.75), settings(64));
+            renderGpu(withAlphaChecker(furnace(black(AlphaMode::Blend, 1.0f), 1.0f), 8, 0.25, 0.75),
+                      settings(64));
         for (const int parity : {0, 1}) {
             const image::RegionMean m = meanOf(r, [&](uint32_t x, uint32_t y) {
                 const glm::ivec2 t = texelOf(x, y);
                 return inside(x, y) && (t.x + t.y) % 2 == parity;
             });
             const double expected = parity == 0 ? 0.75 : 0.25;
-            EXPECT_LE(zScore(m, expected), Z_BOUND) << "texels of parity " << parity << ": mean " << m.mean;
-            RecordProperty(fmt::format("parity{}", parity), fmt::format("z {:.2f}", zScore(m, expected)));
+            EXPECT_LE(zScore(m, expected), Z_BOUND)
+                << "texels of parity " << parity << ": mean " << m.mean;
+            RecordProperty(fmt::format("parity{}", parity),
+                           fmt::format("z {:.2f}", zScore(m, expected)));
         }
     }
 }
@@ -233,8 +250,10 @@ TEST(AlphaFurnace, AlphaIsFactorTimesTextureTimesVertexColour) {
     const image::RegionMean m = meanOf(renderGpu(plane(AlphaMode::Blend, 0.5f), settings(64)));
     EXPECT_LE(zScore(m, 0.8), Z_BOUND) << "mean " << m.mean;
     RecordProperty("z", fmt::format("{:.2f}", zScore(m, 0.8)));
-    expectEveryPixel(renderGpu(plane(AlphaMode::Mask, 0.25f), settings(2)), 1.0f, 0.0f, "cutoff 0.25");
-    expectEveryPixel(renderGpu(plane(AlphaMode::Mask, 0.15f), settings(2)), 0.0f, 0.0f, "cutoff 0.15");
+    expectEveryPixel(renderGpu(plane(AlphaMode::Mask, 0.25f), settings(2)), 1.0f, 0.0f,
+                     "cutoff 0.25");
+    expectEveryPixel(renderGpu(plane(AlphaMode::Mask, 0.15f), settings(2)), 0.0f, 0.0f,
+                     "cutoff 0.15");
 }
 
 // Spheres have no texture coordinates and are opaque whatever their
@@ -243,7 +262,8 @@ TEST(AlphaFurnace, AlphaIsFactorTimesTextureTimesVertexColour) {
 TEST(AlphaFurnace, SpheresStayOpaque) {
     scene::Scene s = furnace(black(AlphaMode::Blend, 0.5f));
     s.meshes.clear();
-    s.spheres.push_back({"ball", glm::vec3(0.0f), 3.0f, 0});  // the camera at distance 2 is inside: every ray meets it
+    s.spheres.push_back({"ball", glm::vec3(0.0f), 3.0f,
+                         0});  // the camera at distance 2 is inside: every ray meets it
     expectEveryPixel(renderGpu(s, settings(2)), 0.0f, 0.0f, "a BLEND sphere");
 }
 
@@ -282,8 +302,10 @@ TEST(AlphaShadows, DirectionalLightThroughABlendPlaneDarkensByAlpha) {
             continue;
         }
         const image::RegionMean m = meanOf(r);
-        EXPECT_LE(zScore(m, lit * (1.0 - alpha)), Z_BOUND) << "mean " << m.mean << " of " << lit * (1 - alpha);
-        RecordProperty(fmt::format("alpha{}", alpha), fmt::format("z {:.2f}", zScore(m, lit * (1.0 - alpha))));
+        EXPECT_LE(zScore(m, lit * (1.0 - alpha)), Z_BOUND)
+            << "mean " << m.mean << " of " << lit * (1 - alpha);
+        RecordProperty(fmt::format("alpha{}", alpha),
+                       fmt::format("z {:.2f}", zScore(m, lit * (1.0 - alpha))));
     }
 }
 
@@ -327,7 +349,8 @@ TEST(AlphaShadows, EmitterWithHolesLightsByItsAlpha) {
     s.materials[2].alphaMode = AlphaMode::Opaque;
     EXPECT_EQ(wavefront::buildSceneTables(s).lights.size(), 2u);  // its two triangles
     const image::RegionMean solid = meanOf(renderGpu(s, settings(64, 1, 2)));
-    const double z = (holes.mean - 0.5 * solid.mean) / std::hypot(holes.standardError, 0.5 * solid.standardError);
+    const double z = (holes.mean - 0.5 * solid.mean) /
+                     std::hypot(holes.standardError, 0.5 * solid.standardError);
     EXPECT_LE(std::abs(z), Z_BOUND) << "with holes " << holes.mean << ", solid " << solid.mean;
     RecordProperty("z", fmt::format("{:.2f} (holes {}, solid {})", z, holes.mean, solid.mean));
 }
@@ -337,7 +360,8 @@ TEST(AlphaShadows, EmitterWithHolesLightsByItsAlpha) {
 // Both modes, a textured and vertex-coloured BLEND plane, shadows from an
 // area and a directional light, and a MASK card in front of the camera.
 scene::Scene everything() {
-    scene::Scene s = withAlphaChecker(groundUnderPlane(black(AlphaMode::Blend, 0.9f)), 4, 0.3, 0.8, 1);
+    scene::Scene s =
+        withAlphaChecker(groundUnderPlane(black(AlphaMode::Blend, 0.9f)), 4, 0.3, 0.8, 1);
     s.materials[1].reflectance = glm::vec3(0.6f, 0.5f, 0.4f);
     s.meshes[1].colors = {{1, 1, 1, 1}, {1, 1, 1, 0.5f}, {1, 1, 1, 1}, {1, 1, 1, 0.2f}};
     scene::Material lamp;
@@ -374,7 +398,8 @@ TEST(AlphaKernels, EveryKernelGivesTheSameImage) {
     for (const auto form : {wavefront::KernelForm::Wavefront, wavefront::KernelForm::Megakernel})
         for (const bool specialize : {true, false}) {
             if (form == wavefront::KernelForm::Wavefront && specialize) continue;
-            SCOPED_TRACE(std::string(wavefront::kernelFormName(form)) + (specialize ? " specialised" : " general"));
+            SCOPED_TRACE(std::string(wavefront::kernelFormName(form)) +
+                         (specialize ? " specialised" : " general"));
             wavefront::RenderSettings other = base;
             other.kernel = form;
             other.specialize = specialize;
@@ -432,15 +457,18 @@ TEST(AlphaKernels, CpuReferenceMakesTheSameDecisions) {
     const auto other = reference::ReferenceRenderer(s, base).render();
     const double otherMatching = matchingPixelFraction(other.image, gpu.image);
     EXPECT_LT(otherMatching, 0.97);
-    RecordProperty("matching", fmt::format("same seed {:.4f}, another seed {:.4f}", matching, otherMatching));
+    RecordProperty("matching",
+                   fmt::format("same seed {:.4f}, another seed {:.4f}", matching, otherMatching));
 }
 
 // A real model: the glTF sample ClearCoatTest (Debian's assimp-testmodels)
 // has one BLEND material whose base-colour texture's alpha is a set of
 // stripes: its scene tests alpha, and it renders without a NaN.
 TEST(AlphaModels, ClearCoatTestHasAlphaStripes) {
-    const std::filesystem::path file = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is not installed (assimp-testmodels)";
+    const std::filesystem::path file =
+        "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    if (!std::filesystem::exists(file))
+        GTEST_SKIP() << file << " is not installed (assimp-testmodels)";
     const scene::Scene s = scene::loadScene(file);
     const wavefront::SceneTables t = wavefront::buildSceneTables(s);
     EXPECT_EQ(t.info.alphaTested, 1u);

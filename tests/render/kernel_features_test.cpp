@@ -3,6 +3,8 @@
 // settings contain, and what follows from them: no shadow stage and no
 // shadow-ray memory where nothing can be light-sampled, and the megakernel's
 // path state of 12 bytes a path.
+#include "wavefront/kernel_features.h"
+
 #include <gtest/gtest.h>
 
 #include "scene/scene.h"
@@ -10,7 +12,6 @@
 #include "shared/ray.h"
 #include "support/test_context.h"
 #include "support/test_scenes.h"
-#include "wavefront/kernel_features.h"
 #include "wavefront/renderer.h"
 
 namespace {
@@ -18,7 +19,9 @@ namespace {
 using namespace vkpath;
 
 // One sphere of `kind` under a constant sky, as in the furnace tests.
-scene::Scene sphereUnderSky(scene::MaterialKind kind) { return test::sphereInEnvironment(kind, glm::vec3(0.5f)); }
+scene::Scene sphereUnderSky(scene::MaterialKind kind) {
+    return test::sphereInEnvironment(kind, glm::vec3(0.5f));
+}
 
 uint32_t featuresOf(const scene::Scene& s, const wavefront::RenderSettings& settings) {
     const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
@@ -27,9 +30,10 @@ uint32_t featuresOf(const scene::Scene& s, const wavefront::RenderSettings& sett
 
 TEST(KernelFeatures, ExactlyWhatTheSceneAndSettingsHold) {
     wavefront::RenderSettings settings;  // Sobol', one light sample, roulette from 5 at -m 8
-    EXPECT_EQ(featuresOf(sphereUnderSky(scene::MaterialKind::Diffuse), settings),
-              uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ENVIRONMENT_COLOR |
-                       VKP_FEATURE_SAMPLER_SOBOL | VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_ROULETTE));
+    EXPECT_EQ(
+        featuresOf(sphereUnderSky(scene::MaterialKind::Diffuse), settings),
+        uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ENVIRONMENT_COLOR |
+                 VKP_FEATURE_SAMPLER_SOBOL | VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_ROULETTE));
 
     settings.sampler = wavefront::SamplerKind::Independent;
     settings.lightSamples = 3;
@@ -42,13 +46,15 @@ TEST(KernelFeatures, ExactlyWhatTheSceneAndSettingsHold) {
     // No light at all: no light samples, whatever -l says.
     scene::Scene dark = sphereUnderSky(scene::MaterialKind::Mirror);
     dark.environment.reset();
-    EXPECT_EQ(featuresOf(dark, settings) & (VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES |
-                                            VKP_FEATURES_ENVIRONMENT),
+    EXPECT_EQ(featuresOf(dark, settings) &
+                  (VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES |
+                   VKP_FEATURES_ENVIRONMENT),
               0u);
 }
 
 TEST(KernelFeatures, NamesTheBitsAndTheGeneralKernel) {
-    EXPECT_EQ(wavefront::describeFeatures(VKP_FEATURE_TRIANGLES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ROULETTE),
+    EXPECT_EQ(wavefront::describeFeatures(VKP_FEATURE_TRIANGLES | VKP_FEATURE_DIFFUSE |
+                                          VKP_FEATURE_ROULETTE),
               "triangles diffuse roulette");
     EXPECT_EQ(wavefront::describeFeatures(VKP_FEATURES_ALL), "general");
 }
@@ -69,8 +75,10 @@ TEST(KernelFeatures, NoShadowStageOrMemoryWhereNothingCanBeLightSampled) {
     // from. Specialised, the shadow rays and their contributions (32 + 12
     // bytes a path) are not allocated; the general kernels keep them.
     const scene::Scene mirror = sphereUnderSky(scene::MaterialKind::Mirror);
-    EXPECT_EQ(pathState(mirror, true), wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0));
-    EXPECT_EQ(pathState(mirror, false), wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1));
+    EXPECT_EQ(pathState(mirror, true),
+              wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0));
+    EXPECT_EQ(pathState(mirror, false),
+              wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1));
     EXPECT_EQ(wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1) -
                   wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0),
               sizeof(shared::Ray) + sizeof(glm::vec3));

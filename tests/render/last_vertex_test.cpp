@@ -52,7 +52,10 @@ scene::Scene floorUnderLamp(bool texturedLamp) {
     floor.triangles = {{0, 1, 2}, {0, 2, 3}};
     floor.material = 0;
     scene::Mesh light;
-    light.positions = {{-0.5f, -0.5f, 1}, {-0.5f, 0.5f, 1}, {0.5f, 0.5f, 1}, {0.5f, -0.5f, 1}};  // clockwise from above
+    light.positions = {{-0.5f, -0.5f, 1},
+                       {-0.5f, 0.5f, 1},
+                       {0.5f, 0.5f, 1},
+                       {0.5f, -0.5f, 1}};  // clockwise from above
     light.texcoords0 = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
     light.triangles = {{0, 1, 2}, {0, 2, 3}};
     light.material = 1;
@@ -85,7 +88,8 @@ TEST(LastVertex, OnlyTexturedEmittersAreUnsampled) {
 TEST(LastVertex, LightSamplingAloneTracesNoBsdfRayAndLightsAsTheBsdfRayDoes) {
     const uint64_t paths = uint64_t(SIZE) * SIZE * SPP;
     for (bool cpu : {false, true})
-        for (wavefront::KernelForm form : {wavefront::KernelForm::Megakernel, wavefront::KernelForm::Wavefront}) {
+        for (wavefront::KernelForm form :
+             {wavefront::KernelForm::Megakernel, wavefront::KernelForm::Wavefront}) {
             if (cpu && form == wavefront::KernelForm::Wavefront) continue;
             SCOPED_TRACE(cpu ? "CPU reference" : wavefront::kernelFormName(form));
             auto render = [&](const scene::Scene& s, uint32_t maxDepth) {
@@ -105,12 +109,15 @@ TEST(LastVertex, LightSamplingAloneTracesNoBsdfRayAndLightsAsTheBsdfRayDoes) {
             EXPECT_GT(render(floorUnderLamp(false), 2).rays.closest, paths + paths / 2);
 
             const auto a = imageMean(sampled), b = imageMean(textured);
-            // The floor right under the lamp reflects about 0.5 / pi x 0.7; the image's mean is 0.016.
+            // The floor right under the lamp reflects about 0.5 / pi x 0.7; the image's mean is
+            // 0.016.
             EXPECT_GT(a.mean, 0.01);
             const double z = (a.mean - b.mean) / std::sqrt(a.standardError * a.standardError +
-                                                            b.standardError * b.standardError);
+                                                           b.standardError * b.standardError);
             EXPECT_LT(std::abs(z), Z_BOUND) << "means " << a.mean << " and " << b.mean;
-            RecordProperty(cpu ? "zCpu" : form == wavefront::KernelForm::Megakernel ? "zMegakernel" : "zWavefront",
+            RecordProperty(cpu                                         ? "zCpu"
+                           : form == wavefront::KernelForm::Megakernel ? "zMegakernel"
+                                                                       : "zWavefront",
                            std::to_string(z));
         }
 }

@@ -92,32 +92,34 @@ TEST(MicrofacetFurnace, EnergyAtMostOneAndTheAlbedoOfSingleScattering) {
         {"conductor, roughness 1", material(scene::MaterialKind::Conductor, 1.0f), true},
         {"rough glass, roughness 0.3", material(scene::MaterialKind::RoughDielectric, 0.3f), false},
         {"rough glass, roughness 1", material(scene::MaterialKind::RoughDielectric, 1.0f), false},
-        {"metallic-roughness, non-metal, roughness 0.5", material(scene::MaterialKind::MetallicRoughness, 0.5f),
-         true},
-        {"metallic-roughness, non-metal, roughness 1", material(scene::MaterialKind::MetallicRoughness, 1.0f),
-         true},
+        {"metallic-roughness, non-metal, roughness 0.5",
+         material(scene::MaterialKind::MetallicRoughness, 0.5f), true},
+        {"metallic-roughness, non-metal, roughness 1",
+         material(scene::MaterialKind::MetallicRoughness, 1.0f), true},
         {"metallic-roughness, metallic 0.5, roughness 0.7",
          material(scene::MaterialKind::MetallicRoughness, 0.7f, 0.5f), true},
-        {"metallic-roughness, metal, roughness 0.5", material(scene::MaterialKind::MetallicRoughness, 0.5f, 1.0f),
-         true},
+        {"metallic-roughness, metal, roughness 0.5",
+         material(scene::MaterialKind::MetallicRoughness, 0.5f, 1.0f), true},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
         const auto r = render(furnace(c.m), 64, 24, 48, 3);
         EXPECT_EQ(r.nonFiniteSamples, 0u);
-        const auto sphere = image::regionMean(r.image, r.varianceOfMean,
-                                              [](uint32_t x, uint32_t y) { return within(x, y, 48, 0.6); });
+        const auto sphere =
+            image::regionMean(r.image, r.varianceOfMean,
+                              [](uint32_t x, uint32_t y) { return within(x, y, 48, 0.6); });
         ASSERT_GT(sphere.pixels, 100u);
         EXPECT_LE(sphere.mean, 1.0 + Z_BOUND * sphere.standardError + 1e-6);
         std::printf("  %s: sphere %.4f +- %.4f", c.name, sphere.mean, sphere.standardError);
         if (c.singleScattering) {
-            const auto centre = image::regionMean(r.image, r.varianceOfMean,
-                                                  [](uint32_t x, uint32_t y) { return within(x, y, 48, 0.15); });
+            const auto centre =
+                image::regionMean(r.image, r.varianceOfMean,
+                                  [](uint32_t x, uint32_t y) { return within(x, y, 48, 0.15); });
             const double albedo = albedoAtNormalIncidence(c.m);
             EXPECT_LE(albedo, 1.0 + 1e-3);
             EXPECT_NEAR(centre.mean, albedo, Z_BOUND * centre.standardError + 2e-3);
-            std::printf(", centre %.4f +- %.4f, albedo at normal incidence %.4f", centre.mean, centre.standardError,
-                        albedo);
+            std::printf(", centre %.4f +- %.4f, albedo at normal incidence %.4f", centre.mean,
+                        centre.standardError, albedo);
         }
         std::printf("\n");
     }
@@ -135,7 +137,8 @@ scene::Environment bandedSky() {
         for (uint32_t i = 0; i < map.width; ++i) {
             const double phi = 2 * PI * (i + 0.5) / map.width, theta = PI * (j + 0.5) / map.height;
             const double band = (0.5 + 0.5 * std::sin(6 * phi)) * (0.5 + 0.5 * std::cos(5 * theta));
-            map.pixels[size_t(j) * map.width + i] = glm::vec3(float(0.2 + 3 * band), float(0.2 + 2 * band), 0.6f);
+            map.pixels[size_t(j) * map.width + i] =
+                glm::vec3(float(0.2 + 3 * band), float(0.2 + 2 * band), 0.6f);
         }
     scene::Environment env;
     env.map = map;
@@ -154,9 +157,10 @@ TEST(MicrofacetLimit, RoughnessToZeroConvergesToTheMirrorAndTheSmoothGlass) {
         const char* name;
         scene::MaterialKind rough, smooth;
     };
-    const Case cases[] = {{"conductor and mirror", scene::MaterialKind::Conductor, scene::MaterialKind::Mirror},
-                          {"rough and smooth glass", scene::MaterialKind::RoughDielectric,
-                           scene::MaterialKind::Dielectric}};
+    const Case cases[] = {
+        {"conductor and mirror", scene::MaterialKind::Conductor, scene::MaterialKind::Mirror},
+        {"rough and smooth glass", scene::MaterialKind::RoughDielectric,
+         scene::MaterialKind::Dielectric}};
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
         auto scene = [&](scene::MaterialKind kind, float roughness) {
@@ -172,11 +176,14 @@ TEST(MicrofacetLimit, RoughnessToZeroConvergesToTheMirrorAndTheSmoothGlass) {
             const auto comparison = image::compareBlocks(r.image, r.varianceOfMean, reference.image,
                                                          reference.varianceOfMean, 8, 0.01);
             if (roughness < 0.1f)
-                EXPECT_EQ(comparison.rejected, 0) << "worst z " << comparison.worstZ << " of " << comparison.critical;
+                EXPECT_EQ(comparison.rejected, 0)
+                    << "worst z " << comparison.worstZ << " of " << comparison.critical;
             else
                 EXPECT_GT(comparison.rejected, 0) << "worst z " << comparison.worstZ;
-            std::printf("  %s, roughness %.3f: worst z %.2f (critical %.2f), %d of %d blocks rejected\n", c.name,
-                        roughness, comparison.worstZ, comparison.critical, comparison.rejected, comparison.blocks);
+            std::printf(
+                "  %s, roughness %.3f: worst z %.2f (critical %.2f), %d of %d blocks rejected\n",
+                c.name, roughness, comparison.worstZ, comparison.critical, comparison.rejected,
+                comparison.blocks);
         }
     }
 }
@@ -200,7 +207,8 @@ TEST(MicrofacetMis, LightSamplesAgreeWithBsdfSamplingAlone) {
     const Case cases[] = {
         {"conductor, roughness 0.3", material(scene::MaterialKind::Conductor, 0.3f)},
         {"rough glass, roughness 0.3", material(scene::MaterialKind::RoughDielectric, 0.3f)},
-        {"metallic-roughness, metallic 0.5, roughness 0.6", material(scene::MaterialKind::MetallicRoughness, 0.6f, 0.5f)},
+        {"metallic-roughness, metallic 0.5, roughness 0.6",
+         material(scene::MaterialKind::MetallicRoughness, 0.6f, 0.5f)},
         {"metallic-roughness, non-metal, roughness 0.4", plastic},
         {"metallic-roughness, non-metal, roughness 0 (delta layer over diffuse)",
          material(scene::MaterialKind::MetallicRoughness, 0.0f, 0.0f)},
@@ -212,11 +220,12 @@ TEST(MicrofacetMis, LightSamplesAgreeWithBsdfSamplingAlone) {
         const auto mis = render(s, 2048, 4, 32, 1, 1);
         const auto bsdfOnly = render(s, 2048, 4, 32, 2, 0);
         EXPECT_EQ(mis.nonFiniteSamples + bsdfOnly.nonFiniteSamples, 0u);
-        const auto comparison =
-            image::compareBlocks(mis.image, mis.varianceOfMean, bsdfOnly.image, bsdfOnly.varianceOfMean, 8, 0.01);
-        EXPECT_EQ(comparison.rejected, 0) << "worst z " << comparison.worstZ << " of " << comparison.critical;
-        std::printf("  %s: worst z %.2f (critical %.2f), %d of %d blocks rejected\n", c.name, comparison.worstZ,
-                    comparison.critical, comparison.rejected, comparison.blocks);
+        const auto comparison = image::compareBlocks(mis.image, mis.varianceOfMean, bsdfOnly.image,
+                                                     bsdfOnly.varianceOfMean, 8, 0.01);
+        EXPECT_EQ(comparison.rejected, 0)
+            << "worst z " << comparison.worstZ << " of " << comparison.critical;
+        std::printf("  %s: worst z %.2f (critical %.2f), %d of %d blocks rejected\n", c.name,
+                    comparison.worstZ, comparison.critical, comparison.rejected, comparison.blocks);
     }
 }
 

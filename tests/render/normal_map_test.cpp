@@ -8,10 +8,9 @@
 // texels as the texture store keeps them (16-bit values as half floats).
 #include <gtest/gtest.h>
 
-#include <glm/gtc/packing.hpp>
-
 #include <cmath>
 #include <filesystem>
+#include <glm/gtc/packing.hpp>
 #include <string>
 
 #include "reference/reference_renderer.h"
@@ -31,36 +30,42 @@ const glm::dvec3 IRRADIANCE(1.0, 2.0, 3.0);
 constexpr uint32_t SIZE = 64;
 
 // A tangent-space normal component in [-1, 1] as a 16-bit texel value.
-uint16_t encode(double c) { return uint16_t(std::lround((c + 1.0) / 2.0 * 65535.0)); }
+uint16_t encode(double c) {
+    return uint16_t(std::lround((c + 1.0) / 2.0 * 65535.0));
+}
 
 // What the shading code reads for it: the value as the store keeps it (a
 // half float, wavefront/texture_tables), then 2 x - 1.
 double decode(uint16_t v) {
-    const float stored = glm::unpackHalf2x16(glm::packHalf2x16(glm::vec2(float(v / 65535.0), 0.0f))).x;
+    const float stored =
+        glm::unpackHalf2x16(glm::packHalf2x16(glm::vec2(float(v / 65535.0), 0.0f))).x;
     return 2.0 * double(stored) - 1.0;
 }
 
 // A normal map of width x height texels, texel (i, j) holding normals[j * width + i].
-scene::TextureImage normalMap(uint32_t width, uint32_t height, const std::vector<glm::dvec3>& normals) {
+scene::TextureImage normalMap(uint32_t width, uint32_t height,
+                              const std::vector<glm::dvec3>& normals) {
     scene::TextureImage image;
     image.name = "normals";
     image.width = width;
     image.height = height;
-    for (const glm::dvec3& n : normals) image.texels.emplace_back(encode(n.x), encode(n.y), encode(n.z), 65535);
+    for (const glm::dvec3& n : normals)
+        image.texels.emplace_back(encode(n.x), encode(n.y), encode(n.z), 65535);
     return image;
 }
 
 // The unit tangent-space normal the renderer makes of a texel: decoded,
 // x and y times the normal scale, normalised (glTF 2.0, 3.9.3).
 glm::dvec3 mappedNormal(const glm::u16vec4& texel, double scale) {
-    return glm::normalize(glm::dvec3(scale * decode(texel.x), scale * decode(texel.y), decode(texel.z)));
+    return glm::normalize(
+        glm::dvec3(scale * decode(texel.x), scale * decode(texel.y), decode(texel.z)));
 }
 
 struct PlaneOptions {
-    bool mirrored = false;       // u runs along -x instead of +x
-    bool givenTangents = false;  // TANGENT in the mesh, else generated
+    bool mirrored = false;                   // u runs along -x instead of +x
+    bool givenTangents = false;              // TANGENT in the mesh, else generated
     glm::dvec3 vertexNormal{0.0, 1.0, 0.0};  // the same at every vertex
-    float scale = 1.0f;          // normalTexture.scale
+    float scale = 1.0f;                      // normalTexture.scale
     bool nearest = true;
 };
 
@@ -68,10 +73,12 @@ struct PlaneOptions {
 // with the camera's up along -z so that it exactly fills the film, upright:
 // u = (x + 1) / 2 (mirrored: (1 - x) / 2) and v = (z + 1) / 2, v down the
 // image as in glTF. Lit by a directional light from `toLight`.
-scene::Scene normalMappedPlane(const scene::TextureImage& map, const PlaneOptions& o, glm::dvec3 toLight) {
+scene::Scene normalMappedPlane(const scene::TextureImage& map, const PlaneOptions& o,
+                               glm::dvec3 toLight) {
     scene::Scene s;
     s.images.push_back(map);
-    s.textures.push_back({0, scene::TextureWrap::ClampToEdge, scene::TextureWrap::ClampToEdge, o.nearest});
+    s.textures.push_back(
+        {0, scene::TextureWrap::ClampToEdge, scene::TextureWrap::ClampToEdge, o.nearest});
     scene::Material m;
     m.reflectance = glm::vec3(ALBEDO);
     m.normalTexture.texture = 0;
@@ -82,7 +89,8 @@ scene::Scene normalMappedPlane(const scene::TextureImage& map, const PlaneOption
     for (const glm::vec3& p : plane.positions) {
         plane.texcoords0.emplace_back(o.mirrored ? (1 - p.x) / 2 : (p.x + 1) / 2, (p.z + 1) / 2);
         plane.normals.push_back(glm::vec3(glm::normalize(o.vertexNormal)));
-        if (o.givenTangents) plane.tangents.push_back(o.mirrored ? glm::vec4(-1, 0, 0, -1) : glm::vec4(1, 0, 0, 1));
+        if (o.givenTangents)
+            plane.tangents.push_back(o.mirrored ? glm::vec4(-1, 0, 0, -1) : glm::vec4(1, 0, 0, 1));
     }
     plane.triangles = {{0, 1, 2}, {0, 2, 3}};
     s.meshes.push_back(plane);
@@ -107,7 +115,8 @@ glm::dvec3 worldNormal(glm::dvec3 n, const PlaneOptions& o) {
 }
 
 glm::dvec3 radiance(glm::dvec3 shadingNormal, glm::dvec3 toLight) {
-    return ALBEDO / PI * IRRADIANCE * std::max(0.0, glm::dot(shadingNormal, glm::normalize(toLight)));
+    return ALBEDO / PI * IRRADIANCE *
+           std::max(0.0, glm::dot(shadingNormal, glm::normalize(toLight)));
 }
 
 wavefront::RenderSettings settings(uint32_t size, uint32_t spp) {
@@ -118,7 +127,8 @@ wavefront::RenderSettings settings(uint32_t size, uint32_t spp) {
     return s;
 }
 
-wavefront::RenderResult render(const scene::Scene& s, bool cpu, uint32_t size = SIZE, uint32_t spp = 2) {
+wavefront::RenderResult render(const scene::Scene& s, bool cpu, uint32_t size = SIZE,
+                               uint32_t spp = 2) {
     return cpu ? reference::ReferenceRenderer(s, settings(size, spp)).render()
                : wavefront::GpuRenderer(test::context(), s, settings(size, spp)).render();
 }
@@ -127,7 +137,8 @@ wavefront::RenderResult render(const scene::Scene& s, bool cpu, uint32_t size = 
 // there is no noise (1e-5 relative, as PunctualLights.* and
 // ShadingNormals.* measure).
 void expectRadiance(const glm::vec3& got, const glm::dvec3& expected, const std::string& what) {
-    for (int c = 0; c < 3; ++c) ASSERT_NEAR(got[c], expected[c], 1e-5 * expected[c]) << what << " channel " << c;
+    for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(got[c], expected[c], 1e-5 * expected[c]) << what << " channel " << c;
 }
 
 // One texel tilting the normal by 19.5 degrees toward +u and up the image:
@@ -150,13 +161,14 @@ TEST(NormalMaps, ConstantTiltShadesWithTheMappedNormal) {
         glm::dvec3 vertexNormal;
     };
     const glm::dvec3 up(0, 1, 0), tilted(std::sin(10 * PI / 180), std::cos(10 * PI / 180), 0.0);
-    for (const Case& c : {Case{"generated tangents", false, false, 1.0f, up},
-                          Case{"given tangents", false, true, 1.0f, up},
-                          Case{"mirrored, generated tangents", true, false, 1.0f, up},
-                          Case{"mirrored, given tangents", true, true, 1.0f, up},
-                          Case{"scale 0.6", false, false, 0.6f, up},
-                          Case{"tilted vertex normals, generated tangents", false, false, 1.0f, tilted},
-                          Case{"tilted vertex normals, given tangents, mirrored", true, true, 1.0f, tilted}}) {
+    for (const Case& c :
+         {Case{"generated tangents", false, false, 1.0f, up},
+          Case{"given tangents", false, true, 1.0f, up},
+          Case{"mirrored, generated tangents", true, false, 1.0f, up},
+          Case{"mirrored, given tangents", true, true, 1.0f, up},
+          Case{"scale 0.6", false, false, 0.6f, up},
+          Case{"tilted vertex normals, generated tangents", false, false, 1.0f, tilted},
+          Case{"tilted vertex normals, given tangents, mirrored", true, true, 1.0f, tilted}}) {
         PlaneOptions o;
         o.mirrored = c.mirrored;
         o.givenTangents = c.given;
@@ -210,7 +222,8 @@ TEST(NormalMaps, GradientMapShadesEachTexelWithItsNormal) {
                 for (uint32_t x = 0; x < SIZE; ++x) {
                     if (x % 16 == 0 || x % 16 == 15 || y % 32 == 0 || y % 32 == 31) continue;
                     const int i = mirrored ? 3 - int(x / 16) : int(x / 16), j = int(y / 32);
-                    const glm::dvec3 n = worldNormal(mappedNormal(map.texels[size_t(j * 4 + i)], 1.0), o);
+                    const glm::dvec3 n =
+                        worldNormal(mappedNormal(map.texels[size_t(j * 4 + i)], 1.0), o);
                     expectRadiance(r.image.pixels[y * SIZE + x], radiance(n, toLight),
                                    "pixel " + std::to_string(x) + ", " + std::to_string(y));
                     if (HasFatalFailure()) return;
@@ -238,7 +251,9 @@ TEST(NormalMaps, TangentsOnlyWhereAMaterialHasAMap) {
     EXPECT_EQ(tables.surface.vertexTangents.size(), 8u);
     ASSERT_EQ(tables.surface.triangleVertices.size(), 4u);
     for (int t = 0; t < 4; ++t)
-        EXPECT_EQ((tables.surface.triangleVertices[t].attributes & VKP_TRIANGLE_TANGENTS) != 0, t < 2) << t;
+        EXPECT_EQ((tables.surface.triangleVertices[t].attributes & VKP_TRIANGLE_TANGENTS) != 0,
+                  t < 2)
+            << t;
     EXPECT_NE(wavefront::sceneFeatures(tables) & VKP_FEATURE_NORMAL_MAPS, 0u);
 
     s.materials[0].normalTexture = {};
@@ -260,7 +275,8 @@ TEST(NormalMaps, TangentsOnlyWhereAMaterialHasAMap) {
 TEST(NormalMaps, ByAddressEqualsBound) {
     std::vector<glm::dvec3> normals;
     for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 4; ++i) normals.push_back(glm::normalize(glm::dvec3(0.1 * i, -0.1 * j, 1)));
+        for (int i = 0; i < 4; ++i)
+            normals.push_back(glm::normalize(glm::dvec3(0.1 * i, -0.1 * j, 1)));
     PlaneOptions o;
     o.nearest = false;
     scene::Scene s = normalMappedPlane(normalMap(4, 2, normals), o, {0.2, 1.0, -1.2});
@@ -273,11 +289,13 @@ TEST(NormalMaps, ByAddressEqualsBound) {
     const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
     ASSERT_EQ(tables.surface.vertexTangents.size(), 8u) << "the two vertices at x = 0 split";
     const auto bound = wavefront::GpuRenderer(test::context(), s, settings(16, 2)).render();
-    const test::BindingLimit lowered(sizeof(shared::Material));  // one material fits (materials stay bound)
+    const test::BindingLimit lowered(
+        sizeof(shared::Material));  // one material fits (materials stay bound)
     wavefront::GpuRenderer addressed(test::context(), s, settings(16, 2));
     ASSERT_TRUE(addressed.scene().byAddress);
     const auto r = addressed.render();
-    for (size_t i = 0; i < r.image.pixels.size(); ++i) ASSERT_EQ(r.image.pixels[i], bound.image.pixels[i]) << i;
+    for (size_t i = 0; i < r.image.pixels.size(); ++i)
+        ASSERT_EQ(r.image.pixels[i], bound.image.pixels[i]) << i;
 }
 
 // A file made by others: the ClearCoat test model of glTF-Sample-Models
@@ -286,13 +304,15 @@ TEST(NormalMaps, ByAddressEqualsBound) {
 // code, and a render under a white sky has no NaN or infinite sample and a
 // finite, non-negative image.
 TEST(NormalMaps, SampleModelWithoutTangentsRenders) {
-    const std::filesystem::path file = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    const std::filesystem::path file =
+        "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
     ASSERT_TRUE(std::filesystem::exists(file)) << file << " is missing: run tools/install-deps";
     testing::internal::CaptureStderr();  // the file's warnings (clearcoat, glossy materials...)
     scene::Scene s = scene::loadScene(file);
     testing::internal::GetCapturedStderr();
     size_t mapped = 0;
-    for (const scene::Mesh& m : s.meshes) mapped += s.materials.at(m.material).normalTexture.present();
+    for (const scene::Mesh& m : s.meshes)
+        mapped += s.materials.at(m.material).normalTexture.present();
     EXPECT_GE(mapped, 5u);
     scene::Environment sky;
     sky.color = glm::vec3(1.0f);

@@ -49,7 +49,8 @@ scene::Scene litPlane() {
 
 // Per channel, the pixel's expected value: the mean over its footprint of
 // radiance(hit point), the hit point of each jittered camera ray with y = 0.
-std::vector<glm::dvec3> expectedImage(const scene::Scene& s, const std::function<glm::dvec3(glm::dvec3)>& radiance) {
+std::vector<glm::dvec3> expectedImage(const scene::Scene& s,
+                                      const std::function<glm::dvec3(glm::dvec3)>& radiance) {
     const shared::Camera camera = scene::makeGpuCamera(s.camera, SIZE, SIZE);
     constexpr int K = 64;
     std::vector<glm::dvec3> image(SIZE * SIZE, glm::dvec3(0));
@@ -58,9 +59,10 @@ std::vector<glm::dvec3> expectedImage(const scene::Scene& s, const std::function
             glm::dvec3 sum(0);
             for (int i = 0; i < K; ++i)
                 for (int j = 0; j < K; ++j) {
-                    const shared::Ray ray =
-                        shared::generateCameraRay(camera, glm::uvec2(x, y), glm::vec2((i + 0.5f) / K, (j + 0.5f) / K));
-                    const glm::dvec3 o(s.camera.position), d = glm::normalize(glm::dvec3(ray.direction));
+                    const shared::Ray ray = shared::generateCameraRay(
+                        camera, glm::uvec2(x, y), glm::vec2((i + 0.5f) / K, (j + 0.5f) / K));
+                    const glm::dvec3 o(s.camera.position),
+                        d = glm::normalize(glm::dvec3(ray.direction));
                     sum += radiance(o - o.y / d.y * d);
                 }
             image[y * SIZE + x] = sum / double(K * K);
@@ -106,7 +108,8 @@ TEST(PunctualLights, PointLightGivesIntensityCosineOverDistanceSquared) {
 
 TEST(PunctualLights, DirectionalLightGivesIrradianceTimesCosine) {
     scene::Scene s = litPlane();
-    const glm::dvec3 direction = glm::normalize(glm::dvec3(0.3, -1.0, 0.2)), irradiance(1.0, 2.0, 3.0);
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(0.3, -1.0, 0.2)),
+                     irradiance(1.0, 2.0, 3.0);
     s.directionalLights.push_back({glm::vec3(direction), glm::vec3(irradiance)});
     expectMatches(s, [&](glm::dvec3) { return ALBEDO / PI * irradiance * -direction.y; });
 }
@@ -116,14 +119,17 @@ TEST(PunctualLights, DirectionalLightGivesIrradianceTimesCosine) {
 // The film sees the full cone, the falloff ring and the dark outside.
 TEST(PunctualLights, SpotLightIsAPointLightInsideItsConeAndDarkOutside) {
     scene::Scene s = litPlane();
-    const glm::dvec3 position(0.1, 1.2, -0.1), axis = glm::normalize(glm::dvec3(0.2, -1.0, 0.1)), intensity(3, 3, 3);
+    const glm::dvec3 position(0.1, 1.2, -0.1), axis = glm::normalize(glm::dvec3(0.2, -1.0, 0.1)),
+                                               intensity(3, 3, 3);
     const double inner = 0.35, outer = 0.6;
-    s.spotLights.push_back({glm::vec3(position), glm::vec3(axis), glm::vec3(intensity), float(inner), float(outer)});
+    s.spotLights.push_back(
+        {glm::vec3(position), glm::vec3(axis), glm::vec3(intensity), float(inner), float(outer)});
     const double cosInner = std::cos(inner), cosOuter = std::cos(outer);
     expectMatches(s, [&](glm::dvec3 x) {
         const glm::dvec3 toLight = position - x;
         const double d2 = glm::dot(toLight, toLight), d = std::sqrt(d2);
-        const double t = std::clamp((glm::dot(-toLight / d, axis) - cosOuter) / (cosInner - cosOuter), 0.0, 1.0);
+        const double t =
+            std::clamp((glm::dot(-toLight / d, axis) - cosOuter) / (cosInner - cosOuter), 0.0, 1.0);
         return ALBEDO / PI * intensity * (toLight.y / d) / d2 * t * t;
     });
 }

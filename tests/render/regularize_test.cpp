@@ -19,7 +19,8 @@ namespace {
 
 using namespace vkpath;
 
-wavefront::RenderResult render(const scene::Scene& s, float regularize, uint32_t spp, uint32_t size) {
+wavefront::RenderResult render(const scene::Scene& s, float regularize, uint32_t spp,
+                               uint32_t size) {
     wavefront::RenderSettings settings;
     settings.width = size;
     settings.height = size;
@@ -40,7 +41,8 @@ bool sameBits(const image::Image& a, const image::Image& b) {
 // the same bits with --regularize 0.3 as without, although the regularising
 // kernel holds the conductor and rough-glass code besides.
 TEST(Regularize, PathsOfDeltaLobesOnlyAreUntouched) {
-    for (const scene::MaterialKind kind : {scene::MaterialKind::Mirror, scene::MaterialKind::Dielectric}) {
+    for (const scene::MaterialKind kind :
+         {scene::MaterialKind::Mirror, scene::MaterialKind::Dielectric}) {
         SCOPED_TRACE(kind == scene::MaterialKind::Mirror ? "mirror" : "glass");
         scene::Scene s = test::sphereInEnvironment(kind, glm::vec3(0.9f));
         s.environment->color = glm::vec3(0.3f, 0.6f, 1.0f);
@@ -89,7 +91,8 @@ TEST(Regularize, FindsTheCausticOfADeltaLightThroughGlass) {
     s.camera.xfovDegrees = 40.0f;
 
     auto centre = [](const wavefront::RenderResult& r, double& mean, double& error) {
-        // A 4 x 4 block at the middle of the 64 x 64 image: the shadow's centre, seen through the sphere.
+        // A 4 x 4 block at the middle of the 64 x 64 image: the shadow's centre, seen through the
+        // sphere.
         double sum = 0, variance = 0;
         for (uint32_t y = 30; y < 34; ++y)
             for (uint32_t x = 30; x < 34; ++x) {
@@ -106,8 +109,8 @@ TEST(Regularize, FindsTheCausticOfADeltaLightThroughGlass) {
     double offMean = 0, offError = 0, onMean = 0, onError = 0;
     centre(off, offMean, offError);
     centre(on, onMean, onError);
-    std::printf("  shadow centre: %.4f +- %.4f without, %.4f +- %.4f with --regularize 0.3\n", offMean, offError,
-                onMean, onError);
+    std::printf("  shadow centre: %.4f +- %.4f without, %.4f +- %.4f with --regularize 0.3\n",
+                offMean, offError, onMean, onError);
     EXPECT_GT(onMean - offMean, 5.0 * std::sqrt(offError * offError + onError * onError));
 }
 

@@ -55,8 +55,8 @@ void expectRegion(const wavefront::RenderResult& r, bool sphere, double expected
 TEST(Furnace, WhiteSphereIsInvisible) {
     for (uint32_t lightSamples : {1u, 3u}) {
         SCOPED_TRACE(lightSamples);
-        const auto r = render(sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(1.0f)), 16, 8, 48, 1,
-                              lightSamples);
+        const auto r = render(sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(1.0f)),
+                              16, 8, 48, 1, lightSamples);
         EXPECT_EQ(r.nonFiniteSamples, 0u);
         expectRegion(r, true, 1.0);
         expectRegion(r, false, 1.0);
@@ -91,7 +91,8 @@ TEST(Furnace, InsideAnEmitterGivesTheGeometricSeries) {
             const auto r = render(s, 8, depth, 32);
             double expected = 0;
             for (uint32_t k = 0; k <= depth; ++k) expected += std::pow(double(rho), double(k));
-            const auto region = image::regionMean(r.image, r.varianceOfMean, [](uint32_t, uint32_t) { return true; });
+            const auto region = image::regionMean(r.image, r.varianceOfMean,
+                                                  [](uint32_t, uint32_t) { return true; });
             EXPECT_NEAR(region.mean, expected, Z_BOUND * region.standardError + 1e-5 * expected);
             EXPECT_EQ(r.nonFiniteSamples, 0u);
         }
@@ -139,7 +140,8 @@ TEST(Specular, GlassOfIndexOneIsInvisible) {
         lamp.emission = glm::vec3(6.0f);
         s.materials.push_back(lamp);
         scene::Mesh quad;
-        quad.positions = {{-0.5f, 2.5f, -0.5f}, {0.5f, 2.5f, -0.5f}, {0.5f, 2.5f, 0.5f}, {-0.5f, 2.5f, 0.5f}};
+        quad.positions = {
+            {-0.5f, 2.5f, -0.5f}, {0.5f, 2.5f, -0.5f}, {0.5f, 2.5f, 0.5f}, {-0.5f, 2.5f, 0.5f}};
         quad.triangles = {{0, 1, 2}, {0, 2, 3}};
         quad.material = 2;
         s.meshes.push_back(quad);
@@ -150,7 +152,8 @@ TEST(Specular, GlassOfIndexOneIsInvisible) {
     with.spheres.push_back({"glass", glm::vec3(0, 0, 0), 0.8f, 1});
     const auto a = render(without, 32, 6, 48, 1);
     const auto b = render(with, 32, 6, 48, 2);
-    const auto c = image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
+    const auto c =
+        image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01);
     EXPECT_EQ(c.rejected, 0) << "worst z " << c.worstZ << " over " << c.blocks << " blocks";
 }
 
@@ -170,15 +173,21 @@ TEST(Specular, GlassOfIndexOnePointFiveIsVisible) {
     invisible.materials[0].ior = 1.0f;
     const auto a = render(s, 32, 6, 48, 1);
     const auto b = render(invisible, 32, 6, 48, 2);
-    EXPECT_GT(image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01).rejected, 0);
+    EXPECT_GT(image::compareBlocks(a.image, a.varianceOfMean, b.image, b.varianceOfMean, 8, 0.01)
+                  .rejected,
+              0);
 }
 
 TEST(Determinism, SameSeedSameBits) {
     const auto s = sphereInEnvironment(scene::MaterialKind::Diffuse, glm::vec3(0.6f));
     const auto a = render(s, 4, 8, 32, 7), b = render(s, 4, 8, 32, 7), c = render(s, 4, 8, 32, 8);
     ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
-    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
-    EXPECT_NE(std::memcmp(a.image.pixels.data(), c.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(),
+                          a.image.pixels.size() * sizeof(glm::vec3)),
+              0);
+    EXPECT_NE(std::memcmp(a.image.pixels.data(), c.image.pixels.data(),
+                          a.image.pixels.size() * sizeof(glm::vec3)),
+              0);
 }
 
 // Many waves give the same image as one: the wave size changes which paths
@@ -196,7 +205,9 @@ TEST(Determinism, WaveSizeDoesNotChangeTheImage) {
     const auto b = three.render();
     EXPECT_EQ(a.waves, 1u);
     EXPECT_EQ(b.waves, 3u);
-    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(),
+                          a.image.pixels.size() * sizeof(glm::vec3)),
+              0);
 }
 
 TEST(TimeBudget, StopsWithinOneWave) {
@@ -230,13 +241,17 @@ TEST(MaxWaveMs, WavesStillEndAtEveryWholeSampleAndKeepTheImage) {
     wavefront::GpuRenderer capped(test::context(), s, settings);
     std::vector<uint32_t> checkpoints;
     wavefront::RenderControl control;
-    control.checkpoint = [&](const wavefront::RenderState& state) { checkpoints.push_back(state.samplesDone); };
+    control.checkpoint = [&](const wavefront::RenderState& state) {
+        checkpoints.push_back(state.samplesDone);
+    };
     const auto b = capped.render(wavefront::SampleRange{0, 6}, control);
     EXPECT_EQ(a.waves, 1u);
     EXPECT_EQ(b.waves, 6u * 10u) << "600 pixels: nine waves of 64 paths and one of 24 per sample";
     EXPECT_EQ(b.cappedWavePaths, 64u);
     EXPECT_EQ(checkpoints, (std::vector<uint32_t>{1, 2, 3, 4, 5, 6}));
-    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(),
+                          a.image.pixels.size() * sizeof(glm::vec3)),
+              0);
     EXPECT_EQ(std::memcmp(a.varianceOfMean.pixels.data(), b.varianceOfMean.pixels.data(),
                           a.varianceOfMean.pixels.size() * sizeof(glm::vec3)),
               0);
@@ -268,7 +283,9 @@ TEST(DeviceMemory, BoundMakesWavesSmallerNotTheImage) {
     const auto b = bounded.render();
     EXPECT_EQ(a.waves, 1u);
     EXPECT_EQ(b.waves, 4u);
-    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(a.image.pixels.data(), b.image.pixels.data(),
+                          a.image.pixels.size() * sizeof(glm::vec3)),
+              0);
     // No room for one workgroup of paths: refused, naming the flag.
     settings.maxDeviceMemoryBytes = total(whole) - pathState;
     EXPECT_THROW(wavefront::GpuRenderer(test::context(), s, settings), InputError);
@@ -300,7 +317,9 @@ TEST(PathsInFlight, CutToWhatOneDispatchReaches) {
         const auto r = narrow.render();
         // (A GPU that allows 2^31 - 1 workgroups, as NVIDIA's, needs no cut.)
         EXPECT_EQ(r.waves > 1, 48u * 32u * 64u * shadowRays > maxGroups);
-        EXPECT_EQ(std::memcmp(r.image.pixels.data(), wide.image.pixels.data(), r.image.pixels.size() * sizeof(glm::vec3)), 0);
+        EXPECT_EQ(std::memcmp(r.image.pixels.data(), wide.image.pixels.data(),
+                              r.image.pixels.size() * sizeof(glm::vec3)),
+                  0);
     }
 }
 
@@ -324,7 +343,8 @@ TEST(FilmWindows, ManyWindowsGiveTheSameImageAndState) {
     wavefront::RenderState oneState, manyState;
     const auto one = renderWith(0, oneState);
     const auto many = renderWith(7, manyState);
-    EXPECT_EQ(std::memcmp(one.image.pixels.data(), many.image.pixels.data(), one.image.pixels.size() * sizeof(glm::vec3)),
+    EXPECT_EQ(std::memcmp(one.image.pixels.data(), many.image.pixels.data(),
+                          one.image.pixels.size() * sizeof(glm::vec3)),
               0);
     EXPECT_EQ(std::memcmp(one.varianceOfMean.pixels.data(), many.varianceOfMean.pixels.data(),
                           one.varianceOfMean.pixels.size() * sizeof(glm::vec3)),
@@ -340,7 +360,9 @@ TEST(FilmWindows, ManyWindowsGiveTheSameImageAndState) {
     settings.filmWindowPixels = 0;
     wavefront::GpuRenderer whole(test::context(), s, settings);
     const auto w = whole.render();
-    EXPECT_EQ(std::memcmp(r.image.pixels.data(), w.image.pixels.data(), w.image.pixels.size() * sizeof(glm::vec3)), 0);
+    EXPECT_EQ(std::memcmp(r.image.pixels.data(), w.image.pixels.data(),
+                          w.image.pixels.size() * sizeof(glm::vec3)),
+              0);
 }
 
 // On the device's own limits: lavapipe binds at most 128 MiB (2796202 film

@@ -29,7 +29,8 @@ wavefront::RenderSettings settings() {
 image::Image merge(const wavefront::RenderResult& a, const wavefront::RenderResult& b) {
     image::Image m(a.image.width, a.image.height);
     for (size_t i = 0; i < m.pixels.size(); ++i)
-        m.pixels[i] = (a.image.pixels[i] * float(a.samplesPerPixel) + b.image.pixels[i] * float(b.samplesPerPixel)) /
+        m.pixels[i] = (a.image.pixels[i] * float(a.samplesPerPixel) +
+                       b.image.pixels[i] * float(b.samplesPerPixel)) /
                       float(a.samplesPerPixel + b.samplesPerPixel);
     return m;
 }
@@ -46,8 +47,9 @@ void expectRangesContinueARender(Renderer& renderer) {
     double worst = 0;
     for (size_t i = 0; i < merged.pixels.size(); ++i)
         for (int c = 0; c < 3; ++c)
-            worst = std::max(worst, std::abs(double(merged.pixels[i][c]) - whole.image.pixels[i][c]) /
-                                        std::max(1.0, std::abs(double(whole.image.pixels[i][c]))));
+            worst =
+                std::max(worst, std::abs(double(merged.pixels[i][c]) - whole.image.pixels[i][c]) /
+                                    std::max(1.0, std::abs(double(whole.image.pixels[i][c]))));
     EXPECT_LT(worst, 1e-5);
     // Another range is other samples: noise-sized differences, far above rounding.
     const auto later = renderer.render(wavefront::SampleRange{8, 8});
@@ -55,13 +57,15 @@ void expectRangesContinueARender(Renderer& renderer) {
 }
 
 TEST(SampleRange, ContinuesAGpuRender) {
-    const scene::Scene scene = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    const scene::Scene scene =
+        scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
     wavefront::GpuRenderer renderer(test::context(), scene, settings());
     expectRangesContinueARender(renderer);
 }
 
 TEST(SampleRange, ContinuesACpuRender) {
-    const scene::Scene scene = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    const scene::Scene scene =
+        scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
     const reference::ReferenceRenderer renderer(scene, settings());
     expectRangesContinueARender(renderer);
 }
@@ -73,11 +77,13 @@ TEST(SampleRange, ContinuesACpuRender) {
 // tests/reference (relMSE 1e-3 on this scene, measured ~1e-14; independent
 // renders differ by ~1e-1 at 4 spp). Indices beyond 2^32 - 1 are refused.
 TEST(SampleRange, SampleIndicesPastTwoToThe32PathsRenderTheSameSamplesOnGpuAndCpu) {
-    const scene::Scene scene = scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
+    const scene::Scene scene =
+        scene::loadScene(test::sourcePath("assets/cornell_box_diffuse.gltf"));
     wavefront::GpuRenderer gpu(test::context(), scene, settings());
     const reference::ReferenceRenderer cpu(scene, settings());
     const uint32_t pixels = settings().width * settings().height;  // 432
-    const uint32_t pastTheOldLimit = uint32_t((uint64_t(1) << 32) / pixels);  // its last pixels pass 2^32
+    const uint32_t pastTheOldLimit =
+        uint32_t((uint64_t(1) << 32) / pixels);  // its last pixels pass 2^32
     for (const uint32_t first : {pastTheOldLimit - 1, pastTheOldLimit + 1, UINT32_MAX - 3}) {
         SCOPED_TRACE(first);
         const auto g = gpu.render(wavefront::SampleRange{first, 4});
@@ -85,7 +91,8 @@ TEST(SampleRange, SampleIndicesPastTwoToThe32PathsRenderTheSameSamplesOnGpuAndCp
         EXPECT_EQ(g.samplesPerPixel, 4u);
         EXPECT_LE(image::compareImages(c.image, g.image).overall.relMse, 1e-3);
         const auto other = cpu.render(wavefront::SampleRange{first - 100, 4});
-        EXPECT_GT(image::compareImages(other.image, g.image).overall.relMse, 1e-2) << "other samples, other image";
+        EXPECT_GT(image::compareImages(other.image, g.image).overall.relMse, 1e-2)
+            << "other samples, other image";
     }
     EXPECT_THROW(gpu.render(wavefront::SampleRange{UINT32_MAX, 2}), std::out_of_range);
 }

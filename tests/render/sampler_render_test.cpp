@@ -75,7 +75,8 @@ void expectRegionMean(const wavefront::RenderResult& r, bool sphereOnly, double 
 TEST(SobolRender, WhiteFurnaceSphereIsInvisible) {
     for (uint32_t lightSamples : {1u, 3u}) {
         SCOPED_TRACE(lightSamples);
-        const auto r = render(sphereInFurnace(1.0f), 16, 8, 48, 1, lightSamples, SamplerKind::Sobol);
+        const auto r =
+            render(sphereInFurnace(1.0f), 16, 8, 48, 1, lightSamples, SamplerKind::Sobol);
         expectRegionMean(r, false, 1.0);
     }
 }
@@ -122,11 +123,13 @@ TEST(SobolRender, LowerErrorThanIndependentAtEqualSpp) {
     const scene::Scene s = sphereInFurnace(0.5f);
     double independent = 0, sobol = 0;
     for (uint32_t seed = 1; seed <= 3; ++seed) {
-        independent += sphereSquaredError(render(s, ERROR_SPP, 3, 32, seed, 1, SamplerKind::Independent), 0.5);
+        independent +=
+            sphereSquaredError(render(s, ERROR_SPP, 3, 32, seed, 1, SamplerKind::Independent), 0.5);
         sobol += sphereSquaredError(render(s, ERROR_SPP, 3, 32, seed, 1, SamplerKind::Sobol), 0.5);
     }
     RecordProperty("errorRatio", std::to_string(independent / sobol));
-    EXPECT_GT(independent, MIN_ERROR_RATIO * sobol) << "independent " << independent << ", sobol " << sobol;
+    EXPECT_GT(independent, MIN_ERROR_RATIO * sobol)
+        << "independent " << independent << ", sobol " << sobol;
 }
 
 }  // namespace

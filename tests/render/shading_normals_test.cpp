@@ -61,9 +61,12 @@ using test::renderGpu;
 TEST(SurfaceTables, FlatTrianglesKeepNoNormals) {
     const glm::vec3 p0(0, 0, 0), p1(1, 0, 0), p2(0, 1, 0), up(0, 0, 1);
     EXPECT_TRUE(wavefront::isFlatShaded(p0, p1, p2, up, up, up));
-    EXPECT_TRUE(wavefront::isFlatShaded(p0, p1, p2, -up, -up, -up));  // reversed: the same two-sided shading
-    EXPECT_TRUE(wavefront::isFlatShaded(p0, p1, p2, up, glm::vec3(0), up));  // nothing to interpolate
-    EXPECT_FALSE(wavefront::isFlatShaded(p0, p1, p2, up, -up, up));  // would cancel out: not the face normal
+    EXPECT_TRUE(wavefront::isFlatShaded(p0, p1, p2, -up, -up,
+                                        -up));  // reversed: the same two-sided shading
+    EXPECT_TRUE(
+        wavefront::isFlatShaded(p0, p1, p2, up, glm::vec3(0), up));  // nothing to interpolate
+    EXPECT_FALSE(
+        wavefront::isFlatShaded(p0, p1, p2, up, -up, up));  // would cancel out: not the face normal
     const glm::vec3 tilted = glm::normalize(glm::vec3(0.01f, 0, 1));  // 0.57 degrees
     EXPECT_FALSE(wavefront::isFlatShaded(p0, p1, p2, up, up, tilted));
 
@@ -84,7 +87,8 @@ TEST(ShadingNormals, FlatMeshRendersExactlyAsWithout) {
     const auto a = renderGpu(without, settings(16, 4));
     const auto b = renderGpu(with, settings(16, 4));
     ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
-    for (size_t i = 0; i < a.image.pixels.size(); ++i) ASSERT_EQ(a.image.pixels[i], b.image.pixels[i]) << i;
+    for (size_t i = 0; i < a.image.pixels.size(); ++i)
+        ASSERT_EQ(a.image.pixels[i], b.image.pixels[i]) << i;
 }
 
 // Every vertex normal tilted by 25 degrees: the plane shades as if it were
@@ -101,7 +105,8 @@ TEST(ShadingNormals, TiltedVertexNormalsShadeWithTheirCosine) {
     ASSERT_GT(cosShading, 1.5 * cosGeometric);
     for (bool cpu : {false, true}) {
         SCOPED_TRACE(cpu ? "CPU reference" : "GPU");
-        const auto r = cpu ? reference::ReferenceRenderer(s, settings(16, 4)).render() : renderGpu(s, settings(16, 4));
+        const auto r = cpu ? reference::ReferenceRenderer(s, settings(16, 4)).render()
+                           : renderGpu(s, settings(16, 4));
         EXPECT_EQ(r.nonFiniteSamples, 0u);
         const glm::dvec3 expected = ALBEDO / PI * glm::dvec3(1, 2, 3) * cosShading;
         for (const glm::vec3& p : r.image.pixels)
@@ -118,7 +123,8 @@ scene::Mesh sphereMesh(int segments, bool smooth) {
         const double theta = PI * i / rings;
         for (int j = 0; j <= segments; ++j) {
             const double phi = 2 * PI * j / segments;
-            const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta),
+                              std::sin(theta) * std::sin(phi));
             m.positions.push_back(p);
             if (smooth) m.normals.push_back(p);
         }
@@ -126,7 +132,8 @@ scene::Mesh sphereMesh(int segments, bool smooth) {
     const auto index = [&](int i, int j) { return uint32_t(i * (segments + 1) + j); };
     for (int i = 0; i < rings; ++i)
         for (int j = 0; j < segments; ++j) {
-            const uint32_t a = index(i, j), b = index(i + 1, j), c = index(i + 1, j + 1), d = index(i, j + 1);
+            const uint32_t a = index(i, j), b = index(i + 1, j), c = index(i + 1, j + 1),
+                           d = index(i, j + 1);
             if (i > 0) m.triangles.push_back({a, d, b});
             if (i < rings - 1) m.triangles.push_back({b, d, c});
         }
@@ -171,7 +178,8 @@ TEST(ShadingNormals, SmoothSphereMeshMatchesTheAnalyticSphere) {
     auto inside = [&](uint32_t x, uint32_t y) {
         for (float u : {0.0f, 1.0f})
             for (float v : {0.0f, 1.0f}) {
-                const shared::Ray ray = shared::generateCameraRay(camera, glm::uvec2(x, y), glm::vec2(u, v));
+                const shared::Ray ray =
+                    shared::generateCameraRay(camera, glm::uvec2(x, y), glm::vec2(u, v));
                 const glm::dvec3 o(ray.origin), d = glm::normalize(glm::dvec3(ray.direction));
                 const double b = glm::dot(o, d), c = glm::dot(o, o) - 0.97 * 0.97;
                 if (b * b - c <= 0) return false;

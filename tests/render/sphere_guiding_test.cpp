@@ -106,7 +106,8 @@ TEST(SphereGuiding, ListsTheSmoothSpecularSpheresWhereAnEmissiveSurfaceCanBeSeen
 
     scene::Scene many = floorWithLamp();
     for (int i = 0; i < 12; ++i)
-        addSphere(many, {float(i), 2, 0}, 0.01f * float(i + 1), material(scene::MaterialKind::Mirror));
+        addSphere(many, {float(i), 2, 0}, 0.01f * float(i + 1),
+                  material(scene::MaterialKind::Mirror));
     const wavefront::SceneTables m = wavefront::buildSceneTables(many);
     ASSERT_EQ(m.guideSpheres.size(), size_t(VKP_MAX_GUIDE_SPHERES));
     EXPECT_FLOAT_EQ(m.guideSpheres.back().w, 0.05f);  // the 8 largest: radii 0.12 down to 0.05
@@ -145,9 +146,11 @@ TEST(SphereGuiding, SamplesFollowTheMixtureDensity) {
     const glm::vec3 point(0.1f, 0.0f, -0.2f);
     const std::vector<glm::vec4> candidates = {
         {0.6f, 0.6f, -0.2f, 0.3f}, {0.9f, 0.9f, 0.0f, 0.25f}, {-1.1f, 0.1f, 0.3f, 0.4f}};
-    for (const glm::vec4& c : candidates) addSphere(s, glm::vec3(c), c.w, material(scene::MaterialKind::Mirror));
-    addSphere(s, {0, -1, 2}, 0.5f, material(scene::MaterialKind::Dielectric));      // below the horizon
-    addSphere(s, {0.1f, 0.2f, -0.2f}, 0.3f, material(scene::MaterialKind::Mirror));  // around the point
+    for (const glm::vec4& c : candidates)
+        addSphere(s, glm::vec3(c), c.w, material(scene::MaterialKind::Mirror));
+    addSphere(s, {0, -1, 2}, 0.5f, material(scene::MaterialKind::Dielectric));  // below the horizon
+    addSphere(s, {0.1f, 0.2f, -0.2f}, 0.3f,
+              material(scene::MaterialKind::Mirror));  // around the point
     const wavefront::SceneTables t = wavefront::buildSceneTables(s);
     wavefront::RenderSettings settings;
     settings.guideFraction = 0.4f;
@@ -164,7 +167,8 @@ TEST(SphereGuiding, SamplesFollowTheMixtureDensity) {
     ASSERT_EQ(g.count, 3u);
 
     Mixture density{glm::dvec3(surface.position), glm::dvec3(0, 1, 0), {}, 0.4};
-    for (const glm::vec4& c : candidates) density.cones.emplace_back(glm::dvec3(toRender(t, glm::vec3(c))), c.w);
+    for (const glm::vec4& c : candidates)
+        density.cones.emplace_back(glm::dvec3(toRender(t, glm::vec3(c))), c.w);
 
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
@@ -173,7 +177,8 @@ TEST(SphereGuiding, SamplesFollowTheMixtureDensity) {
     double worstPdf = 0, worstWeight = 0;
     for (size_t i = 0; i < samples; ++i) {
         const glm::vec2 u(uniform(rng), uniform(rng));
-        const shared::BsdfSample b = view.sampleGuidedDiffuse(floor, surface, wo, g, u, uniform(rng));
+        const shared::BsdfSample b =
+            view.sampleGuidedDiffuse(floor, surface, wo, g, u, uniform(rng));
         if (!b.valid) continue;
         valid.push_back(b.direction);
         const double expected = density(b.direction);
@@ -188,13 +193,17 @@ TEST(SphereGuiding, SamplesFollowTheMixtureDensity) {
     const double integral = test::integrateOverSphere(grid, density);
     EXPECT_LT(integral, 1.0) << "the half-hidden sphere loses samples";
     EXPECT_NEAR(double(valid.size()) / samples, integral, 5e-3);
-    const auto result = test::chiSquareDirectionsWithLosses(grid, valid, samples - valid.size(), density);
-    EXPECT_GT(result.pValue, 0.01) << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+    const auto result =
+        test::chiSquareDirectionsWithLosses(grid, valid, samples - valid.size(), density);
+    EXPECT_GT(result.pValue, 0.01)
+        << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
 
     // Power: the same samples against the cosine lobe alone are rejected.
     Mixture cosineOnly = density;
     cosineOnly.fraction = 0;
-    EXPECT_LT(test::chiSquareDirectionsWithLosses(grid, valid, samples - valid.size(), cosineOnly).pValue, 1e-10);
+    EXPECT_LT(
+        test::chiSquareDirectionsWithLosses(grid, valid, samples - valid.size(), cosineOnly).pValue,
+        1e-10);
 }
 
 // A white furnace that guides: a white diffuse sphere between a mirror and a
@@ -228,12 +237,15 @@ TEST(SphereGuiding, WhiteFurnaceStaysWhite) {
                 return p;
             };
             const uint32_t first = uint32_t(box.positions.size());
-            box.positions.insert(box.positions.end(), {corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1)});
+            box.positions.insert(box.positions.end(),
+                                 {corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1)});
             // (u x v) = +axis: counter-clockwise in (u, v) faces +axis, inward on the -axis face.
             if (side < 0)
-                box.triangles.insert(box.triangles.end(), {{first, first + 1, first + 2}, {first, first + 2, first + 3}});
+                box.triangles.insert(box.triangles.end(), {{first, first + 1, first + 2},
+                                                           {first, first + 2, first + 3}});
             else
-                box.triangles.insert(box.triangles.end(), {{first, first + 2, first + 1}, {first, first + 3, first + 2}});
+                box.triangles.insert(box.triangles.end(), {{first, first + 2, first + 1},
+                                                           {first, first + 3, first + 2}});
         }
     box.material = 0;
     s.meshes.push_back(box);
@@ -265,8 +277,10 @@ TEST(SphereGuiding, WhiteFurnaceStaysWhite) {
         const wavefront::RenderResult r =
             gpu ? wavefront::GpuRenderer(test::context(), s, settings).render()
                 : reference::ReferenceRenderer(s, settings).render();
-        const image::BlockComparison z = image::compareBlocks(r.image, r.varianceOfMean, ones, exact, 8, 0.01);
-        EXPECT_EQ(z.rejected, 0u) << "worst |z| " << z.worstZ << " at " << z.worstX << "," << z.worstY;
+        const image::BlockComparison z =
+            image::compareBlocks(r.image, r.varianceOfMean, ones, exact, 8, 0.01);
+        EXPECT_EQ(z.rejected, 0u) << "worst |z| " << z.worstZ << " at " << z.worstX << ","
+                                  << z.worstY;
     }
 }
 
@@ -289,8 +303,8 @@ TEST(SphereGuiding, EstimatesTheSameImageAsCosineSampling) {
     settings.guideFraction = 0.0f;
     settings.seed = 4;
     const auto cosine = reference::ReferenceRenderer(s, settings).render();
-    const image::BlockComparison z =
-        image::compareBlocks(guided.image, guided.varianceOfMean, cosine.image, cosine.varianceOfMean, 8, 0.01);
+    const image::BlockComparison z = image::compareBlocks(
+        guided.image, guided.varianceOfMean, cosine.image, cosine.varianceOfMean, 8, 0.01);
     EXPECT_EQ(z.rejected, 0u) << "worst |z| " << z.worstZ;
 }
 

@@ -19,7 +19,9 @@ namespace {
 using namespace vkpath;
 
 // 16-bit normalised from an 8-bit value, as the loader widens 8-bit images.
-uint16_t widen(int v8) { return uint16_t(v8 * 257); }
+uint16_t widen(int v8) {
+    return uint16_t(v8 * 257);
+}
 
 // A 4 x 2 image: texel (i, j) has red 60 i + 10, green 100 j + 20 (8-bit,
 // sRGB-encoded), blue 255, alpha 255.
@@ -30,13 +32,15 @@ scene::TextureImage testImage() {
     image.height = 2;
     for (int j = 0; j < 2; ++j)
         for (int i = 0; i < 4; ++i)
-            image.texels.push_back(glm::u16vec4(widen(60 * i + 10), widen(100 * j + 20), widen(255), widen(255)));
+            image.texels.push_back(
+                glm::u16vec4(widen(60 * i + 10), widen(100 * j + 20), widen(255), widen(255)));
     return image;
 }
 
 // What texel (i, j) holds once decoded (linear, as the store keeps it).
 glm::dvec2 texelValue(int i, int j) {
-    return {wavefront::srgbToLinear((60 * i + 10) / 255.0), wavefront::srgbToLinear((100 * j + 20) / 255.0)};
+    return {wavefront::srgbToLinear((60 * i + 10) / 255.0),
+            wavefront::srgbToLinear((100 * j + 20) / 255.0)};
 }
 
 // A unit square in z = 0 facing +z, u along +x, v along -y (glTF: v down), so
@@ -68,7 +72,8 @@ struct Lookup {
     shared::PathTracerView view;
 
     explicit Lookup(const scene::Scene& s)
-        : tables(wavefront::buildSceneTables(s)), view(tables, wavefront::renderSceneInfo(tables, {})) {}
+        : tables(wavefront::buildSceneTables(s)),
+          view(tables, wavefront::renderSceneInfo(tables, {})) {}
     glm::dvec2 at(float u, float v) const {
         const glm::vec4 value = view.textureLookup(tables.textures.textures.at(0), glm::vec2(u, v));
         return {value.x, value.y};
@@ -78,7 +83,8 @@ struct Lookup {
 // Half floats keep 11 significant bits: 2^-11 relative.
 void expectNear(glm::dvec2 got, glm::dvec2 expected, const char* what) {
     for (int c = 0; c < 2; ++c)
-        EXPECT_NEAR(got[c], expected[c], 5e-4 * std::abs(expected[c]) + 1e-7) << what << " channel " << c;
+        EXPECT_NEAR(got[c], expected[c], 5e-4 * std::abs(expected[c]) + 1e-7)
+            << what << " channel " << c;
 }
 
 TEST(TextureLookup, SrgbTexelsAreDecodedToLinear) {
@@ -87,7 +93,8 @@ TEST(TextureLookup, SrgbTexelsAreDecodedToLinear) {
     const Lookup l(texturedScene(scene::TextureWrap::Repeat, true));
     ASSERT_EQ(l.tables.textures.texels.size(), 8u);
     for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 4; ++i) expectNear(l.at((i + 0.5f) / 4, (j + 0.5f) / 2), texelValue(i, j), "centre");
+        for (int i = 0; i < 4; ++i)
+            expectNear(l.at((i + 0.5f) / 4, (j + 0.5f) / 2), texelValue(i, j), "centre");
 }
 
 TEST(TextureLookup, NearestTakesTheTexelThePointLiesIn) {
@@ -106,7 +113,8 @@ TEST(TextureLookup, BilinearWeighsTheFourSurroundingCentres) {
     const double fx = 0.25, fy = 0.25;
     const glm::dvec2 expected = (1 - fy) * ((1 - fx) * texelValue(1, 0) + fx * texelValue(2, 0)) +
                                 fy * ((1 - fx) * texelValue(1, 1) + fx * texelValue(2, 1));
-    expectNear(l.at((1.5f + 0.25f) / 4, (0.5f + 0.25f) / 2), expected, "(0.25, 0.25) between four centres");
+    expectNear(l.at((1.5f + 0.25f) / 4, (0.5f + 0.25f) / 2), expected,
+               "(0.25, 0.25) between four centres");
 }
 
 TEST(TextureLookup, WrapModes) {
@@ -116,7 +124,8 @@ TEST(TextureLookup, WrapModes) {
         expectNear(l.at(-0.125f, -0.25f), texelValue(3, 1), "repeat below 0");
         const Lookup b(texturedScene(scene::TextureWrap::Repeat, false));
         // At u = 0 (the left edge) bilinear filtering blends the first and last columns.
-        expectNear(b.at(0.0f, 0.25f), (texelValue(0, 0) + texelValue(3, 0)) * 0.5, "repeat blends across the seam");
+        expectNear(b.at(0.0f, 0.25f), (texelValue(0, 0) + texelValue(3, 0)) * 0.5,
+                   "repeat blends across the seam");
     }
     {
         const Lookup l(texturedScene(scene::TextureWrap::ClampToEdge, true));
@@ -126,7 +135,8 @@ TEST(TextureLookup, WrapModes) {
     }
     {
         const Lookup l(texturedScene(scene::TextureWrap::MirroredRepeat, true));
-        expectNear(l.at(1.125f, 0.25f), texelValue(3, 0), "mirrored: just past 1 is the last column");
+        expectNear(l.at(1.125f, 0.25f), texelValue(3, 0),
+                   "mirrored: just past 1 is the last column");
         expectNear(l.at(1.875f, 0.25f), texelValue(0, 0), "mirrored: just before 2 is the first");
         expectNear(l.at(-0.125f, 0.25f), texelValue(0, 0), "mirrored: just below 0 is the first");
         expectNear(l.at(2.125f, 0.25f), texelValue(0, 0), "mirrored: period 2");
@@ -146,13 +156,16 @@ TEST(TextureLookup, TransformIsTranslationRotationScale) {
     ref.scale = {2.0f, 0.5f};
     const Lookup l(texturedScene(scene::TextureWrap::Repeat, true, ref));
     const shared::TextureSlot slot = l.tables.textures.slots.at(VKP_SLOT_BASE_COLOR);
-    for (const glm::vec2 uv : {glm::vec2(0.1f, 0.2f), glm::vec2(0.7f, 0.9f), glm::vec2(-0.3f, 0.45f)}) {
+    for (const glm::vec2 uv :
+         {glm::vec2(0.1f, 0.2f), glm::vec2(0.7f, 0.9f), glm::vec2(-0.3f, 0.45f)}) {
         const glm::vec2 expected(0.5f * uv.y + 0.25f, -2.0f * uv.x + 0.5f);
         const glm::vec3 p(uv, 1.0f);
         EXPECT_NEAR(glm::dot(slot.transformU, p), expected.x, 1e-6f);
         EXPECT_NEAR(glm::dot(slot.transformV, p), expected.y, 1e-6f);
-        const glm::vec4 value = l.view.textureSlotValue(VKP_SLOT_BASE_COLOR, glm::vec4(uv, 0.0f, 0.0f));
-        expectNear({value.x, value.y}, l.at(expected.x, expected.y), "slot value at the transformed uv");
+        const glm::vec4 value =
+            l.view.textureSlotValue(VKP_SLOT_BASE_COLOR, glm::vec4(uv, 0.0f, 0.0f));
+        expectNear({value.x, value.y}, l.at(expected.x, expected.y),
+                   "slot value at the transformed uv");
     }
 }
 
@@ -166,7 +179,8 @@ TEST(TexturedRender, EmissiveTextureIsSeenTexelForTexel) {
     m.emission = glm::vec3(1.0f);
     m.emissiveTexture = m.baseColorTexture;
     m.baseColorTexture = {};
-    s.camera.xfovDegrees = float(2 * std::atan(1.0 / 2.0) * 180 / M_PI);  // the square exactly fills the width
+    s.camera.xfovDegrees =
+        float(2 * std::atan(1.0 / 2.0) * 180 / M_PI);  // the square exactly fills the width
     wavefront::RenderSettings settings;
     settings.width = 64;
     settings.height = 64;
@@ -215,10 +229,12 @@ TEST(TexturedRender, VertexColoursMultiplyTheBaseColour) {
     for (const glm::vec3& p : r.image.pixels)
         for (int k = 0; k < 3; ++k) ASSERT_NEAR(p[k], 0.5 * c[k] / M_PI * 2.0, 1e-5);
 
-    s.meshes[0].colors = {{0, 1, 1, 1}, {0, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1, 1}};  // left: cyan, right: white
+    s.meshes[0].colors = {
+        {0, 1, 1, 1}, {0, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1, 1}};  // left: cyan, right: white
     const auto g = wavefront::GpuRenderer(test::context(), s, settings).render();
     for (uint32_t y = 0; y < 16; ++y)
-        for (uint32_t x = 1; x < 16; ++x) ASSERT_GT(g.image.pixels[y * 16 + x].x, g.image.pixels[y * 16 + x - 1].x);
+        for (uint32_t x = 1; x < 16; ++x)
+            ASSERT_GT(g.image.pixels[y * 16 + x].x, g.image.pixels[y * 16 + x - 1].x);
     EXPECT_NEAR(g.image.pixels[8 * 16].y, 0.5 / M_PI * 2.0, 1e-5);  // green is white everywhere
 }
 
@@ -230,18 +246,21 @@ TEST(TexturedRender, ByAddressEqualsBound) {
     scene::Scene s = texturedScene(scene::TextureWrap::MirroredRepeat, false);
     scene::Mesh& m = s.meshes[0];
     m.colors = {{1, 0.5f, 1, 1}, {1, 1, 1, 1}, {0.5f, 1, 1, 1}, {1, 1, 1, 1}};
-    m.normals = {glm::normalize(glm::vec3(-0.3f, 0.3f, 1)), glm::normalize(glm::vec3(-0.3f, -0.3f, 1)),
-                 glm::normalize(glm::vec3(0.3f, -0.3f, 1)), glm::normalize(glm::vec3(0.3f, 0.3f, 1))};
+    m.normals = {
+        glm::normalize(glm::vec3(-0.3f, 0.3f, 1)), glm::normalize(glm::vec3(-0.3f, -0.3f, 1)),
+        glm::normalize(glm::vec3(0.3f, -0.3f, 1)), glm::normalize(glm::vec3(0.3f, 0.3f, 1))};
     s.directionalLights.push_back({glm::normalize(glm::vec3(0.2f, -0.1f, -1)), glm::vec3(2.0f)});
     wavefront::RenderSettings settings;
     settings.width = settings.height = 16;
     settings.samplesPerPixel = 2;
     const auto bound = wavefront::GpuRenderer(test::context(), s, settings).render();
-    const test::BindingLimit lowered(sizeof(shared::Material));  // one material fits (materials stay bound)
+    const test::BindingLimit lowered(
+        sizeof(shared::Material));  // one material fits (materials stay bound)
     wavefront::GpuRenderer addressed(test::context(), s, settings);
     ASSERT_TRUE(addressed.scene().byAddress);
     const auto r = addressed.render();
-    for (size_t i = 0; i < r.image.pixels.size(); ++i) ASSERT_EQ(r.image.pixels[i], bound.image.pixels[i]) << i;
+    for (size_t i = 0; i < r.image.pixels.size(); ++i)
+        ASSERT_EQ(r.image.pixels[i], bound.image.pixels[i]) << i;
 }
 
 }  // namespace

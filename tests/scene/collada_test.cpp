@@ -4,6 +4,7 @@
 // and normals under mirroring and non-uniform scale against small documents
 // written here, and each kind of bad input against InputError.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,13 +15,11 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
-#include "support/temp_dir.h"
 #include "input_error.h"
 #include "scene/camera.h"
 #include "scene/collada_loader.h"
 #include "scene/load.h"
+#include "support/temp_dir.h"
 #include "support/test_context.h"
 
 namespace {
@@ -60,8 +59,11 @@ size_t tokenCount(const std::string& s) {
 }
 
 std::string effect(const std::string& id, const std::string& diffuse, const std::string& cmu = "") {
-    std::string xml = "<effect id=\"" + id + "-effect\"><profile_COMMON><technique sid=\"common\">"
-                      "<phong><diffuse><color>" + diffuse + " 1</color></diffuse></phong>"
+    std::string xml = "<effect id=\"" + id +
+                      "-effect\"><profile_COMMON><technique sid=\"common\">"
+                      "<phong><diffuse><color>" +
+                      diffuse +
+                      " 1</color></diffuse></phong>"
                       "</technique></profile_COMMON>";
     if (!cmu.empty()) xml += "<extra><technique profile=\"CMU462\">" + cmu + "</technique></extra>";
     return xml + "</effect>";
@@ -81,13 +83,18 @@ std::string xml(const Doc& d) {
     const bool hasNormals = !d.normals.empty();
     std::string s = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset><unit name="meter" meter=")" + d.unitMeter + R"("/><up_axis>)" + d.upAxis + R"(</up_axis></asset>
+  <asset><unit name="meter" meter=")" +
+                    d.unitMeter + R"("/><up_axis>)" + d.upAxis + R"(</up_axis></asset>
   <library_cameras><camera id="cam" name="cam"><optics><technique_common><perspective>
-    <xfov>)" + d.xfov + R"(</xfov><aspect_ratio>1.5</aspect_ratio>
+    <xfov>)" + d.xfov +
+                    R"(</xfov><aspect_ratio>1.5</aspect_ratio>
   </perspective></technique_common></optics></camera></library_cameras>
-  <library_lights>)" + d.lights + R"(</library_lights>
-  <library_effects>)" + effect("white", "0.8 0.8 0.8") + d.extraEffects + R"(</library_effects>
-  <library_materials>)" + material("white") + d.extraMaterials + R"(</library_materials>
+  <library_lights>)" +
+                    d.lights + R"(</library_lights>
+  <library_effects>)" +
+                    effect("white", "0.8 0.8 0.8") + d.extraEffects + R"(</library_effects>
+  <library_materials>)" +
+                    material("white") + d.extraMaterials + R"(</library_materials>
   <library_geometries>
     <geometry id="tri" name="tri"><mesh>
       <source id="tri-positions"><float_array id="tri-positions-array" count=")" +
@@ -104,12 +111,14 @@ std::string xml(const Doc& d) {
              R"(" stride="3"/></technique_common></source>)";
     s += R"(<vertices id="tri-vertices">
         <input semantic="POSITION" source="#tri-positions"/></vertices>
-      <polylist material="white" count=")" + std::to_string(tokenCount(d.vcount)) + R"(">
+      <polylist material="white" count=")" +
+         std::to_string(tokenCount(d.vcount)) + R"(">
         <input semantic="VERTEX" source="#tri-vertices" offset="0"/>)";
     if (hasNormals) s += R"(<input semantic="NORMAL" source="#tri-normals" offset="1"/>)";
     s += "<vcount>" + d.vcount + "</vcount><p>" + d.p + R"(</p>
       </polylist>
-    </mesh></geometry>)" + d.extraGeometries + R"(
+    </mesh></geometry>)" +
+         d.extraGeometries + R"(
   </library_geometries>
   <library_visual_scenes><visual_scene id="Scene" name="Scene">
     <node id="Camera" name="Camera"><matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix>
@@ -234,16 +243,12 @@ TEST(ColladaShared, ExactCounts) {
         const char* file;
         size_t triangles, meshes, spheres;
     };
-    for (const Expected& e : {Expected{"CBbunny.dae", 28576 + 6 * 2, 7, 0},
-                              Expected{"bunny.dae", 28576 + 5120, 2, 0},
-                              Expected{"plane4.dae", 8, 1, 0},
-                              Expected{"plane64.dae", 128, 1, 0},
-                              Expected{"plane1024.dae", 2048, 1, 0},
-                              Expected{"cubeWithLight.dae", 6 * 2, 1, 0},
-                              Expected{"trigs10.dae", 10, 10, 0},
-                              Expected{"floating.dae", 2 + 2 + 2, 3, 0},
-                              Expected{"sphere7_glass.dae", 0, 0, 7},
-                              Expected{"carim_mirror.dae", 8, 1, 4}}) {
+    for (const Expected& e :
+         {Expected{"CBbunny.dae", 28576 + 6 * 2, 7, 0}, Expected{"bunny.dae", 28576 + 5120, 2, 0},
+          Expected{"plane4.dae", 8, 1, 0}, Expected{"plane64.dae", 128, 1, 0},
+          Expected{"plane1024.dae", 2048, 1, 0}, Expected{"cubeWithLight.dae", 6 * 2, 1, 0},
+          Expected{"trigs10.dae", 10, 10, 0}, Expected{"floating.dae", 2 + 2 + 2, 3, 0},
+          Expected{"sphere7_glass.dae", 0, 0, 7}, Expected{"carim_mirror.dae", 8, 1, 4}}) {
         SCOPED_TRACE(e.file);
         const scene::Scene s = loadQuiet(test::sharedScene(e.file));
         EXPECT_EQ(s.triangleCount(), e.triangles);
@@ -325,8 +330,7 @@ TEST(ColladaCBspheres, SpheresMaterialsAndOneLamp) {
     EXPECT_TRUE(anyContains(warnings, "area light 'Light'"));
 
     const scene::FeatureSummary f = s.features();
-    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.mirror && f.glass &&
-                f.emissiveSurfaces);
+    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.mirror && f.glass && f.emissiveSurfaces);
     EXPECT_FALSE(f.pointLights || f.spotLights || f.directionalLights || f.environment);
 }
 
@@ -440,7 +444,8 @@ Doc lampDoc(const std::string& lampP) {
           <input semantic="POSITION" source="#lamp-positions"/></vertices>
         <polylist material="lamp" count="1">
           <input semantic="VERTEX" source="#lamp-vertices" offset="0"/>
-          <vcount>4</vcount><p>)" + lampP + R"(</p></polylist></mesh></geometry>)";
+          <vcount>4</vcount><p>)" +
+                        lampP + R"(</p></polylist></mesh></geometry>)";
     d.lights = R"(<light id="area" name="area"><technique_common><point><color>3 3 3</color>
         </point></technique_common><extra><technique profile="CMU462"><area><color>3 3 3</color>
         </area></technique></extra></light>)";
@@ -448,8 +453,8 @@ Doc lampDoc(const std::string& lampP) {
     d.extraNodes = R"(<node id="Area" name="Area">
         <matrix>1 0 0 0  0 0 1 1  0 -1 0 0  0 0 0 1</matrix>
         <instance_light url="#area"/></node>
-      <node id="Lamp" name="Lamp"><instance_geometry url="#lamp-mesh">)" + bind("lamp") +
-                   "</instance_geometry></node>";
+      <node id="Lamp" name="Lamp"><instance_geometry url="#lamp-mesh">)" +
+                   bind("lamp") + "</instance_geometry></node>";
     return d;
 }
 
@@ -554,11 +559,12 @@ TEST(ColladaMaterials, GlassRoughnessMakesRoughGlass) {
     TempDir dir;
     auto glassWithRoughness = [](const std::string& roughness) {
         Doc d;
-        d.extraEffects = effect("glass", "1 1 1", "<glass><ior>1.45</ior><roughness>" + roughness +
-                                                      "</roughness></glass>");
+        d.extraEffects =
+            effect("glass", "1 1 1",
+                   "<glass><ior>1.45</ior><roughness>" + roughness + "</roughness></glass>");
         d.extraMaterials = material("glass");
-        d.extraNodes = "<node id=\"Glass\" name=\"Glass\"><instance_geometry url=\"#tri\">" + bind("glass") +
-                       "</instance_geometry></node>";
+        d.extraNodes = "<node id=\"Glass\" name=\"Glass\"><instance_geometry url=\"#tri\">" +
+                       bind("glass") + "</instance_geometry></node>";
         return xml(d);
     };
     auto glassOf = [](const scene::Scene& s) {
@@ -567,9 +573,11 @@ TEST(ColladaMaterials, GlassRoughnessMakesRoughGlass) {
         ADD_FAILURE() << "no material 'glass'";
         return scene::Material{};
     };
-    const scene::Material smooth = glassOf(loadQuiet(dir.write("smooth.dae", glassWithRoughness("0"))));
+    const scene::Material smooth =
+        glassOf(loadQuiet(dir.write("smooth.dae", glassWithRoughness("0"))));
     EXPECT_EQ(smooth.kind, scene::MaterialKind::Dielectric);
-    const scene::Material rough = glassOf(loadQuiet(dir.write("rough.dae", glassWithRoughness("0.3"))));
+    const scene::Material rough =
+        glassOf(loadQuiet(dir.write("rough.dae", glassWithRoughness("0.3"))));
     EXPECT_EQ(rough.kind, scene::MaterialKind::RoughDielectric);
     EXPECT_FLOAT_EQ(rough.roughness, 0.3f);
     EXPECT_FLOAT_EQ(rough.ior, 1.45f);
@@ -671,7 +679,8 @@ TEST(ColladaLeniency, MalformedCameraIsAWarningAndScotty3dsFieldOfView) {
     }
     Doc d;
     std::string text = xml(d);
-    text.replace(text.find("<instance_camera url=\"#cam\"/>"), std::strlen("<instance_camera url=\"#cam\"/>"),
+    text.replace(text.find("<instance_camera url=\"#cam\"/>"),
+                 std::strlen("<instance_camera url=\"#cam\"/>"),
                  "<instance_camera url=\"#nowhere\"/>");
     std::vector<std::string> warnings;
     const scene::Scene s = loadQuiet(dir.write("nocam.dae", text), &warnings);

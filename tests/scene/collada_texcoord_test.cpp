@@ -89,8 +89,7 @@ TEST(ColladaTexCoords, TheDucksCoordinatesArePerVertexInTheUnitSquare) {
 
 TEST(ColladaTexCoords, TRunsUpSoVIsOneMinusT) {
     TempDir dir;
-    const std::string text =
-        squareDocument("0 0  1 0  1 1  0 1  0.25 0.125", {0, 1, 2, 0, 2, 3});
+    const std::string text = squareDocument("0 0  1 0  1 1  0 1  0.25 0.125", {0, 1, 2, 0, 2, 3});
     const scene::Scene s = loadQuiet(dir.write("square.dae", text));
     ASSERT_EQ(s.meshes.size(), 1u);
     const scene::Mesh& m = s.meshes[0];
@@ -106,8 +105,7 @@ TEST(ColladaTexCoords, TRunsUpSoVIsOneMinusT) {
 TEST(ColladaTexCoords, APositionWithTwoCoordinatesBecomesTwoVertices) {
     TempDir dir;
     // Corner 0 of the second triangle takes coordinate 4 (0.25, 0.125): a seam.
-    const std::string text =
-        squareDocument("0 0  1 0  1 1  0 1  0.25 0.125", {0, 1, 2, 4, 2, 3});
+    const std::string text = squareDocument("0 0  1 0  1 1  0 1  0.25 0.125", {0, 1, 2, 4, 2, 3});
     const scene::Scene s = loadQuiet(dir.write("seam.dae", text));
     const scene::Mesh& m = s.meshes.at(0);
     ASSERT_EQ(m.positions.size(), 5u);
@@ -121,8 +119,8 @@ TEST(ColladaTexCoords, APositionWithTwoCoordinatesBecomesTwoVertices) {
 
     // Coordinate 4 equal to coordinate 0: one vertex again (exporters give
     // every corner a coordinate of its own, most of them equal).
-    const scene::Scene same = loadQuiet(dir.write(
-        "same.dae", squareDocument("0 0  1 0  1 1  0 1  0 0", {0, 1, 2, 4, 2, 3})));
+    const scene::Scene same = loadQuiet(
+        dir.write("same.dae", squareDocument("0 0  1 0  1 1  0 1  0 0", {0, 1, 2, 4, 2, 3})));
     EXPECT_EQ(same.meshes.at(0).positions.size(), 4u);
     EXPECT_EQ(same.meshes.at(0).triangles[0].x, same.meshes.at(0).triangles[1].x);
 }

@@ -57,10 +57,12 @@ std::string xml(const Doc& d) {
   <library_cameras><camera id="cam" name="cam"><optics><technique_common><perspective>
     <xfov>50</xfov><aspect_ratio>1.3333333</aspect_ratio>
   </perspective></technique_common></optics></camera></library_cameras>
-  <library_images>)" + d.images + R"(</library_images>
+  <library_images>)" +
+                    d.images + R"(</library_images>
   <library_effects><effect id="textured-effect"><profile_COMMON>)" +
                     d.newparams + R"(<technique sid="common"><lambert><diffuse>)" + d.diffuse +
-                    R"(</diffuse></lambert></technique></profile_COMMON></effect>)" + d.extraEffects +
+                    R"(</diffuse></lambert></technique></profile_COMMON></effect>)" +
+                    d.extraEffects +
                     R"(</library_effects>
   <library_materials><material id="textured" name="textured"><instance_effect url="#textured-effect"/></material>)" +
                     d.extraMaterials + R"(</library_materials>
@@ -123,7 +125,9 @@ bool anyContains(const std::vector<std::string>& lines, const std::string& text)
                        [&](const std::string& l) { return l.find(text) != std::string::npos; });
 }
 
-const scene::Material& squareMaterial(const scene::Scene& s) { return s.materials.at(s.meshes.at(0).material); }
+const scene::Material& squareMaterial(const scene::Scene& s) {
+    return s.materials.at(s.meshes.at(0).material);
+}
 
 TEST(ColladaTextures, DiffuseTextureIsResolvedThroughSamplerAndSurface) {
     TempDir dir;
@@ -149,7 +153,8 @@ TEST(ColladaTextures, DiffuseTextureIsResolvedThroughSamplerAndSurface) {
         EXPECT_EQ(s.images[0].texels[size_t(i)],
                   glm::u16vec4((60 * i + 10) * 257, (200 - 50 * i) * 257, 30 * 257, 65535))
             << "texel " << i;
-    EXPECT_NE(std::find(s.referencedFiles.begin(), s.referencedFiles.end(), dir / "tex.png"), s.referencedFiles.end())
+    EXPECT_NE(std::find(s.referencedFiles.begin(), s.referencedFiles.end(), dir / "tex.png"),
+              s.referencedFiles.end())
         << "the image is part of the render's identity";
     EXPECT_EQ(s.meshes.at(0).texcoords0.size(), s.meshes.at(0).positions.size());
 }
@@ -159,8 +164,8 @@ TEST(ColladaTextures, SamplerStatesAndTheShorterForms) {
     writeTestPng(dir / "tex.png");
 
     Doc states;
-    states.newparams =
-        samplerAndSurface("tex", "<wrap_s>MIRROR</wrap_s><wrap_t>CLAMP</wrap_t><magfilter>NEAREST</magfilter>");
+    states.newparams = samplerAndSurface(
+        "tex", "<wrap_s>MIRROR</wrap_s><wrap_t>CLAMP</wrap_t><magfilter>NEAREST</magfilter>");
     const scene::Scene a = load(dir.write("states.dae", xml(states)));
     ASSERT_EQ(a.textures.size(), 1u);
     EXPECT_EQ(a.textures[0].wrapU, scene::TextureWrap::MirroredRepeat);
@@ -172,18 +177,21 @@ TEST(ColladaTextures, SamplerStatesAndTheShorterForms) {
     std::vector<std::string> warnings;
     const scene::Scene b = load(dir.write("border.dae", xml(border)), &warnings);
     EXPECT_EQ(b.textures.at(0).wrapU, scene::TextureWrap::ClampToEdge);
-    EXPECT_TRUE(anyContains(warnings, "BORDER, NONE and MIRROR_ONCE are read as CLAMP")) << warnings.size();
+    EXPECT_TRUE(anyContains(warnings, "BORDER, NONE and MIRROR_ONCE are read as CLAMP"))
+        << warnings.size();
 
     // The image named in texture="..." directly, without newparams.
     Doc direct;
     direct.newparams = "";
     direct.diffuse = R"(<texture texture="tex" texcoord="UV0"/>)";
-    EXPECT_EQ(squareMaterial(load(dir.write("direct.dae", xml(direct)))).baseColorTexture.texture, 0);
+    EXPECT_EQ(squareMaterial(load(dir.write("direct.dae", xml(direct)))).baseColorTexture.texture,
+              0);
 
     // COLLADA 1.5: <instance_image> in the sampler, <init_from><ref> in the image.
     Doc v15;
     v15.images = R"(<image id="tex" name="tex"><init_from><ref>tex.png</ref></init_from></image>)";
-    v15.newparams = R"(<newparam sid="tex-sampler"><sampler2D><instance_image url="#tex"/></sampler2D></newparam>)";
+    v15.newparams =
+        R"(<newparam sid="tex-sampler"><sampler2D><instance_image url="#tex"/></sampler2D></newparam>)";
     EXPECT_EQ(squareMaterial(load(dir.write("v15.dae", xml(v15)))).baseColorTexture.texture, 0);
 }
 
@@ -193,16 +201,20 @@ TEST(ColladaTextures, AnImageUsedTwiceIsReadOnce) {
     Doc d;
     // A second material with its own newparams naming a second <image> of the same file.
     d.images += R"(<image id="again" name="again"><init_from>./tex.png</init_from></image>)";
-    d.extraEffects = R"(<effect id="second-effect"><profile_COMMON>)" + samplerAndSurface("again") +
-                     R"(<technique sid="common"><phong><diffuse><texture texture="tex-sampler" texcoord="UV0"/>
+    d.extraEffects =
+        R"(<effect id="second-effect"><profile_COMMON>)" + samplerAndSurface("again") +
+        R"(<technique sid="common"><phong><diffuse><texture texture="tex-sampler" texcoord="UV0"/>
                      </diffuse></phong></technique></profile_COMMON></effect>)";
-    d.extraMaterials = R"(<material id="second" name="second"><instance_effect url="#second-effect"/></material>)";
+    d.extraMaterials =
+        R"(<material id="second" name="second"><instance_effect url="#second-effect"/></material>)";
     std::string text = xml(d);
     // A second instance of the square bound to the second material.
     const std::string node = R"(<node id="Square" name="Square">)";
     const size_t at = text.find(node);
     ASSERT_NE(at, std::string::npos);
-    text.insert(at, R"(<node id="Second" name="Second"><translate>2 0 0</translate><instance_geometry url="#square">
+    text.insert(
+        at,
+        R"(<node id="Second" name="Second"><translate>2 0 0</translate><instance_geometry url="#square">
         <bind_material><technique_common><instance_material symbol="textured" target="#second"/>
         </technique_common></bind_material></instance_geometry></node>)");
     const scene::Scene s = load(dir.write("twice.dae", text));
@@ -238,15 +250,18 @@ TEST(ColladaTextures, BadImageReferencesAreOneErrorLine) {
         d.images = R"(<image id="tex" name="tex"><init_from>)" + c.uri + "</init_from></image>";
         const fs::path file = dir.write("scene/bad.dae", xml(d));
         const std::string error = loadError(file);
-        EXPECT_EQ(error.rfind(file.string() + ": material 'textured': image 'tex': uri '", 0), 0u) << error;
+        EXPECT_EQ(error.rfind(file.string() + ": material 'textured': image 'tex': uri '", 0), 0u)
+            << error;
         EXPECT_NE(error.find(c.problem), std::string::npos) << c.uri << ": " << error;
         EXPECT_EQ(error.find('\n'), std::string::npos) << "one line: " << error;
     }
 
     Doc dataUri;
-    dataUri.images = R"(<image id="tex" name="tex"><init_from>data:image/png;base64,iVBORw0KGgo=</init_from></image>)";
+    dataUri.images =
+        R"(<image id="tex" name="tex"><init_from>data:image/png;base64,iVBORw0KGgo=</init_from></image>)";
     const std::string data = loadError(dir.write("scene/data.dae", xml(dataUri)));
-    EXPECT_NE(data.find("image 'tex': data: URIs are not read from COLLADA"), std::string::npos) << data;
+    EXPECT_NE(data.find("image 'tex': data: URIs are not read from COLLADA"), std::string::npos)
+        << data;
 
     Doc noImage;
     noImage.newparams = "";
@@ -257,9 +272,11 @@ TEST(ColladaTextures, BadImageReferencesAreOneErrorLine) {
         << missingId;
 
     Doc noSurface;
-    noSurface.newparams = R"(<newparam sid="tex-sampler"><sampler2D><source>gone</source></sampler2D></newparam>)";
+    noSurface.newparams =
+        R"(<newparam sid="tex-sampler"><sampler2D><source>gone</source></sampler2D></newparam>)";
     const std::string surface = loadError(dir.write("scene/nosurface.dae", xml(noSurface)));
-    EXPECT_NE(surface.find("<source> 'gone' names no <surface> newparam"), std::string::npos) << surface;
+    EXPECT_NE(surface.find("<source> 'gone' names no <surface> newparam"), std::string::npos)
+        << surface;
 }
 
 TEST(ColladaTextures, CommandLineRefusesAMissingImageWithOneLineAndWritesNothing) {
@@ -267,8 +284,8 @@ TEST(ColladaTextures, CommandLineRefusesAMissingImageWithOneLineAndWritesNothing
     Doc d;
     d.images = R"(<image id="tex" name="tex"><init_from>missing.png</init_from></image>)";
     const fs::path file = dir.write("missing.dae", xml(d));
-    const test::CommandResult r =
-        test::runVkpath("render '" + file.string() + "' -d 8x6 -s 1 -o '" + (dir / "out.exr").string() + "'", 60);
+    const test::CommandResult r = test::runVkpath(
+        "render '" + file.string() + "' -d 8x6 -s 1 -o '" + (dir / "out.exr").string() + "'", 60);
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
     EXPECT_EQ(r.err.rfind("vkpath: " + file.string() + ": ", 0), 0u) << r.err;
@@ -280,7 +297,8 @@ TEST(ColladaTextures, AnImageThatCannotBeDecodedIsAWarningAndGrey) {
     dir.write("tex.png", "not an image");
     std::vector<std::string> warnings;
     const scene::Scene s = load(dir.write("undecodable.dae", xml(Doc())), &warnings);
-    EXPECT_TRUE(anyContains(warnings, "images that cannot be decoded (png) leave their textures out"))
+    EXPECT_TRUE(
+        anyContains(warnings, "images that cannot be decoded (png) leave their textures out"))
         << (warnings.empty() ? "" : warnings[0]);
     const scene::Material& m = squareMaterial(s);
     EXPECT_FALSE(m.baseColorTexture.present());
@@ -292,7 +310,8 @@ TEST(ColladaTextures, OnlyImagesThatMaterialsUseAreRead) {
     TempDir dir;
     writeTestPng(dir / "tex.png");
     Doc d;
-    d.images += R"(<image id="unused" name="unused"><init_from>../../nowhere.png</init_from></image>)";
+    d.images +=
+        R"(<image id="unused" name="unused"><init_from>../../nowhere.png</init_from></image>)";
     const scene::Scene s = load(dir.write("unused.dae", xml(d)));
     EXPECT_EQ(s.images.size(), 1u);
 }
@@ -313,16 +332,19 @@ TEST(ColladaTextures, ATexturedMeshWithoutCoordinatesIsWarnedAbout) {
     d.texcoords = false;
     std::vector<std::string> warnings;
     load(dir.write("nouv.dae", xml(d)), &warnings);
-    EXPECT_TRUE(anyContains(warnings, "textured meshes without texture coordinates take one texel"));
+    EXPECT_TRUE(
+        anyContains(warnings, "textured meshes without texture coordinates take one texel"));
 }
 
 // ---------------------------------------------------------------------------
 // The duck of assimp-testmodels
 // ---------------------------------------------------------------------------
 
-#define SKIP_WITHOUT_PACKAGE()                                                                             \
-    if (!fs::is_directory(DUCK_FOLDER))                                                                   \
-    GTEST_SKIP() << DUCK_FOLDER << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)"
+#define SKIP_WITHOUT_PACKAGE()          \
+    if (!fs::is_directory(DUCK_FOLDER)) \
+    GTEST_SKIP()                        \
+        << DUCK_FOLDER                  \
+        << " is missing: Debian's assimp-testmodels is not installed (tools/install-deps)"
 
 TEST(ColladaDuck, TextureIsTheTgasTexels) {
     SKIP_WITHOUT_PACKAGE();
@@ -340,8 +362,10 @@ TEST(ColladaDuck, TextureIsTheTgasTexels) {
     ASSERT_EQ(int(s.images[0].height), tga.height);
     size_t different = 0;
     for (size_t i = 0; i < s.images[0].texels.size(); ++i)
-        for (int c = 0; c < 3; ++c) different += s.images[0].texels[i][c] != tga.rgb[i * 3 + size_t(c)] * 257;
-    EXPECT_EQ(different, 0u) << "texel channels that differ from OpenImageIO's reading of duckCM.tga";
+        for (int c = 0; c < 3; ++c)
+            different += s.images[0].texels[i][c] != tga.rgb[i * 3 + size_t(c)] * 257;
+    EXPECT_EQ(different, 0u)
+        << "texel channels that differ from OpenImageIO's reading of duckCM.tga";
 }
 
 // The duck's own texture on a square seen head-on under a white sky (the
@@ -365,7 +389,8 @@ TEST(ColladaDuck, SquareWearingTheDucksTextureShowsItsMeanColour) {
     ASSERT_NEAR(camera.origin.x, 0.0f, 1e-5f);  // Scotty3D's framing: on the axis, looking along -z
     ASSERT_NEAR(camera.origin.y, 0.0f, 1e-5f);
     ASSERT_NEAR(camera.forward.z, -1.0f, 1e-6f);
-    const glm::dvec2 lo = test::project(camera, {-0.5, 0.5, 0.0}), hi = test::project(camera, {0.5, -0.5, 0.0});
+    const glm::dvec2 lo = test::project(camera, {-0.5, 0.5, 0.0}),
+                     hi = test::project(camera, {0.5, -0.5, 0.0});
 
     const test::Render r = test::renderOnWhiteSky(file, W, H, 64, dir.path());
     ASSERT_EQ(r.image.width, W);
@@ -380,7 +405,8 @@ TEST(ColladaDuck, SquareWearingTheDucksTextureShowsItsMeanColour) {
     for (int c = 0; c < 3; ++c) {
         // 5 standard errors, plus the texel store's half-float rounding (2^-11).
         const double bound = 5.0 * face.standardError[c] + std::ldexp(expected[c], -11);
-        EXPECT_NEAR(face.mean[c], expected[c], bound) << "channel " << c << ", standard error " << face.standardError[c];
+        EXPECT_NEAR(face.mean[c], expected[c], bound)
+            << "channel " << c << ", standard error " << face.standardError[c];
         power = std::max(power, std::abs(face.mean[c] - undecoded[c]) / bound);
     }
     // Power: the duck is saturated yellow, red near 1 and blue near 0, where
@@ -409,7 +435,8 @@ TEST(ColladaDuck, RendersInTheTexturesColours) {
             ++duck;
         }
     ASSERT_GT(duck, 300u) << "the duck covers about 470 of the 3072 pixels";
-    const glm::dvec3 texels = test::meanTexel(test::readTexels(DUCK_FOLDER / "duckCM.tga"), test::srgbToLinear);
+    const glm::dvec3 texels =
+        test::meanTexel(test::readTexels(DUCK_FOLDER / "duckCM.tga"), test::srgbToLinear);
     EXPECT_NEAR(sum.y / sum.x, texels.y / texels.x, 0.15 * texels.y / texels.x);
     EXPECT_NEAR(sum.z / sum.x, texels.z / texels.x, 0.15 * texels.z / texels.x);
 }

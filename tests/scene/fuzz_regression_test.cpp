@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "support/temp_dir.h"
 #include "input_error.h"
 #include "scene/environment.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -115,8 +115,7 @@ TEST(EnvironmentFuzzRegression, ThousandsOfChannelsDoNotMultiplyTheAllocation) {
     TempDir dir;
     std::vector<std::string> channels;
     for (int i = 0; i < 4096; ++i) channels.push_back(fmt::format("c{:04}", i));
-    const fs::path path =
-        dir.write("channels.exr", exr(8192, 4096, channels, EXR_HALF));
+    const fs::path path = dir.write("channels.exr", exr(8192, 4096, channels, EXR_HALF));
     try {
         scene::loadEnvironmentMap(path);
         ADD_FAILURE() << "a header without scanlines loaded";
@@ -182,7 +181,8 @@ TEST(EnvironmentFuzzRegression, AttributesOfTheWrongSizeForTheirTypeAreRefused) 
         {preview, "preview 'preview' claims 65536x65536 pixels in 8 bytes"},
     };
     for (const auto& [attributes, says] : cases) {
-        const fs::path path = dir.write("attribute.exr", exr(8, 4, {"B", "G", "R"}, EXR_HALF, {}, attributes));
+        const fs::path path =
+            dir.write("attribute.exr", exr(8, 4, {"B", "G", "R"}, EXR_HALF, {}, attributes));
         try {
             scene::loadEnvironmentMap(path);
             ADD_FAILURE() << "a header without scanlines loaded";
@@ -197,8 +197,7 @@ TEST(EnvironmentFuzzRegression, AttributesOfTheWrongSizeForTheirTypeAreRefused) 
 TEST(EnvironmentFuzzRegression, ExtraChannelsAreIgnored) {
     TempDir dir;
     // Per scanline, per channel in file order A B G R Z, two texels each.
-    const std::vector<float> pixels = {0.5f, 0.5f,  3.0f, 6.0f,  2.0f, 5.0f,
-                                       1.0f, 4.0f,  9.0f, 9.0f};
+    const std::vector<float> pixels = {0.5f, 0.5f, 3.0f, 6.0f, 2.0f, 5.0f, 1.0f, 4.0f, 9.0f, 9.0f};
     const fs::path path =
         dir.write("rgbaz.exr", exr(2, 1, {"A", "B", "G", "R", "Z"}, EXR_FLOAT, pixels));
     const image::Image map = scene::loadEnvironmentMap(path);

@@ -92,8 +92,8 @@ TEST(GltfAttributes, FloatTexCoordsAndColoursAreKeptAsGiven) {
     // UVs outside [0, 1] are legal (wrapping); glTF's v runs down, kept so.
     t.add("TEXCOORD_0", attribute<float>(t.g, {0, 0, 1, 0, 0.25f, -1.5f}, F32, "VEC2", 2, false));
     t.add("TEXCOORD_1", attribute<float>(t.g, {2, 3, 4, 5, 6, 7}, F32, "VEC2", 2, false));
-    t.add("COLOR_0", attribute<float>(t.g, {1, 0, 0, 0.5f, 0, 1, 0, 1, 0, 0, 1, 0}, F32, "VEC4", 4,
-                                      false));
+    t.add("COLOR_0",
+          attribute<float>(t.g, {1, 0, 0, 0.5f, 0, 1, 0, 1, 0, 0, 1, 0}, F32, "VEC4", 4, false));
     const Loaded loaded = load(t.g.writeGltf(dir / "float.gltf"));
     EXPECT_EQ(loaded.warnings, "");
     const scene::Mesh& m = loaded.scene.meshes.at(0);
@@ -114,8 +114,8 @@ TEST(GltfAttributes, NormalizedUnsignedTexCoordsAndRgbColours) {
     t.add("TEXCOORD_1",
           attribute<uint16_t>(t.g, {0, 65535, 32768, 13107, 1, 0}, U16, "VEC2", 2, true));
     // VEC3 colours are opaque: alpha 1.
-    t.add("COLOR_0", attribute<uint16_t>(t.g, {65535, 0, 0, 0, 32768, 0, 0, 0, 13107}, U16,
-                                         "VEC3", 3, true));
+    t.add("COLOR_0",
+          attribute<uint16_t>(t.g, {65535, 0, 0, 0, 32768, 0, 0, 0, 13107}, U16, "VEC3", 3, true));
     const scene::Mesh m = firstMesh(t.g.writeGltf(dir / "normalized.gltf"));
     ASSERT_EQ(m.texcoords0.size(), 3u);
     EXPECT_EQ(m.texcoords0[0], glm::vec2(0.0f, 1.0f));
@@ -168,9 +168,9 @@ TEST(GltfAttributes, QuantizedSignedTypesAreNormalizedAsGltfSays) {
     auto add = [&](const char* name, int accessor) {
         g.doc["meshes"][mesh]["primitives"][0]["attributes"][name] = accessor;
     };
-    add("TANGENT", attribute<int16_t>(g, {32767, 0, 0, 32767, 32767, 0, 0, -32768, 32767, 0, 0,
-                                          -32767},
-                                      I16, "VEC4", 4, true));
+    add("TANGENT",
+        attribute<int16_t>(g, {32767, 0, 0, 32767, 32767, 0, 0, -32768, 32767, 0, 0, -32767}, I16,
+                           "VEC4", 4, true));
     add("TEXCOORD_0", attribute<int8_t>(g, {-128, -127, 127, 0, 64, -64}, I8, "VEC2", 2, true));
     g.doc["extensionsUsed"] = Json::array({"KHR_mesh_quantization"});
     g.doc["extensionsRequired"] = Json::array({"KHR_mesh_quantization"});
@@ -206,17 +206,21 @@ TEST(GltfAttributes, TangentsFollowTheTransformAndFlipTheirSignUnderAMirror) {
     };
     const float c = std::cos(0.5f), s = std::sin(0.5f);
     const std::vector<Case> cases = {
-        {"rotation", {{"rotation", {0, 0, std::sin(0.25), std::cos(0.25)}}},
-         glm::mat3(glm::vec3(c, s, 0), glm::vec3(-s, c, 0), glm::vec3(0, 0, 1)), 1.0f},
-        {"mirror", {{"scale", {-2, 1, 1}}},
-         glm::mat3(glm::vec3(-2, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)), -1.0f},
+        {"rotation",
+         {{"rotation", {0, 0, std::sin(0.25), std::cos(0.25)}}},
+         glm::mat3(glm::vec3(c, s, 0), glm::vec3(-s, c, 0), glm::vec3(0, 0, 1)),
+         1.0f},
+        {"mirror",
+         {{"scale", {-2, 1, 1}}},
+         glm::mat3(glm::vec3(-2, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)),
+         -1.0f},
     };
     for (const Case& k : cases) {
         SCOPED_TRACE(k.name);
         TempDir dir;
         Triangle t(k.node);
-        t.add("TANGENT", attribute<float>(t.g, {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, F32, "VEC4",
-                                          4, false));
+        t.add("TANGENT",
+              attribute<float>(t.g, {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, F32, "VEC4", 4, false));
         const scene::Mesh m = firstMesh(t.g.writeGltf(dir / "frame.gltf"));
         ASSERT_EQ(m.tangents.size(), 3u);
         const glm::vec3 tangent(m.tangents[0]);
@@ -255,8 +259,7 @@ TEST(GltfAttributes, StripsAndFansCarryTheAttributes) {
 TEST(GltfAttributes, ColoursOutsideTheUnitRangeAreClampedWithAWarning) {
     TempDir dir;
     Triangle t;
-    t.add("COLOR_0",
-          attribute<float>(t.g, {2, 0.5f, -1, 1, 1, 1, 0, 0, 0}, F32, "VEC3", 3, false));
+    t.add("COLOR_0", attribute<float>(t.g, {2, 0.5f, -1, 1, 1, 1, 0, 0, 0}, F32, "VEC3", 3, false));
     const Loaded loaded = load(t.g.writeGltf(dir / "bright.gltf"));
     EXPECT_NE(loaded.warnings.find("vertex colours outside [0, 1] are clamped (1 mesh"),
               std::string::npos)
@@ -288,12 +291,12 @@ TEST(GltfBadInput, AttributeCountDiffersFromPositions) {
     TempDir dir;
     for (const char* name : {"TEXCOORD_0", "TEXCOORD_1", "COLOR_0"}) {
         Triangle t;
-        t.add(name, attribute<float>(t.g, {0, 0, 1, 0, 1, 1, 0, 1}, F32,
-                                     name[0] == 'C' ? "VEC4" : "VEC2", name[0] == 'C' ? 4 : 2,
-                                     false));
-        expectAttributeError(loadError(t.g.writeGltf(dir / "count.gltf")), name,
-                             name[0] == 'C' ? "2 elements for 3 positions"
-                                            : "4 elements for 3 positions");
+        t.add(name,
+              attribute<float>(t.g, {0, 0, 1, 0, 1, 1, 0, 1}, F32, name[0] == 'C' ? "VEC4" : "VEC2",
+                               name[0] == 'C' ? 4 : 2, false));
+        expectAttributeError(
+            loadError(t.g.writeGltf(dir / "count.gltf")), name,
+            name[0] == 'C' ? "2 elements for 3 positions" : "4 elements for 3 positions");
     }
     Triangle t;
     t.add("TANGENT", attribute<float>(t.g, {1, 0, 0, 1, 1, 0, 0, 1}, F32, "VEC4", 4, false));
@@ -310,8 +313,8 @@ TEST(GltfBadInput, NonFiniteAttributeValues) {
     expectAttributeError(loadError(uv.g.writeGltf(dir / "uv.gltf")), "TEXCOORD_0",
                          "element 1 is not finite");
     Triangle tangent;
-    tangent.add("TANGENT", attribute<float>(tangent.g, {1, 0, 0, 1, 1, 0, 0, inf, 1, 0, 0, 1},
-                                            F32, "VEC4", 4, false));
+    tangent.add("TANGENT", attribute<float>(tangent.g, {1, 0, 0, 1, 1, 0, 0, inf, 1, 0, 0, 1}, F32,
+                                            "VEC4", 4, false));
     expectAttributeError(loadError(tangent.g.writeGltf(dir / "tangent.gltf")), "TANGENT",
                          "element 1 is not finite");
 }

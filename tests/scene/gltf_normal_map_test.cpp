@@ -35,7 +35,8 @@ void writeTexelsPng(const std::filesystem::path& path, uint32_t width, uint32_t 
     image.width = width;
     image.height = height;
     for (const glm::ivec3& t : texels)
-        image.pixels.emplace_back(wavefront::srgbToLinear(t.x / 255.0), wavefront::srgbToLinear(t.y / 255.0),
+        image.pixels.emplace_back(wavefront::srgbToLinear(t.x / 255.0),
+                                  wavefront::srgbToLinear(t.y / 255.0),
                                   wavefront::srgbToLinear(t.z / 255.0));
     image::writePng(path, image);
 }
@@ -50,8 +51,9 @@ std::filesystem::path writeNormalMapped(const TempDir& dir, const Json& normalTe
     g.doc["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33071}}};
     g.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
     g.doc["images"] = {{{"uri", "normal.png"}}};
-    const int material = g.material(
-        {{"name", "bumpy"}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}, {"normalTexture", normalTexture}});
+    const int material = g.material({{"name", "bumpy"},
+                                     {"pbrMetallicRoughness", {{"metallicFactor", 0}}},
+                                     {"normalTexture", normalTexture}});
     g.node({{"mesh", g.triangle(material)}});
     g.camera();
     return g.writeGltf(dir / "normal.gltf");
@@ -62,7 +64,8 @@ TEST(GltfNormalMaps, TextureScaleAndTransformAreRead) {
     const Loaded loaded = load(writeNormalMapped(
         dir, {{"index", 0},
               {"scale", 0.5},
-              {"extensions", {{"KHR_texture_transform", {{"offset", {0.25, 0.5}}, {"scale", {2, 2}}}}}}}));
+              {"extensions",
+               {{"KHR_texture_transform", {{"offset", {0.25, 0.5}}, {"scale", {2, 2}}}}}}}));
     EXPECT_EQ(loaded.warnings, "") << "the map is applied: no warning";
     const scene::Material& m = loaded.scene.materials.at(0);
     ASSERT_TRUE(m.normalTexture.present());
@@ -91,17 +94,21 @@ TEST(GltfNormalMaps, TextureScaleAndTransformAreRead) {
 TEST(GltfNormalMaps, TurnedMapIsReadWithAWarning) {
     TempDir dir;
     const Loaded loaded = load(writeNormalMapped(
-        dir, {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"rotation", 0.3}, {"texCoord", 1}}}}}}));
+        dir, {{"index", 0},
+              {"extensions", {{"KHR_texture_transform", {{"rotation", 0.3}, {"texCoord", 1}}}}}}));
     const scene::Material& m = loaded.scene.materials.at(0);
     ASSERT_TRUE(m.normalTexture.present());
     EXPECT_EQ(m.normalTexture.texCoord, 1u);
     EXPECT_FLOAT_EQ(m.normalTexture.rotation, 0.3f);
-    EXPECT_EQ(std::count(loaded.warnings.begin(), loaded.warnings.end(), '\n'), 1) << loaded.warnings;
-    EXPECT_NE(loaded.warnings.find("normal maps turned or unevenly scaled"), std::string::npos) << loaded.warnings;
+    EXPECT_EQ(std::count(loaded.warnings.begin(), loaded.warnings.end(), '\n'), 1)
+        << loaded.warnings;
+    EXPECT_NE(loaded.warnings.find("normal maps turned or unevenly scaled"), std::string::npos)
+        << loaded.warnings;
 
     const Loaded uneven = load(writeNormalMapped(
         dir, {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1, -1}}}}}}}));
-    EXPECT_NE(uneven.warnings.find("normal maps turned or unevenly scaled"), std::string::npos) << uneven.warnings;
+    EXPECT_NE(uneven.warnings.find("normal maps turned or unevenly scaled"), std::string::npos)
+        << uneven.warnings;
 }
 
 // A map read from TEXCOORD_2 (vkpath keeps two sets) is left out with the

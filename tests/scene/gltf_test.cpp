@@ -19,13 +19,13 @@
 #pragma GCC diagnostic pop
 
 #include "app/render_options.h"
-#include "support/temp_dir.h"
 #include "image/image.h"
 #include "input_error.h"
 #include "scene/camera.h"
 #include "scene/gltf_loader.h"
 #include "scene/load.h"
 #include "support/gltf_builder.h"
+#include "support/temp_dir.h"
 #include "support/test_context.h"
 
 namespace {
@@ -99,7 +99,8 @@ TEST(GltfAssets, CornellBoxLoads) {
     EXPECT_EQ(s.spheres.size(), 2u);
     ASSERT_EQ(s.materials.size(), 6u);
     const scene::FeatureSummary f = s.features();
-    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.conductor && f.glass && f.emissiveSurfaces);
+    EXPECT_TRUE(f.triangles && f.spheres && f.diffuse && f.conductor && f.glass &&
+                f.emissiveSurfaces);
     EXPECT_FALSE(f.mirror || f.roughGlass || f.metallicRoughness);
     EXPECT_FALSE(f.pointLights || f.spotLights || f.directionalLights || f.environment);
 
@@ -183,8 +184,8 @@ TEST(GltfAssets, GeneratorReproducesCommittedAssets) {
     const std::string command = "python3 '" + test::sourcePath("tools/make-assets").string() +
                                 "' --out '" + dir.path().string() + "'";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    for (const char* name :
-         {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr", "sky_spheres.gltf", "normal_maps.gltf"}) {
+    for (const char* name : {"cornell_box.gltf", "cornell_box_diffuse.gltf", "sky.hdr",
+                             "sky_spheres.gltf", "normal_maps.gltf"}) {
         SCOPED_TRACE(name);
         const auto generated = readBytes(dir / name);
         const auto committed = readBytes(test::sourcePath(std::string("assets/") + name));
@@ -369,9 +370,11 @@ TEST(GltfLayouts, ReferencedFilesAreListedAndHashed) {
     options.scene = path.string();
     const std::string before = app::renderIdentity(options, scene).sceneHash;
     std::vector<uint8_t> bin(fs::file_size(dir / "external.bin"));
-    std::ifstream(dir / "external.bin", std::ios::binary).read(reinterpret_cast<char*>(bin.data()), std::streamsize(bin.size()));
+    std::ifstream(dir / "external.bin", std::ios::binary)
+        .read(reinterpret_cast<char*>(bin.data()), std::streamsize(bin.size()));
     bin[0] ^= 1;  // one bit of a vertex position
-    std::ofstream(dir / "external.bin", std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+    std::ofstream(dir / "external.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
     EXPECT_NE(app::renderIdentity(options, load(path).scene).sceneHash, before);
 }
 
@@ -574,7 +577,11 @@ INSTANTIATE_TEST_SUITE_P(
             1.5f,
             glm::vec3(0),
             "",
-            OPAQUE, 0.5f, 1.0f, 1.0f, 0.0f},
+            OPAQUE,
+            0.5f,
+            1.0f,
+            1.0f,
+            0.0f},
         MaterialRow{
             "NoSpecularLayerIsLambertian",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0},
@@ -594,7 +601,11 @@ INSTANTIATE_TEST_SUITE_P(
             1.5f,
             glm::vec3(0),
             "",
-            OPAQUE, 0.5f, 1.0f, 0.0f, 1.0f},
+            OPAQUE,
+            0.5f,
+            1.0f,
+            0.0f,
+            1.0f},
         MaterialRow{
             "RoughMetal",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1], "roughnessFactor": 0.3}})",
@@ -604,13 +615,19 @@ INSTANTIATE_TEST_SUITE_P(
             1.5f,
             glm::vec3(0),
             "",
-            OPAQUE, 0.5f, 1.0f, 0.3f, 1.0f},
+            OPAQUE,
+            0.5f,
+            1.0f,
+            0.3f,
+            1.0f},
         MaterialRow{"DefaultFactorsAreAVeryRoughMetal",
-                    R"({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}})", CONDUCTOR,
-                    glm::vec3(0.5f), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 1.0f, 1.0f},
+                    R"({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}})",
+                    CONDUCTOR, glm::vec3(0.5f), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f,
+                    1.0f, 1.0f, 1.0f},
         MaterialRow{"PartlyMetallic",
-                    R"({"pbrMetallicRoughness": {"metallicFactor": 0.7, "roughnessFactor": 0.2}})", LAYERED,
-                    glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 0.2f, 0.7f},
+                    R"({"pbrMetallicRoughness": {"metallicFactor": 0.7, "roughnessFactor": 0.2}})",
+                    LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f,
+                    0.2f, 0.7f},
         MaterialRow{
             "Glass",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 1, 0.9, 1], "metallicFactor": 0,
@@ -639,7 +656,8 @@ INSTANTIATE_TEST_SUITE_P(
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.4}, "extensions":
                         {"KHR_materials_transmission": {"transmissionFactor": 1.0},
                          "KHR_materials_volume": {"thicknessFactor": 1}}})",
-            ROUGH_GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f, 0.4f},
+            ROUGH_GLASS, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", OPAQUE, 0.5f, 1.0f,
+            0.4f},
         MaterialRow{
             "MostlyTransmissive",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
@@ -660,17 +678,21 @@ INSTANTIATE_TEST_SUITE_P(
             1.4f,
             glm::vec3(0),
             "",
-            OPAQUE, 0.5f, 1.0f, 0.2f, 0.0f},
-        MaterialRow{
-            "ClearcoatIsWarned",
-            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
+            OPAQUE,
+            0.5f,
+            1.0f,
+            0.2f,
+            0.0f},
+        MaterialRow{"ClearcoatIsWarned",
+                    R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
                         {"KHR_materials_clearcoat": {"clearcoatFactor": 1}}})",
-            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "'KHR_materials_clearcoat' is not supported"},
-        MaterialRow{
-            "SheenIsWarned",
-            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
+                    LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0),
+                    "'KHR_materials_clearcoat' is not supported"},
+        MaterialRow{"SheenIsWarned",
+                    R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
                         {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}}})",
-            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "'KHR_materials_sheen' is not supported"},
+                    LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0),
+                    "'KHR_materials_sheen' is not supported"},
         MaterialRow{
             "EmissiveWithStrength",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [1, 0.5, 0.25],
@@ -689,25 +711,29 @@ INSTANTIATE_TEST_SUITE_P(
             "UndecodableTextureLeavesTheFactors",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 1], "metallicFactor": 0,
                         "baseColorTexture": {"index": 0}}})",
-            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "images that cannot be decoded"},
+            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0),
+            "images that cannot be decoded"},
         MaterialRow{
             "AlphaBlend",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.5], "metallicFactor": 0},
                         "alphaMode": "BLEND"})",
-            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Blend, 0.5f, 0.5f},
+            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Blend,
+            0.5f, 0.5f},
         MaterialRow{
             "AlphaMaskWithCutoff",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.25], "metallicFactor": 0},
                         "alphaMode": "MASK", "alphaCutoff": 0.2})",
-            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask, 0.2f, 0.25f},
-        MaterialRow{
-            "AlphaMaskDefaultCutoff",
-            R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "alphaMode": "MASK"})",
-            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask, 0.5f, 1.0f},
+            LAYERED, glm::vec3(0.3f), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Mask,
+            0.2f, 0.25f},
+        MaterialRow{"AlphaMaskDefaultCutoff",
+                    R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "alphaMode": "MASK"})",
+                    LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "",
+                    scene::AlphaMode::Mask, 0.5f, 1.0f},
         MaterialRow{
             "AlphaOpaqueByDefault",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5], "metallicFactor": 0}})",
-            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Opaque, 0.5f, 0.5f},
+            LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0), "", scene::AlphaMode::Opaque,
+            0.5f, 0.5f},
         MaterialRow{
             "FactorsClamped",
             R"({"pbrMetallicRoughness": {"baseColorFactor": [1.5, 0.5, 0.5, 1], "metallicFactor": 0}})",
@@ -734,12 +760,13 @@ TEST(GltfVolume, AttenuationIsBeerLambertsCoefficient) {
         g.camera();
         return g.writeGltf(dir / file);
     };
-    const Loaded absorbing =
-        load(glassWithVolume(R"({"attenuationDistance": 2, "attenuationColor": [0.5, 0.25, 1]})", "absorbing.gltf"));
+    const Loaded absorbing = load(glassWithVolume(
+        R"({"attenuationDistance": 2, "attenuationColor": [0.5, 0.25, 1]})", "absorbing.gltf"));
     EXPECT_EQ(absorbing.warnings, "");
     expectVec3Near(absorbing.scene.materials.at(0).attenuation,
                    {float(std::log(2.0) / 2), float(std::log(4.0) / 2), 0.0f}, 1e-6f);
-    const Loaded clear = load(glassWithVolume(R"({"attenuationColor": [0.5, 0.5, 0.5]})", "clear.gltf"));
+    const Loaded clear =
+        load(glassWithVolume(R"({"attenuationColor": [0.5, 0.5, 0.5]})", "clear.gltf"));
     expectVec3Near(clear.scene.materials.at(0).attenuation, glm::vec3(0.0f), 0.0f);
     EXPECT_CONTAINS(loadError(glassWithVolume(R"({"attenuationDistance": 0})", "zero.gltf")),
                     "attenuationDistance 0 is not > 0");
@@ -836,8 +863,11 @@ TEST(GltfSpheres, AlphaIsIgnoredWithAWarning) {
     g.camera();
     const Loaded loaded = load(g.writeGltf(dir / "spheres.gltf"));
     EXPECT_EQ(lines(loaded.warnings).size(), 1u) << loaded.warnings;
-    EXPECT_CONTAINS(loaded.warnings, "alphaMode is ignored on VKPATH_sphere: spheres are opaque (2 spheres, first: ball0)");
-    EXPECT_EQ(loaded.scene.materials.at(loaded.scene.meshes.at(0).material).alphaMode, scene::AlphaMode::Blend);
+    EXPECT_CONTAINS(
+        loaded.warnings,
+        "alphaMode is ignored on VKPATH_sphere: spheres are opaque (2 spheres, first: ball0)");
+    EXPECT_EQ(loaded.scene.materials.at(loaded.scene.meshes.at(0).material).alphaMode,
+              scene::AlphaMode::Blend);
 }
 
 TEST(GltfSpheres, NonUniformScaleWarnsAndBadRadiusFails) {
@@ -865,7 +895,8 @@ TEST(GltfEnvironment, ColourStrengthAndRotation) {
     GltfBuilder g;
     g.node({{"mesh", g.triangle()}});
     g.doc["extensionsUsed"] = {"VKPATH_environment"};
-    g.doc["extensions"] = {{"VKPATH_environment", {{"color", {0.5, 1, 2}}, {"strength", 3}, {"rotation", 30}}}};
+    g.doc["extensions"] = {
+        {"VKPATH_environment", {{"color", {0.5, 1, 2}}, {"strength", 3}, {"rotation", 30}}}};
     const Loaded loaded = load(g.writeGltf(dir / "sky.gltf"));
     EXPECT_EQ(countLinesContaining(loaded.warnings, "VKPATH_environment"), 0u);
     ASSERT_TRUE(loaded.scene.environment);
@@ -1174,9 +1205,13 @@ TEST(GltfLayouts, TriangleStripsAndFansBecomeTriangles) {
     };
     const Case cases[] = {
         // A strip along x, zig-zagging between y = 1 (even vertices) and y = 0 (odd).
-        {5, {{0, 1, 0}, {0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {2, 1, 0}, {2, 0, 0}}, {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}, {3, 5, 4}}},
+        {5,
+         {{0, 1, 0}, {0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {2, 1, 0}, {2, 0, 0}},
+         {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}, {3, 5, 4}}},
         // A fan around the origin.
-        {6, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}}, {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}},
+        {6,
+         {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}},
+         {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}},
     };
     for (const Case& c : cases) {
         for (const bool indexed : {false, true}) {
@@ -1184,13 +1219,16 @@ TEST(GltfLayouts, TriangleStripsAndFansBecomeTriangles) {
             std::vector<uint32_t> order(c.positions.size());
             for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
             const int positions = g.vec3s(c.positions);
-            g.node({{"mesh", g.mesh(positions, indexed ? g.indices(order, U16) : -1, -1, -1, c.mode)}});
+            g.node({{"mesh",
+                     g.mesh(positions, indexed ? g.indices(order, U16) : -1, -1, -1, c.mode)}});
             const scene::Scene s = load(g.writeGltf(dir / "strip.gltf")).scene;
             ASSERT_EQ(s.meshes.size(), 1u) << c.mode;
-            EXPECT_EQ(s.meshes[0].triangles, c.triangles) << "mode " << c.mode << (indexed ? " indexed" : "");
+            EXPECT_EQ(s.meshes[0].triangles, c.triangles)
+                << "mode " << c.mode << (indexed ? " indexed" : "");
             for (const glm::uvec3& t : s.meshes[0].triangles) {
-                const glm::vec3 n = glm::cross(s.meshes[0].positions[t.y] - s.meshes[0].positions[t.x],
-                                               s.meshes[0].positions[t.z] - s.meshes[0].positions[t.x]);
+                const glm::vec3 n =
+                    glm::cross(s.meshes[0].positions[t.y] - s.meshes[0].positions[t.x],
+                               s.meshes[0].positions[t.z] - s.meshes[0].positions[t.x]);
                 EXPECT_GT(n.z, 0.0f) << "mode " << c.mode << ": a triangle faces away";
             }
         }

@@ -2,9 +2,8 @@
 // OpenImageIO from a file, a data URI and a bufferView, samplers,
 // KHR_texture_transform, texture coordinate sets, and what is refused or
 // warned about.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +27,9 @@ using test::TempDir;
 std::vector<uint8_t> pngBytes(const fs::path& scratch) {
     std::vector<uint8_t> pixels;
     for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 3; ++i) pixels.insert(pixels.end(), {uint8_t(40 * i), uint8_t(100 * j), 7, uint8_t(255 - 50 * i)});
+        for (int i = 0; i < 3; ++i)
+            pixels.insert(pixels.end(),
+                          {uint8_t(40 * i), uint8_t(100 * j), 7, uint8_t(255 - 50 * i)});
     auto out = OIIO::ImageOutput::create(scratch.string());
     // Straight alpha, as PNG stores it (else OpenImageIO divides the colours by alpha).
     OIIO::ImageSpec spec(3, 2, 4, OIIO::TypeDesc::UINT8);
@@ -53,7 +54,8 @@ GltfBuilder texturedTriangle(const Json& image, const Json& textureInfo = {{"ind
     GltfBuilder g;
     g.doc["images"] = {image};
     g.doc["textures"] = {{{"source", 0}}};
-    const int m = g.material({{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"baseColorTexture", textureInfo}}}});
+    const int m = g.material(
+        {{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"baseColorTexture", textureInfo}}}});
     g.node({{"mesh", g.triangle(m)}});
     g.camera();
     return g;
@@ -67,13 +69,15 @@ TEST(GltfTextures, ImagesAreDecodedFromAFileADataUriAndABufferView) {
         ASSERT_EQ(loaded.scene.images.size(), 1u) << loaded.warnings;
         expectDecoded(loaded.scene.images[0]);
         EXPECT_EQ(loaded.scene.materials[0].baseColorTexture.texture, 0);
-        EXPECT_TRUE(std::any_of(loaded.scene.referencedFiles.begin(), loaded.scene.referencedFiles.end(),
+        EXPECT_TRUE(std::any_of(loaded.scene.referencedFiles.begin(),
+                                loaded.scene.referencedFiles.end(),
                                 [](const fs::path& p) { return p.filename() == "t.png"; }))
             << "the image is part of the render's identity";
     }
     {
-        const auto loaded = load(
-            texturedTriangle({{"uri", "data:image/png;base64," + test::base64(png)}}).writeGltf(dir / "data.gltf"));
+        const auto loaded =
+            load(texturedTriangle({{"uri", "data:image/png;base64," + test::base64(png)}})
+                     .writeGltf(dir / "data.gltf"));
         ASSERT_EQ(loaded.scene.images.size(), 1u) << loaded.warnings;
         expectDecoded(loaded.scene.images[0]);
     }
@@ -94,7 +98,8 @@ TEST(GltfTextures, SamplersTransformsAndTexCoords) {
         {{"index", 0},
          {"texCoord", 0},
          {"extensions",
-          {{"KHR_texture_transform", {{"offset", {0.5, -0.25}}, {"rotation", 0.75}, {"scale", {2, 3}}, {"texCoord", 1}}}}}});
+          {{"KHR_texture_transform",
+            {{"offset", {0.5, -0.25}}, {"rotation", 0.75}, {"scale", {2, 3}}, {"texCoord", 1}}}}}});
     g.doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}}};
     g.doc["textures"][0]["sampler"] = 0;
     g.doc["extensionsUsed"] = {"KHR_texture_transform"};
@@ -123,15 +128,18 @@ TEST(GltfTextures, WhatCannotBeUsedIsWarnedAboutOnce) {
     TempDir dir;
     pngBytes(dir / "t.png");
     // A third texture coordinate set: warned, the texture left out.
-    const auto set2 = load(texturedTriangle({{"uri", "t.png"}}, {{"index", 0}, {"texCoord", 2}}).writeGltf(dir / "c.gltf"));
+    const auto set2 = load(texturedTriangle({{"uri", "t.png"}}, {{"index", 0}, {"texCoord", 2}})
+                               .writeGltf(dir / "c.gltf"));
     EXPECT_FALSE(set2.scene.materials[0].baseColorTexture.present());
     EXPECT_NE(set2.warnings.find("TEXCOORD_2"), std::string::npos) << set2.warnings;
     // An image OpenImageIO cannot read (KTX2 is not among its formats): warned, left out.
-    test::writeText(dir / "t.ktx2", std::string("\xABKTX 20\xBB\r\n\x1A\n", 12) + std::string(64, '\0'));
+    test::writeText(dir / "t.ktx2",
+                    std::string("\xABKTX 20\xBB\r\n\x1A\n", 12) + std::string(64, '\0'));
     const auto ktx = load(texturedTriangle({{"uri", "t.ktx2"}}).writeGltf(dir / "k.gltf"));
     EXPECT_TRUE(ktx.scene.images.empty());
     EXPECT_FALSE(ktx.scene.materials[0].baseColorTexture.present());
-    EXPECT_NE(ktx.warnings.find("images that cannot be decoded (ktx2)"), std::string::npos) << ktx.warnings;
+    EXPECT_NE(ktx.warnings.find("images that cannot be decoded (ktx2)"), std::string::npos)
+        << ktx.warnings;
 }
 
 TEST(GltfTextures, BadIndicesAndTransformsAreOneLineErrors) {
@@ -148,8 +156,10 @@ TEST(GltfTextures, BadIndicesAndTransformsAreOneLineErrors) {
     }
     {
         GltfBuilder g = texturedTriangle(
-            {{"uri", "t.png"}}, {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1}}}}}}});
-        EXPECT_NE(loadError(g.writeGltf(dir / "c.gltf")).find("KHR_texture_transform.scale"), std::string::npos);
+            {{"uri", "t.png"}},
+            {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1}}}}}}});
+        EXPECT_NE(loadError(g.writeGltf(dir / "c.gltf")).find("KHR_texture_transform.scale"),
+                  std::string::npos);
     }
 }
 

@@ -1,8 +1,8 @@
 // The warnings collector both importers share: one line per kind, in order
 // of first occurrence, in each of its two forms.
-#include <gtest/gtest.h>
-
 #include "scene/import_warnings.h"
+
+#include <gtest/gtest.h>
 
 namespace {
 

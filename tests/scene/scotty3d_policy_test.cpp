@@ -2,6 +2,8 @@
 // builds the policy's input (the file's geometry as a scene, the lights the
 // COLLADA reader gathered) and checks the decision against numbers worked
 // out by hand.
+#include "scene/scotty3d_policy.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include <vector>
 
 #include "scene/import_warnings.h"
-#include "scene/scotty3d_policy.h"
 
 namespace {
 
@@ -27,10 +28,8 @@ Scene sceneWithLampMesh(float height, bool facingDown, glm::vec3 radiance) {
     scene.materials.push_back(lamp);
     Mesh mesh;
     mesh.name = "Lamp";
-    mesh.positions = {{-0.5f, height, -0.5f},
-                      {0.5f, height, -0.5f},
-                      {0.5f, height, 0.5f},
-                      {-0.5f, height, 0.5f}};
+    mesh.positions = {
+        {-0.5f, height, -0.5f}, {0.5f, height, -0.5f}, {0.5f, height, 0.5f}, {-0.5f, height, 0.5f}};
     // (p1 - p0) x (p2 - p0) = (1, 0, 0) x (1, 0, 1) = (0, -1, 0): faces -Y.
     mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
     if (!facingDown)
@@ -154,8 +153,8 @@ TEST(ColladaScotty3dPolicy, PointLightAtTheLampIsDroppedOthersFallOffFromTheScen
     // The lamp's bounding-box diagonal is sqrt(2) m: 0.1 m away is the same lamp.
     lights.pointLights.push_back({"Stand-in", {0.0f, 1.9f, 0.0f}, glm::vec3(1.0f), std::nullopt});
     // 3 m from the scene centre at (0, 0, 4): intensity = colour x 9.
-    lights.pointLights.push_back({"Key", {0.0f, 0.0f, 7.0f}, glm::vec3(2.0f, 1.0f, 0.5f),
-                                  std::nullopt});
+    lights.pointLights.push_back(
+        {"Key", {0.0f, 0.0f, 7.0f}, glm::vec3(2.0f, 1.0f, 0.5f), std::nullopt});
     // At the scene centre: colour as W/sr.
     lights.pointLights.push_back({"Centre", {0.0f, 0.0f, 4.0f}, glm::vec3(0.25f), std::nullopt});
     const auto warnings = reconcile(lights, {0.0f, 0.0f, 4.0f}, scene);

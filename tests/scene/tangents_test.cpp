@@ -4,13 +4,13 @@
 // the circle's exact tangent at every vertex, a mirror seam that splits its
 // vertices, flat shading without normals, and degenerate input that must
 // still give unit tangents, never NaN.
+#include "scene/tangents.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
 #include <string>
-
-#include "scene/tangents.h"
 
 namespace {
 
@@ -23,7 +23,9 @@ struct Grid {
     std::vector<glm::vec2> uvs;
     std::vector<glm::uvec3> triangles;
 
-    scene::MeshTangents tangents() const { return scene::generateTangents(positions, normals, uvs, triangles); }
+    scene::MeshTangents tangents() const {
+        return scene::generateTangents(positions, normals, uvs, triangles);
+    }
 };
 
 // The square [-1, 1]^2 in y = 0, facing +y, as a (cells + 1)^2 vertex grid
@@ -33,7 +35,8 @@ Grid plane(int cells, const std::function<glm::vec2(float, float)>& uv) {
     Grid g;
     for (int j = 0; j <= cells; ++j)
         for (int i = 0; i <= cells; ++i) {
-            const float x = -1.0f + 2.0f * float(i) / float(cells), z = -1.0f + 2.0f * float(j) / float(cells);
+            const float x = -1.0f + 2.0f * float(i) / float(cells),
+                        z = -1.0f + 2.0f * float(j) / float(cells);
             g.positions.emplace_back(x, 0.0f, z);
             g.normals.emplace_back(0.0f, 1.0f, 0.0f);
             g.uvs.push_back(uv(x, z));
@@ -48,7 +51,8 @@ Grid plane(int cells, const std::function<glm::vec2(float, float)>& uv) {
 }
 
 void expectTangent(const glm::vec4& got, glm::dvec3 expected, float w, const std::string& what) {
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 1e-6) << what << " component " << c;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], expected[c], 1e-6) << what << " component " << c;
     EXPECT_EQ(got.w, w) << what;
 }
 
@@ -64,7 +68,8 @@ TEST(Tangents, PlaneFollowsTheTextureAxes) {
     for (size_t v = 0; v < t.tangents.size(); ++v) {
         EXPECT_EQ(t.sourceVertex[v], v);
         expectTangent(t.tangents[v], {1, 0, 0}, 1.0f, "vertex " + std::to_string(v));
-        const glm::vec3 bitangent = t.tangents[v].w * glm::cross(g.normals[v], glm::vec3(t.tangents[v]));
+        const glm::vec3 bitangent =
+            t.tangents[v].w * glm::cross(g.normals[v], glm::vec3(t.tangents[v]));
         EXPECT_NEAR(bitangent.z, -1.0f, 1e-6f) << "the bitangent points up the image";
     }
 }
@@ -73,10 +78,12 @@ TEST(Tangents, PlaneFollowsTheTextureAxes) {
 // T = dP/du = -z, and B = N x T = y x -z = -x points to decreasing v.
 // Scaled coordinates (u over [0, 7]) change nothing: only directions count.
 TEST(Tangents, TurnedAndScaledTexture) {
-    const Grid g = plane(2, [](float x, float z) { return glm::vec2(7.0f * (1 - z) / 2, (x + 1) / 2); });
+    const Grid g =
+        plane(2, [](float x, float z) { return glm::vec2(7.0f * (1 - z) / 2, (x + 1) / 2); });
     const scene::MeshTangents t = g.tangents();
     ASSERT_EQ(t.tangents.size(), g.positions.size());
-    for (size_t v = 0; v < t.tangents.size(); ++v) expectTangent(t.tangents[v], {0, 0, -1}, 1.0f, "turned");
+    for (size_t v = 0; v < t.tangents.size(); ++v)
+        expectTangent(t.tangents[v], {0, 0, -1}, 1.0f, "turned");
 }
 
 // Mirrored in u (u along -x): the texture is seen from behind, T = -x and
@@ -88,7 +95,8 @@ TEST(Tangents, MirroredTextureGivesNegativeW) {
     ASSERT_EQ(t.tangents.size(), g.positions.size());
     for (size_t v = 0; v < t.tangents.size(); ++v) {
         expectTangent(t.tangents[v], {-1, 0, 0}, -1.0f, "mirrored");
-        const glm::vec3 bitangent = t.tangents[v].w * glm::cross(g.normals[v], glm::vec3(t.tangents[v]));
+        const glm::vec3 bitangent =
+            t.tangents[v].w * glm::cross(g.normals[v], glm::vec3(t.tangents[v]));
         EXPECT_NEAR(bitangent.z, -1.0f, 1e-6f);
     }
 }
@@ -106,12 +114,14 @@ TEST(Tangents, MirrorSeamSplitsItsVertices) {
     for (size_t v = g.positions.size(); v < t.sourceVertex.size(); ++v)
         EXPECT_EQ(g.positions[t.sourceVertex[v]].x, 0.0f);
     for (size_t i = 0; i < g.triangles.size(); ++i) {
-        const glm::vec3 centre =
-            (g.positions[g.triangles[i].x] + g.positions[g.triangles[i].y] + g.positions[g.triangles[i].z]) / 3.0f;
+        const glm::vec3 centre = (g.positions[g.triangles[i].x] + g.positions[g.triangles[i].y] +
+                                  g.positions[g.triangles[i].z]) /
+                                 3.0f;
         const bool right = centre.x > 0;
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = t.triangles[i][k];
-            EXPECT_EQ(t.sourceVertex[v], g.triangles[i][k]) << "the split vertex copies its input vertex";
+            EXPECT_EQ(t.sourceVertex[v], g.triangles[i][k])
+                << "the split vertex copies its input vertex";
             expectTangent(t.tangents[v], {right ? 1 : -1, 0, 0}, right ? 1.0f : -1.0f,
                           "triangle " + std::to_string(i) + " corner " + std::to_string(k));
         }
@@ -131,7 +141,8 @@ TEST(Tangents, CylinderHasTheCircleTangentAtEveryVertex) {
         for (int i = 0; i <= SEGMENTS; ++i) {  // i = SEGMENTS repeats i = 0 with u = 1: the seam
             const double phi = 2 * PI * i / SEGMENTS;
             const glm::dvec3 radial(std::cos(phi), 0.0, -std::sin(phi));
-            g.positions.emplace_back(glm::vec3(radial) + glm::vec3(0.0f, 1.0f - float(j) / ROWS, 0.0f));
+            g.positions.emplace_back(glm::vec3(radial) +
+                                     glm::vec3(0.0f, 1.0f - float(j) / ROWS, 0.0f));
             g.normals.emplace_back(radial);
             g.uvs.emplace_back(float(i) / SEGMENTS, float(j) / ROWS);
         }
@@ -142,16 +153,18 @@ TEST(Tangents, CylinderHasTheCircleTangentAtEveryVertex) {
             g.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
         }
     for (const glm::uvec3& tri : g.triangles) {  // the winding faces out
-        const glm::vec3 face =
-            glm::cross(g.positions[tri.y] - g.positions[tri.x], g.positions[tri.z] - g.positions[tri.x]);
+        const glm::vec3 face = glm::cross(g.positions[tri.y] - g.positions[tri.x],
+                                          g.positions[tri.z] - g.positions[tri.x]);
         ASSERT_GT(glm::dot(face, g.normals[tri.x]), 0.0f);
     }
     const scene::MeshTangents t = g.tangents();
     ASSERT_EQ(t.tangents.size(), g.positions.size());
     for (size_t v = 0; v < g.positions.size(); ++v) {
         const double phi = 2 * PI * (v % (SEGMENTS + 1)) / SEGMENTS;
-        expectTangent(t.tangents[v], {-std::sin(phi), 0, -std::cos(phi)}, 1.0f, "vertex " + std::to_string(v));
-        const glm::vec3 bitangent = t.tangents[v].w * glm::cross(g.normals[v], glm::vec3(t.tangents[v]));
+        expectTangent(t.tangents[v], {-std::sin(phi), 0, -std::cos(phi)}, 1.0f,
+                      "vertex " + std::to_string(v));
+        const glm::vec3 bitangent =
+            t.tangents[v].w * glm::cross(g.normals[v], glm::vec3(t.tangents[v]));
         EXPECT_NEAR(bitangent.y, 1.0f, 1e-6f);
     }
 }
@@ -171,8 +184,10 @@ TEST(Tangents, VerticesEqualByValueShareATangent) {
     ASSERT_EQ(t.tangents.size(), 6u);
     EXPECT_EQ(t.tangents[0], t.tangents[3]);
     for (int v : {1, 2}) expectTangent(t.tangents[v], {1, 0, 0}, 1.0f, "first triangle alone");
-    for (int v : {4, 5}) expectTangent(t.tangents[v], glm::normalize(glm::dvec3(1, 0, 1)), 1.0f, "second alone");
-    expectTangent(t.tangents[0], glm::normalize(glm::dvec3(1, 0, 0) + glm::normalize(glm::dvec3(1, 0, 1))), 1.0f,
+    for (int v : {4, 5})
+        expectTangent(t.tangents[v], glm::normalize(glm::dvec3(1, 0, 1)), 1.0f, "second alone");
+    expectTangent(t.tangents[0],
+                  glm::normalize(glm::dvec3(1, 0, 0) + glm::normalize(glm::dvec3(1, 0, 1))), 1.0f,
                   "shared");
 }
 
@@ -193,7 +208,8 @@ TEST(Tangents, FlatShadingWithoutNormalsSplitsPerFace) {
         for (int k = 0; k < 3; ++k) {
             const glm::vec4 tangent = t.tangents[t.triangles[i][k]];
             EXPECT_NEAR(glm::dot(glm::vec3(tangent), normal), 0.0f, 1e-6f);
-            expectTangent(tangent, {1, 0, 0}, i < 2 ? -1.0f : 1.0f, "face " + std::to_string(i / 2));
+            expectTangent(tangent, {1, 0, 0}, i < 2 ? -1.0f : 1.0f,
+                          "face " + std::to_string(i / 2));
         }
     }
 }
@@ -236,7 +252,8 @@ TEST(Tangents, DegenerateInputGivesUnitTangentsNeverNaN) {
         Grid g;
         g.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};  // in a line: no face normal either
         g.uvs = {{0, 0}, {1, 0}, {0, 1}};
-        g.triangles = {{0, 1, 2}, {0, 1, 7}};  // the second has an index out of range: kept as it is
+        g.triangles = {{0, 1, 2},
+                       {0, 1, 7}};  // the second has an index out of range: kept as it is
         const scene::MeshTangents t = g.tangents();
         ASSERT_EQ(t.tangents.size(), 3u);
         for (const glm::vec4& tangent : t.tangents) EXPECT_TRUE(unitAndFinite(tangent));

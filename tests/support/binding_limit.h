@@ -10,7 +10,9 @@ namespace vkpath::test {
 
 class BindingLimit {
   public:
-    explicit BindingLimit(uint64_t bytes) { setenv("VKPATH_MAX_BINDING_BYTES", std::to_string(bytes).c_str(), 1); }
+    explicit BindingLimit(uint64_t bytes) {
+        setenv("VKPATH_MAX_BINDING_BYTES", std::to_string(bytes).c_str(), 1);
+    }
     ~BindingLimit() { unsetenv("VKPATH_MAX_BINDING_BYTES"); }
     BindingLimit(const BindingLimit&) = delete;
     BindingLimit& operator=(const BindingLimit&) = delete;

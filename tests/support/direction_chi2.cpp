@@ -30,7 +30,8 @@ int cellOf(const DirectionGrid& grid, glm::vec3 worldDirection) {
 }
 
 // The integral of pdf over cell (c, p) by the midpoint rule, k x k points.
-double cellIntegral(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf, int c, int p, int k) {
+double cellIntegral(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf, int c,
+                    int p, int k) {
     const double dPhi = 2 * PI / grid.phiBins, dCos = 2.0 / grid.cosBins;
     auto at = [&](double cosTheta, int j) {
         const double phi = (p + (j + 0.5) / k) * dPhi;
@@ -60,7 +61,8 @@ double cellIntegral(const DirectionGrid& grid, const std::function<double(glm::v
 }
 
 template <typename F>
-void forEachCellIntegral(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf, F&& visit) {
+void forEachCellIntegral(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf,
+                         F&& visit) {
     for (int c = 0; c < grid.cosBins; ++c)
         for (int p = 0; p < grid.phiBins; ++p)
             visit(c * grid.phiBins + p, cellIntegral(grid, pdf, c, p, grid.pointsPerAxis));
@@ -68,16 +70,19 @@ void forEachCellIntegral(const DirectionGrid& grid, const std::function<double(g
 
 }  // namespace
 
-std::vector<double> binDirections(const DirectionGrid& grid, const std::vector<glm::vec3>& directions) {
+std::vector<double> binDirections(const DirectionGrid& grid,
+                                  const std::vector<glm::vec3>& directions) {
     std::vector<double> counts(size_t(grid.phiBins) * grid.cosBins, 0);
     for (const glm::vec3& d : directions) counts[cellOf(grid, d)] += 1;
     return counts;
 }
 
-std::vector<double> expectedCounts(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf,
+std::vector<double> expectedCounts(const DirectionGrid& grid,
+                                   const std::function<double(glm::vec3)>& pdf,
                                    double sampleCount) {
     std::vector<double> expected(size_t(grid.phiBins) * grid.cosBins, 0);
-    forEachCellIntegral(grid, pdf, [&](int cell, double integral) { expected[cell] = integral * sampleCount; });
+    forEachCellIntegral(
+        grid, pdf, [&](int cell, double integral) { expected[cell] = integral * sampleCount; });
     return expected;
 }
 

@@ -5,9 +5,8 @@
 #pragma once
 
 #include <functional>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "shared/sampling.h"
 #include "support/statistics.h"
@@ -29,16 +28,18 @@ struct DirectionGrid {
     double polarExponent = 1;
 };
 
-std::vector<double> binDirections(const DirectionGrid& grid, const std::vector<glm::vec3>& directions);
+std::vector<double> binDirections(const DirectionGrid& grid,
+                                  const std::vector<glm::vec3>& directions);
 
 // Expected count per cell: sampleCount * integral of pdf over the cell.
-std::vector<double> expectedCounts(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf,
-                                   double sampleCount);
+std::vector<double> expectedCounts(const DirectionGrid& grid,
+                                   const std::function<double(glm::vec3)>& pdf, double sampleCount);
 
 // The integral of pdf over the whole sphere of directions (should be 1).
 double integrateOverSphere(const DirectionGrid& grid, const std::function<double(glm::vec3)>& pdf);
 
-ChiSquareResult chiSquareDirections(const DirectionGrid& grid, const std::vector<glm::vec3>& directions,
+ChiSquareResult chiSquareDirections(const DirectionGrid& grid,
+                                    const std::vector<glm::vec3>& directions,
                                     const std::function<double(glm::vec3)>& pdf);
 
 // The same for a sampler that may fail (a BSDF sample reflected below the

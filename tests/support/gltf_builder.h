@@ -18,8 +18,8 @@
 #pragma GCC diagnostic pop
 
 #include "input_error.h"
-#include "support/base64.h"
 #include "scene/gltf_loader.h"
+#include "support/base64.h"
 
 namespace vkpath::test {
 

@@ -13,15 +13,16 @@
 namespace vkpath::test {
 
 // `settings` rendered on the GPU.
-inline wavefront::RenderResult renderGpu(const scene::Scene& s, const wavefront::RenderSettings& settings) {
+inline wavefront::RenderResult renderGpu(const scene::Scene& s,
+                                         const wavefront::RenderSettings& settings) {
     wavefront::GpuRenderer renderer(context(), s, settings);
     return renderer.render();
 }
 
 // A size x size film of `spp` samples and at most `maxDepth` bounces; every
 // other setting at RenderSettings' default.
-inline wavefront::RenderSettings squareSettings(uint32_t size, uint32_t spp, uint32_t maxDepth, uint32_t seed = 1,
-                                                uint32_t lightSamples = 1) {
+inline wavefront::RenderSettings squareSettings(uint32_t size, uint32_t spp, uint32_t maxDepth,
+                                                uint32_t seed = 1, uint32_t lightSamples = 1) {
     wavefront::RenderSettings settings;
     settings.width = size;
     settings.height = size;
@@ -33,9 +34,9 @@ inline wavefront::RenderSettings squareSettings(uint32_t size, uint32_t spp, uin
 }
 
 // squareSettings on the GPU, with `sampler` where given (else the default).
-inline wavefront::RenderResult render(const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size = 48,
-                                      uint32_t seed = 1, uint32_t lightSamples = 1,
-                                      std::optional<wavefront::SamplerKind> sampler = std::nullopt) {
+inline wavefront::RenderResult render(
+    const scene::Scene& s, uint32_t spp, uint32_t maxDepth, uint32_t size = 48, uint32_t seed = 1,
+    uint32_t lightSamples = 1, std::optional<wavefront::SamplerKind> sampler = std::nullopt) {
     wavefront::RenderSettings settings = squareSettings(size, spp, maxDepth, seed, lightSamples);
     if (sampler) settings.sampler = *sampler;
     return renderGpu(s, settings);

@@ -15,7 +15,8 @@ inline double matchingPixelFraction(const image::Image& a, const image::Image& b
     for (size_t i = 0; i < a.pixels.size(); ++i) {
         bool ok = true;
         for (int c = 0; c < 3; ++c)
-            ok = ok && std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::abs(b.pixels[i][c]) + 1e-6f;
+            ok = ok && std::abs(a.pixels[i][c] - b.pixels[i][c]) <=
+                           1e-3f * std::abs(b.pixels[i][c]) + 1e-6f;
         same += ok;
     }
     return double(same) / double(a.pixels.size());

@@ -30,8 +30,8 @@ CommandResult runVkpath(const std::string& args, int timeoutSeconds) {
     const auto out = dir / "out", err = dir / "err";
     const std::string limit =
         timeoutSeconds > 0 ? "timeout -k 5 " + std::to_string(timeoutSeconds) + " " : std::string();
-    const std::string command = limit + "'" + VKPATH_BINARY + "' " + args + " >'" + out.string() + "' 2>'" +
-                                err.string() + "' </dev/null";
+    const std::string command = limit + "'" + VKPATH_BINARY + "' " + args + " >'" + out.string() +
+                                "' 2>'" + err.string() + "' </dev/null";
     const int status = std::system(command.c_str());
     CommandResult result;
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -50,8 +50,8 @@ RunningVkpath::RunningVkpath(const std::string& args) {
                 .string();
     std::filesystem::create_directories(m_dir);
     // exec: the shell becomes vkpath, so the pid is vkpath's.
-    const std::string command = std::string("exec '") + VKPATH_BINARY + "' " + args + " >'" + m_dir + "/out' 2>'" +
-                                m_dir + "/err' </dev/null";
+    const std::string command = std::string("exec '") + VKPATH_BINARY + "' " + args + " >'" +
+                                m_dir + "/out' 2>'" + m_dir + "/err' </dev/null";
     m_pid = fork();
     if (m_pid < 0) throw std::runtime_error("fork failed");
     if (m_pid == 0) {
@@ -68,9 +68,13 @@ RunningVkpath::~RunningVkpath() {
     std::filesystem::remove_all(m_dir);
 }
 
-void RunningVkpath::signal(int signal) const { kill(m_pid, signal); }
+void RunningVkpath::signal(int signal) const {
+    kill(m_pid, signal);
+}
 
-std::string RunningVkpath::err() const { return slurp(m_dir + "/err"); }
+std::string RunningVkpath::err() const {
+    return slurp(m_dir + "/err");
+}
 
 CommandResult RunningVkpath::wait() {
     int status = 0;

@@ -1,7 +1,6 @@
 #include "support/statistics.h"
 
 #include <boost/math/distributions/chi_squared.hpp>
-
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -9,15 +8,17 @@
 namespace vkpath::test {
 
 double chiSquarePValue(double statistic, int degreesOfFreedom) {
-    if (degreesOfFreedom <= 0 || !(statistic >= 0)) throw std::invalid_argument("chiSquarePValue: bad arguments");
+    if (degreesOfFreedom <= 0 || !(statistic >= 0))
+        throw std::invalid_argument("chiSquarePValue: bad arguments");
     if (std::isinf(statistic)) return 0.0;
-    return boost::math::cdf(boost::math::complement(boost::math::chi_squared_distribution<double>(degreesOfFreedom),
-                                                    statistic));
+    return boost::math::cdf(boost::math::complement(
+        boost::math::chi_squared_distribution<double>(degreesOfFreedom), statistic));
 }
 
-ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected,
-                              double minExpected) {
-    if (observed.size() != expected.size()) throw std::invalid_argument("chiSquareTest: size mismatch");
+ChiSquareResult chiSquareTest(const std::vector<double>& observed,
+                              const std::vector<double>& expected, double minExpected) {
+    if (observed.size() != expected.size())
+        throw std::invalid_argument("chiSquareTest: size mismatch");
     ChiSquareResult r;
     double pooledObserved = 0, pooledExpected = 0;
     int cells = 0;

@@ -25,8 +25,8 @@ struct ChiSquareResult {
 // total). Cells with expected count < minExpected are pooled into one cell,
 // as Mitsuba 3's ChiSquareTest does. Any observation in a cell whose expected
 // count is exactly zero fails outright (p = 0).
-ChiSquareResult chiSquareTest(const std::vector<double>& observed, const std::vector<double>& expected,
-                              double minExpected = 5.0);
+ChiSquareResult chiSquareTest(const std::vector<double>& observed,
+                              const std::vector<double>& expected, double minExpected = 5.0);
 
 // Sidak's per-test significance: image::sidakAlpha (host/image/statistics.h).
 using image::sidakAlpha;

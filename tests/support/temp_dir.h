@@ -19,7 +19,8 @@ class TempDir {
         const auto* info = testing::UnitTest::GetInstance()->current_test_info();
         std::string name = std::string(info->test_suite_name()) + "-" + info->name();
         std::replace(name.begin(), name.end(), '/', '_');
-        m_path = std::filesystem::temp_directory_path() / ("vkpath-" + std::to_string(getpid()) + "-" + name);
+        m_path = std::filesystem::temp_directory_path() /
+                 ("vkpath-" + std::to_string(getpid()) + "-" + name);
         std::filesystem::remove_all(m_path);
         std::filesystem::create_directories(m_path);
     }

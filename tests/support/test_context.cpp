@@ -29,14 +29,17 @@ std::filesystem::path scenesDir() {
     return std::filesystem::path(given && *given ? given : VKPATH_SCENES_DIR);
 }
 
-std::filesystem::path sharedScene(const std::string& name) { return scenesDir() / "scotty3d" / name; }
+std::filesystem::path sharedScene(const std::string& name) {
+    return scenesDir() / "scotty3d" / name;
+}
 
 std::string sharedScenesMissing() {
     const std::filesystem::path folder = scenesDir() / "scotty3d";
     std::error_code ec;
     if (std::filesystem::is_directory(folder, ec)) return {};
     return "the assignment's scenes are not here: no folder " + folder.string() +
-           " (set VKPATH_SCENES_DIR, a CMake cache variable or an environment variable, to the folder "
+           " (set VKPATH_SCENES_DIR, a CMake cache variable or an environment variable, to the "
+           "folder "
            "holding scotty3d/; README.md, \"Scenes\")";
 }
 

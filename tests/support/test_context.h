@@ -32,8 +32,8 @@ std::filesystem::path sourcePath(const std::string& relative);
 
 // Skips the running test, with the reason, where the assignment's scenes are
 // absent. In a test body (or a function it calls that returns void).
-#define VKPATH_SKIP_WITHOUT_SHARED_SCENES()                                     \
-    do {                                                                        \
+#define VKPATH_SKIP_WITHOUT_SHARED_SCENES()                                      \
+    do {                                                                         \
         const std::string vkpathMissing = ::vkpath::test::sharedScenesMissing(); \
-        if (!vkpathMissing.empty()) GTEST_SKIP() << vkpathMissing;              \
+        if (!vkpathMissing.empty()) GTEST_SKIP() << vkpathMissing;               \
     } while (0)

@@ -9,7 +9,8 @@ namespace vkpath::test {
 // environment, seen from (0, 0, 4) with a 40 degree field of view: the
 // furnace scenes (a white diffuse sphere is invisible, a grey one reflects its
 // albedo, a mirror shows its reflectance).
-inline scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 reflectance, float ior = 1.5f) {
+inline scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 reflectance,
+                                        float ior = 1.5f) {
     scene::Scene s;
     scene::Material m;
     m.kind = kind;

@@ -44,17 +44,20 @@ inline Texels readTexels(const std::filesystem::path& path) {
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, all.data()))
         throw std::runtime_error(path.string() + ": " + in->geterror());
     for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i)
-        for (int c = 0; c < 3; ++c) t.rgb.push_back(all[i * spec.nchannels + std::min(c, spec.nchannels - 1)]);
+        for (int c = 0; c < 3; ++c)
+            t.rgb.push_back(all[i * spec.nchannels + std::min(c, spec.nchannels - 1)]);
     return t;
 }
 
 // The mean texel over [x0, x1) x [y0, y1), per channel, each texel decoded
 // by `decode` (sRGB to linear, or not, for power checks).
-inline glm::dvec3 meanTexel(const Texels& t, int x0, int y0, int x1, int y1, double (*decode)(double)) {
+inline glm::dvec3 meanTexel(const Texels& t, int x0, int y0, int x1, int y1,
+                            double (*decode)(double)) {
     glm::dvec3 sum(0.0);
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x)
-            for (int c = 0; c < 3; ++c) sum[c] += decode(t.rgb[(size_t(y) * t.width + x) * 3 + c] / 255.0);
+            for (int c = 0; c < 3; ++c)
+                sum[c] += decode(t.rgb[(size_t(y) * t.width + x) * 3 + c] / 255.0);
     return sum / double(size_t(x1 - x0) * size_t(y1 - y0));
 }
 
@@ -80,13 +83,14 @@ struct Render {
 // `vkpath --validation render` under a constant white sky with the variance
 // AOV, the EXR in `outputDir`; anything but exit 0 without a validation
 // message fails the test and returns empty images.
-inline Render renderOnWhiteSky(const std::filesystem::path& scene, uint32_t width, uint32_t height, int spp,
-                               const std::filesystem::path& outputDir) {
+inline Render renderOnWhiteSky(const std::filesystem::path& scene, uint32_t width, uint32_t height,
+                               int spp, const std::filesystem::path& outputDir) {
     const std::filesystem::path exr = outputDir / (scene.stem().string() + ".exr");
-    const CommandResult r = runVkpath("--validation render '" + scene.string() + "' -d " + std::to_string(width) +
-                                          "x" + std::to_string(height) + " -s " + std::to_string(spp) +
-                                          " --env-color 1,1,1 --aov variance -o '" + exr.string() + "'",
-                                      120);
+    const CommandResult r =
+        runVkpath("--validation render '" + scene.string() + "' -d " + std::to_string(width) + "x" +
+                      std::to_string(height) + " -s " + std::to_string(spp) +
+                      " --env-color 1,1,1 --aov variance -o '" + exr.string() + "'",
+                  120);
     Render out;
     EXPECT_EQ(r.exitCode, 0) << scene << ":\n" << r.err;
     EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;

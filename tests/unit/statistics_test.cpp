@@ -1,11 +1,11 @@
 // The chi-square machinery itself, against values from standard tables.
+#include "support/statistics.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
-#include "support/statistics.h"
 
 namespace {
 
@@ -13,9 +13,9 @@ using namespace vkpath::test;
 
 TEST(Statistics, ChiSquarePValueMatchesTables) {
     // Chi-square upper-tail probabilities: Q(k/2, x/2).
-    EXPECT_NEAR(chiSquarePValue(3.841458820694124, 1), 0.05, 1e-9);   // k = 1
+    EXPECT_NEAR(chiSquarePValue(3.841458820694124, 1), 0.05, 1e-9);    // k = 1
     EXPECT_NEAR(chiSquarePValue(23.209251158954356, 10), 0.01, 1e-9);  // k = 10
-    EXPECT_NEAR(chiSquarePValue(82.52872654, 63), 0.05, 1e-6);        // k = 63
+    EXPECT_NEAR(chiSquarePValue(82.52872654, 63), 0.05, 1e-6);         // k = 63
     EXPECT_NEAR(chiSquarePValue(4.0, 2), std::exp(-2.0), 1e-12);       // k = 2: Q(1, x) = e^-x
 }
 
@@ -36,7 +36,10 @@ TEST(Statistics, ChiSquarePoolsAndRejects) {
     EXPECT_LT(chiSquareTest({100, 0}, {50, 50}).pValue, 1e-10);
 }
 
-TEST(Statistics, Sidak) { EXPECT_NEAR(sidakAlpha(0.01, 1), 0.01, 1e-15); EXPECT_LT(sidakAlpha(0.01, 10), 0.001006); }
+TEST(Statistics, Sidak) {
+    EXPECT_NEAR(sidakAlpha(0.01, 1), 0.01, 1e-15);
+    EXPECT_LT(sidakAlpha(0.01, 10), 0.001006);
+}
 
 }  // namespace
 
@@ -52,7 +55,8 @@ TEST(PreciseMath, AtanAndAcosWithinOneAndAHalfUlpOfPi) {
         for (int j = -1000; j <= 1000; j += 7) {
             const float y = i * 0.013f, x = j * 0.011f;
             if (x == 0 && y == 0) continue;
-            worst = std::max(worst, std::abs(vkpath::shared::preciseAtan2(y, x) - std::atan2(double(y), double(x))));
+            worst = std::max(worst, std::abs(vkpath::shared::preciseAtan2(y, x) -
+                                             std::atan2(double(y), double(x))));
         }
     EXPECT_LT(worst, 3.6e-7);
     worst = 0;
@@ -80,13 +84,16 @@ TEST(AliasTable, ProbabilitiesMatchWeightsAndSurviveTinyWeights) {
     ASSERT_EQ(table.size(), weights.size());
     const double total = 1e-12 + 3.0 + 1.0 + 1e7;
     for (size_t i = 0; i < weights.size(); ++i) {
-        const double expected = std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] / total : 0.0;
+        const double expected =
+            std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] / total : 0.0;
         if (expected == 0) {
             EXPECT_EQ(table[i].probability, 0.0f) << i;
         } else {
             EXPECT_GT(table[i].probability, 0.0f) << i;
             // Quantisation: one part in 2^32 of a bucket, relative to N / 2^32.
-            EXPECT_NEAR(table[i].probability, expected, std::max(expected * 1e-6, 7.0 / 4294967296.0)) << i;
+            EXPECT_NEAR(table[i].probability, expected,
+                        std::max(expected * 1e-6, 7.0 / 4294967296.0))
+                << i;
         }
     }
     // Resolving extreme random words stays in range.
@@ -123,7 +130,8 @@ TEST(AliasTable, ReusedWordIsUniformWithinEachElementAndKeepsStratification) {
     for (uint32_t i = 0; i < n; ++i) {
         const auto word = uint32_t(((uint64_t(i) << 32) + (uint64_t(1) << 31)) / n);
         const uint32_t bucket = aliasBucket(word, count);
-        const auto choice = aliasSampleReusing(table[bucket], bucket, aliasBucketFraction(word, count));
+        const auto choice =
+            aliasSampleReusing(table[bucket], bucket, aliasBucketFraction(word, count));
         ASSERT_LT(choice.element, count);
         ASSERT_GE(choice.u, 0.0f);
         ASSERT_LT(choice.u, 1.0f);
@@ -132,7 +140,8 @@ TEST(AliasTable, ReusedWordIsUniformWithinEachElementAndKeepsStratification) {
     for (uint32_t e = 0; e < count; ++e) {
         // Its parts: its own bucket's kept part and the rest of every bucket aliasing it.
         double parts = table[e].threshold > 0 ? 1 : 0;
-        for (uint32_t b = 0; b < count; ++b) parts += table[b].alias == e && table[b].threshold != 0xffffffffu;
+        for (uint32_t b = 0; b < count; ++b)
+            parts += table[b].alias == e && table[b].threshold != 0xffffffffu;
         auto& u = numbers[e];
         EXPECT_NEAR(double(u.size()), double(table[e].probability) * n, parts + 1) << e;
         if (u.empty()) continue;
@@ -151,7 +160,8 @@ TEST(AliasTable, ReusedWordIsUniformWithinEachElementAndKeepsStratification) {
     for (uint32_t i = 0; i < n; ++i) {
         const auto word = uint32_t(((uint64_t(i) << 32) + (uint64_t(1) << 31)) / n);
         const uint32_t bucket = aliasBucket(word, 2);
-        const auto choice = aliasSampleReusing(halves[bucket], bucket, aliasBucketFraction(word, 2));
+        const auto choice =
+            aliasSampleReusing(halves[bucket], bucket, aliasBucketFraction(word, 2));
         ++cells[choice.element][size_t(double(choice.u) * (n / 2))];
     }
     for (const auto& element : cells)

@@ -10,6 +10,8 @@
 // are closed and do not overlap or nest (docs/SCENES.md).
 VKP_FN vec3 mediumTransmittance(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
                                 VKP_IN(Ray) ray, Hit hit) VKP_SCENE_CONST {
-    if (!materialTransmits(material) || material.attenuation == vec3(0.0f) || dot(ray.direction, surface.normal) <= 0.0f) return vec3(1.0f);
+    if (!materialTransmits(material) || material.attenuation == vec3(0.0f) ||
+        dot(ray.direction, surface.normal) <= 0.0f)
+        return vec3(1.0f);
     return exp(-material.attenuation * hit.t);  // (ray.direction is unit)
 }

@@ -10,7 +10,8 @@
 VKP_FN float surfaceAlpha(MaterialAlpha material, uint triangle, vec2 b) VKP_SCENE_CONST {
     float alpha = material.alpha;
     bool textured = hasFeature(VKP_FEATURE_TEXTURES) && material.baseColorSlot != VKP_NO_TEXTURE;
-    uint attributes = sceneInfo().triangleAttributes & (VKP_TRIANGLE_TEXCOORDS | VKP_TRIANGLE_COLORS);
+    uint attributes =
+        sceneInfo().triangleAttributes & (VKP_TRIANGLE_TEXCOORDS | VKP_TRIANGLE_COLORS);
     if (!textured && (!hasFeature(VKP_FEATURE_VERTEX_COLORS) || attributes == 0u)) return alpha;
     vec4 texcoords = vec4(0.0f);
     if (attributes != 0u) {
@@ -20,8 +21,10 @@ VKP_FN float surfaceAlpha(MaterialAlpha material, uint triangle, vec2 b) VKP_SCE
         if (textured && (vertices.attributes & VKP_TRIANGLE_TEXCOORDS) != 0u)
             texcoords = b0 * sceneVertexTexcoords(v.x) + b.x * sceneVertexTexcoords(v.y) +
                         b.y * sceneVertexTexcoords(v.z);
-        if (hasFeature(VKP_FEATURE_VERTEX_COLORS) && (vertices.attributes & VKP_TRIANGLE_COLORS) != 0u)
-            alpha *= b0 * sceneVertexColor(v.x).w + b.x * sceneVertexColor(v.y).w + b.y * sceneVertexColor(v.z).w;
+        if (hasFeature(VKP_FEATURE_VERTEX_COLORS) &&
+            (vertices.attributes & VKP_TRIANGLE_COLORS) != 0u)
+            alpha *= b0 * sceneVertexColor(v.x).w + b.x * sceneVertexColor(v.y).w +
+                     b.y * sceneVertexColor(v.z).w;
     }
     if (textured) alpha *= textureSlotValue(material.baseColorSlot, texcoords).w;
     return alpha;

@@ -4,12 +4,12 @@
 // ---- continuing the path --------------------------------------------------------------------
 
 struct PathStep {
-    Ray ray;           // the next ray
-    vec3 throughput;   // the path throughput after this vertex (and roulette)
-    float etaScale;    // the product of eta'^2 over the path's refractions (PathState::etaScale)
-    float bsdfPdf;     // density of the sampled direction (for MIS at the next hit)
-    bool specular;     // the sample came from a delta BSDF
-    bool alive;        // false: the path ends here
+    Ray ray;          // the next ray
+    vec3 throughput;  // the path throughput after this vertex (and roulette)
+    float etaScale;   // the product of eta'^2 over the path's refractions (PathState::etaScale)
+    float bsdfPdf;    // density of the sampled direction (for MIS at the next hit)
+    bool specular;    // the sample came from a delta BSDF
+    bool alive;       // false: the path ends here
 };
 
 // The next bounce from a vertex whose guide spheres (guideSpheresAt) are `guide`.
@@ -31,11 +31,12 @@ VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) sur
     uint dim = bounceDimension(bounce);
     // A guided Lambertian vertex draws its mixture's component where a
     // material with lobes draws its lobe (no Lambertian does).
-    float lobeChoice = bsdfNeedsLobeChoice(material) || guide.count > 0u ? rngUniform(key, dim + 3u) : 0.0f;
-    BsdfSample s = guide.count > 0u
-                       ? sampleGuidedDiffuse(material, surface, wo, guide, rngUniform2(key, dim), lobeChoice)
-                       : sampleBsdf(material, surface.normal, surface.shadingNormal, wo, rngUniform2(key, dim),
-                                    lobeChoice);
+    float lobeChoice =
+        bsdfNeedsLobeChoice(material) || guide.count > 0u ? rngUniform(key, dim + 3u) : 0.0f;
+    BsdfSample s = guide.count > 0u ? sampleGuidedDiffuse(material, surface, wo, guide,
+                                                          rngUniform2(key, dim), lobeChoice)
+                                    : sampleBsdf(material, surface.normal, surface.shadingNormal,
+                                                 wo, rngUniform2(key, dim), lobeChoice);
     if (!s.valid) return step;
     vec3 beta = throughput * s.weight;
     // Kept within [2^-100, 2^100]: never 0 or infinite, so its sign can be

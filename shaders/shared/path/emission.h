@@ -23,16 +23,18 @@ VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SC
 // reached along `direction` from `previous` (the last vertex) by a ray of
 // BSDF density `bsdfPdf`. Triangles emit from their front face only.
 VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, uint index,
-                            VKP_IN(SurfacePoint) surface, vec3 direction, vec3 previous, bool specular,
-                            float bsdfPdf) VKP_SCENE_CONST {
+                            VKP_IN(SurfacePoint) surface, vec3 direction, vec3 previous,
+                            bool specular, float bsdfPdf) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) return vec3(0.0f);
     vec3 le = material.emission;
     if (!isSphere(primitive) && dot(direction, surface.normal) >= 0.0f) return vec3(0.0f);
     SceneInfo info = sceneInfo();
-    if (le == vec3(0.0f) || specular || lightSampleCount() == 0u || info.lightCount == 0u) return le;
+    if (le == vec3(0.0f) || specular || lightSampleCount() == 0u || info.lightCount == 0u)
+        return le;
     uint lightIndex = scenePrimitiveLight(index);
     if (lightIndex == VKP_NO_LIGHT) return le;
     Light light = sceneLight(lightIndex);
-    float lightPdf = sceneLightAlias(lightIndex).probability * areaLightPdf(light, previous, surface.position, surface.normal);
+    float lightPdf = sceneLightAlias(lightIndex).probability *
+                     areaLightPdf(light, previous, surface.position, surface.normal);
     return le * bsdfMisWeight(bsdfPdf, lightPdf);
 }

@@ -37,5 +37,6 @@ VKP_FN vec3 environmentRadiance(vec3 worldDirection) VKP_SCENE_CONST {
 VKP_FN float environmentPdf(vec3 worldDirection) VKP_SCENE_CONST {
     EnvironmentInfo env = sceneInfo().environment;
     if (!environmentIsMap()) return uniformSpherePdf();
-    return envDirectionPdf(env, sceneEnvAlias(environmentTexel(worldDirection)).probability, worldDirection);
+    return envDirectionPdf(env, sceneEnvAlias(environmentTexel(worldDirection)).probability,
+                           worldDirection);
 }

@@ -14,8 +14,8 @@
 // lobes keep MIS: light sampling alone is noisy on them.
 VKP_FN bool lightSamplingAlone(VKP_IN(Material) material, uint bounce) VKP_SCENE_CONST {
     SceneInfo info = sceneInfo();
-    return bounce + 1u == info.maxDepth && lightSampleCount() > 0u && info.unsampledEmitters == 0u &&
-           materialIs(material, VKP_MATERIAL_DIFFUSE);
+    return bounce + 1u == info.maxDepth && lightSampleCount() > 0u &&
+           info.unsampledEmitters == 0u && materialIs(material, VKP_MATERIAL_DIFFUSE);
 }
 
 struct ShadowRequest {
@@ -31,8 +31,8 @@ struct ShadowRequest {
 // Light sample `index` (of lightSamples) at a diffuse vertex whose guide
 // spheres (guideSpheresAt) are `guide`.
 VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
-                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key, uint bounce,
-                                       uint index) VKP_SCENE_CONST {
+                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key,
+                                       uint bounce, uint index) VKP_SCENE_CONST {
     ShadowRequest request;
     request.valid = false;
     request.rejected = false;
@@ -42,17 +42,19 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     request.ray.tMax = 0.0f;
     request.ray.pixel = key.pixel;
     SceneInfo info = sceneInfo();
-    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material)) return request;
+    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material))
+        return request;
 
-    uint dim = bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
+    uint dim =
+        bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
     // One pair picks the light and the point on it: its first word chooses
     // the light and, rescaled, is the point's first coordinate
     // (aliasSampleReusing), so the pair's stratification carries over to the
     // points on each light.
     uvec2 pointBits = rngBits2(key, dim + 2u);
     uint bucket = aliasBucket(pointBits.x, info.lightCount);
-    AliasChoice lightChoice =
-        aliasSampleReusing(sceneLightAlias(bucket), bucket, aliasBucketFraction(pointBits.x, info.lightCount));
+    AliasChoice lightChoice = aliasSampleReusing(sceneLightAlias(bucket), bucket,
+                                                 aliasBucketFraction(pointBits.x, info.lightCount));
     uint lightIndex = lightChoice.element;
     float choice = sceneLightAlias(lightIndex).probability;
     Light light = sceneLight(lightIndex);
@@ -94,9 +96,10 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     if (f == vec3(0.0f)) return request;
     float n = float(lightSampleCount());
     float lightPdf = choice * ls.pdf;
-    float weight = ls.delta || lightSamplingAlone(material, bounce)
-                       ? 1.0f
-                       : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, guide, ls.direction));
+    float weight =
+        ls.delta || lightSamplingAlone(material, bounce)
+            ? 1.0f
+            : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, guide, ls.direction));
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);

@@ -1,5 +1,5 @@
-// A hit's shading normal: interpolated vertex normals, perturbed by a normal map: part of shared/path_tracer.h, which
-// includes it (no include guard: once per scope, as path_tracer.h).
+// A hit's shading normal: interpolated vertex normals, perturbed by a normal map: part of
+// shared/path_tracer.h, which includes it (no include guard: once per scope, as path_tracer.h).
 
 // ---- shading normals ------------------------------------------------------------------
 
@@ -18,9 +18,12 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
     if (slot.texture == VKP_NO_TEXTURE) return n;
     float b0 = 1.0f - b1 - b2;
     uvec3 v = triangle.vertex;
-    vec4 texcoords = b0 * sceneVertexTexcoords(v.x) + b1 * sceneVertexTexcoords(v.y) + b2 * sceneVertexTexcoords(v.z);
-    vec3 mapped = 2.0f * vec3(textureSlotValue(material.textures + VKP_SLOT_NORMAL, texcoords)) - 1.0f;
-    vec4 tangent = b0 * sceneVertexTangent(v.x) + b1 * sceneVertexTangent(v.y) + b2 * sceneVertexTangent(v.z);
+    vec4 texcoords = b0 * sceneVertexTexcoords(v.x) + b1 * sceneVertexTexcoords(v.y) +
+                     b2 * sceneVertexTexcoords(v.z);
+    vec3 mapped =
+        2.0f * vec3(textureSlotValue(material.textures + VKP_SLOT_NORMAL, texcoords)) - 1.0f;
+    vec4 tangent =
+        b0 * sceneVertexTangent(v.x) + b1 * sceneVertexTangent(v.y) + b2 * sceneVertexTangent(v.z);
     vec3 t = vec3(tangent) - dot(n, vec3(tangent)) * n;
     float t2 = dot(t, t);
     if (!(t2 > 1e-12f)) return n;
@@ -41,18 +44,22 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
 // triangles without a normal map.
 VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, Hit hit,
                           vec3 geometric, vec3 wo) VKP_SCENE_CONST {
-    if (!hasFeature(VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_NORMAL_MAPS) || isSphere(primitive)) return geometric;
-    if ((sceneInfo().triangleAttributes & (VKP_TRIANGLE_SHADING_NORMALS | VKP_TRIANGLE_TANGENTS)) == 0u)
+    if (!hasFeature(VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_NORMAL_MAPS) || isSphere(primitive))
+        return geometric;
+    if ((sceneInfo().triangleAttributes & (VKP_TRIANGLE_SHADING_NORMALS | VKP_TRIANGLE_TANGENTS)) ==
+        0u)
         return geometric;
     TriangleVertices triangle = sceneTriangleVertices(primitive.id);
-    bool mapped = hasFeature(VKP_FEATURE_NORMAL_MAPS) && (triangle.attributes & VKP_TRIANGLE_TANGENTS) != 0u;
-    bool interpolated =
-        hasFeature(VKP_FEATURE_SHADING_NORMALS) && (triangle.attributes & VKP_TRIANGLE_SHADING_NORMALS) != 0u;
+    bool mapped =
+        hasFeature(VKP_FEATURE_NORMAL_MAPS) && (triangle.attributes & VKP_TRIANGLE_TANGENTS) != 0u;
+    bool interpolated = hasFeature(VKP_FEATURE_SHADING_NORMALS) &&
+                        (triangle.attributes & VKP_TRIANGLE_SHADING_NORMALS) != 0u;
     if (!mapped && !interpolated) return geometric;
     float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
     vec3 n = geometric;
     if (interpolated) {
-        vec3 sum = (1.0f - b1 - b2) * sceneVertexNormal(triangle.vertex.x) + b1 * sceneVertexNormal(triangle.vertex.y) +
+        vec3 sum = (1.0f - b1 - b2) * sceneVertexNormal(triangle.vertex.x) +
+                   b1 * sceneVertexNormal(triangle.vertex.y) +
                    b2 * sceneVertexNormal(triangle.vertex.z);
         float length2 = dot(sum, sum);
         if (length2 > 1e-12f)

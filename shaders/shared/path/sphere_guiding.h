@@ -32,7 +32,8 @@ VKP_FN GuideSpheres guideSpheresAt(VKP_IN(Material) material, VKP_IN(SurfacePoin
     GuideSpheres g;
     g.mask = 0u;
     g.count = 0u;
-    if (!hasFeature(VKP_FEATURE_SPHERE_GUIDING) || !materialIs(material, VKP_MATERIAL_DIFFUSE)) return g;
+    if (!hasFeature(VKP_FEATURE_SPHERE_GUIDING) || !materialIs(material, VKP_MATERIAL_DIFFUSE))
+        return g;
     vec3 n = faceForward(surface.shadingNormal, wo);
     uint total = sceneInfo().guideSphereCount;
     for (uint k = 0u; k < total; ++k) {
@@ -79,8 +80,8 @@ VKP_FN uint nthSetBit(uint mask, uint pick) VKP_SCENE_CONST {
 
 // A direction from the mixture at a Lambertian vertex with candidates g
 // (count > 0): u picks the direction, uc the component (and the sphere).
-VKP_FN BsdfSample sampleGuidedDiffuse(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
-                                      GuideSpheres g, vec2 u, float uc) VKP_SCENE_CONST {
+VKP_FN BsdfSample sampleGuidedDiffuse(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                      vec3 wo, GuideSpheres g, vec2 u, float uc) VKP_SCENE_CONST {
     vec3 n = faceForward(surface.shadingNormal, wo);
     float fraction = sceneInfo().guideFraction;
     vec3 wi;
@@ -107,8 +108,8 @@ VKP_FN BsdfSample sampleGuidedDiffuse(VKP_IN(Material) material, VKP_IN(SurfaceP
 // The density with which continuePath draws wi at this vertex (guide: its
 // guideSpheresAt): the BSDF's, or the guided mixture's. Light samples weigh
 // themselves against it.
-VKP_FN float scatterPdf(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo, GuideSpheres guide,
-                        vec3 wi) VKP_SCENE_CONST {
+VKP_FN float scatterPdf(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
+                        GuideSpheres guide, vec3 wi) VKP_SCENE_CONST {
     float pdf = bsdfPdf(material, surface.normal, surface.shadingNormal, wo, wi);
     if (guide.count == 0u || pdf == 0.0f) return pdf;
     return guidedDiffusePdf(surface.position, faceForward(surface.shadingNormal, wo), wi, guide);

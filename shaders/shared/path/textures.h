@@ -32,8 +32,10 @@ VKP_FN vec4 textureLookup(TextureInfo texture, vec2 uv) VKP_SCENE_CONST {
 VKP_FN vec4 textureSlotValue(uint slot, vec4 texcoords) VKP_SCENE_CONST {
     TextureSlot s = sceneTextureSlot(slot);
     if (s.texture == VKP_NO_TEXTURE) return vec4(1.0f);
-    vec3 uv1 = s.texCoord == 0u ? vec3(texcoords.x, texcoords.y, 1.0f) : vec3(texcoords.z, texcoords.w, 1.0f);
-    return textureLookup(sceneTexture(s.texture), vec2(dot(s.transformU, uv1), dot(s.transformV, uv1)));
+    vec3 uv1 = s.texCoord == 0u ? vec3(texcoords.x, texcoords.y, 1.0f)
+                                : vec3(texcoords.z, texcoords.w, 1.0f);
+    return textureLookup(sceneTexture(s.texture),
+                         vec2(dot(s.transformU, uv1), dot(s.transformV, uv1)));
 }
 
 // `material` as it is at a hit on `primitive`: its base colour times the
@@ -41,10 +43,13 @@ VKP_FN vec4 textureSlotValue(uint slot, vec4 texcoords) VKP_SCENE_CONST {
 // glass's base colour tints its transmission, scene::Material), its
 // emission times the emissive texture, its roughness and metalness times the
 // metallic-roughness texture. Spheres have no texture coordinates.
-VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive, Hit hit) VKP_SCENE_CONST {
-    if (!hasFeature(VKP_FEATURE_TEXTURES | VKP_FEATURE_VERTEX_COLORS) || isSphere(primitive)) return material;
+VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
+                           Hit hit) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_TEXTURES | VKP_FEATURE_VERTEX_COLORS) || isSphere(primitive))
+        return material;
     bool textured = hasFeature(VKP_FEATURE_TEXTURES) && material.textures != VKP_NO_TEXTURE;
-    uint attributes = sceneInfo().triangleAttributes & (VKP_TRIANGLE_TEXCOORDS | VKP_TRIANGLE_COLORS);
+    uint attributes =
+        sceneInfo().triangleAttributes & (VKP_TRIANGLE_TEXCOORDS | VKP_TRIANGLE_COLORS);
     if (!textured && (!hasFeature(VKP_FEATURE_VERTEX_COLORS) || attributes == 0u)) return material;
     vec4 base = vec4(1.0f);
     vec4 texcoords = vec4(0.0f);
@@ -55,24 +60,29 @@ VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive, Hi
         if (textured && (triangle.attributes & VKP_TRIANGLE_TEXCOORDS) != 0u)
             texcoords = b0 * sceneVertexTexcoords(v.x) + b1 * sceneVertexTexcoords(v.y) +
                         b2 * sceneVertexTexcoords(v.z);
-        if (hasFeature(VKP_FEATURE_VERTEX_COLORS) && (triangle.attributes & VKP_TRIANGLE_COLORS) != 0u)
-            base = b0 * sceneVertexColor(v.x) + b1 * sceneVertexColor(v.y) + b2 * sceneVertexColor(v.z);
+        if (hasFeature(VKP_FEATURE_VERTEX_COLORS) &&
+            (triangle.attributes & VKP_TRIANGLE_COLORS) != 0u)
+            base = b0 * sceneVertexColor(v.x) + b1 * sceneVertexColor(v.y) +
+                   b2 * sceneVertexColor(v.z);
     }
     if (textured) {
         base *= textureSlotValue(material.textures + VKP_SLOT_BASE_COLOR, texcoords);
         if (material.emission != vec3(0.0f))
-            material.emission *= vec3(textureSlotValue(material.textures + VKP_SLOT_EMISSIVE, texcoords));
+            material.emission *=
+                vec3(textureSlotValue(material.textures + VKP_SLOT_EMISSIVE, texcoords));
         // glTF 2.0 section 3.9.2: roughness in G, metalness in B, each
         // multiplying its factor (an empty slot is 1).
         if (hasFeature(VKP_FEATURES_MICROFACET)) {
-            vec4 metallicRoughness = textureSlotValue(material.textures + VKP_SLOT_METALLIC_ROUGHNESS, texcoords);
+            vec4 metallicRoughness =
+                textureSlotValue(material.textures + VKP_SLOT_METALLIC_ROUGHNESS, texcoords);
             material.roughness *= metallicRoughness.y;
             material.metallic *= metallicRoughness.z;
         }
     }
     if (materialTransmits(material))
         material.transmittance *= vec3(base);
-    else if (!materialIs(material, VKP_MATERIAL_CONDUCTOR) || (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) == 0u)
+    else if (!materialIs(material, VKP_MATERIAL_CONDUCTOR) ||
+             (material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) == 0u)
         material.reflectance *= vec3(base);  // (a complex index is no colour)
     return material;
 }
