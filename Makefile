@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps configure build demo test test-long bench bench-peer bench-ray fuzz fuzz-smoke clean
+.PHONY: all deps configure build demo test test-long bench bench-peer bench-ray fuzz fuzz-smoke format clean
 
 all: build
 
@@ -68,6 +68,10 @@ bench-peer: build
 RAY_ARGS ?=
 bench-ray: build
 	@tools/bench/ray-bench --vkpath $(VKPATH) $(RAY_ARGS)
+
+# The C++ files as .clang-format has them (CI checks with tools/check-format).
+format: deps
+	@tools/check-format --fix
 
 clean:
 	rm -rf $(BUILD) build-fuzz out
