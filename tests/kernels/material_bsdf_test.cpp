@@ -24,6 +24,7 @@
 #include "support/direction_chi2.h"
 #include "support/fresnel_rounding.h"
 #include "support/test_context.h"
+#include "support/test_scenes.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
 #include "wavefront/gpu_scene.h"
@@ -32,6 +33,7 @@ namespace {
 
 using namespace vkpath;
 using shared::MicrofacetResult;
+using test::gpuMaterial;
 
 constexpr uint32_t SAMPLES = 1000000;
 constexpr double PI = 3.14159265358979323846;
@@ -40,14 +42,6 @@ constexpr double PI = 3.14159265358979323846;
 constexpr int STATISTICAL_TESTS = 10;
 const double ALPHA = test::sidakAlpha(0.01, STATISTICAL_TESTS);
 const double Z_CRITICAL = image::normalCritical(ALPHA);
-
-// The kernels' record of `m`, as the renderer makes it.
-shared::Material gpuMaterial(const scene::Material& m) {
-    scene::Scene s;
-    s.materials.push_back(m);
-    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
-    return wavefront::buildSceneTables(s).materials.at(0);
-}
 
 scene::Material metallicRoughness(glm::vec3 base, float metallic, float roughness) {
     scene::Material m;

@@ -24,12 +24,15 @@
 #include "shared/bsdf.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
+#include "support/test_scenes.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
 
 namespace {
 
 using namespace vkpath;
+using test::gpuMaterial;
+using test::sphereTables;
 
 // A material of each kind with lobes that are not delta (where the kind has
 // such lobes). No default: a new kind fails to compile until it has one.
@@ -54,19 +57,6 @@ scene::Material exampleMaterial(scene::MaterialKind kind) {
             break;
     }
     return m;
-}
-
-// The tables of a sphere of material `m`, as the renderer makes them.
-wavefront::SceneTables sphereTables(const scene::Material& m) {
-    scene::Scene s;
-    s.materials.push_back(m);
-    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
-    return wavefront::buildSceneTables(s);
-}
-
-// The kernels' record of `m`.
-shared::Material gpuMaterial(const scene::Material& m) {
-    return sphereTables(m).materials.at(0);
 }
 
 // A file an importer makes a material of `kind` from, relative to the

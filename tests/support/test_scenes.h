@@ -2,6 +2,8 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "shared/material.h"
+#include "wavefront/gpu_scene.h"
 
 namespace vkpath::test {
 
@@ -25,6 +27,20 @@ inline scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 refl
     env.color = glm::vec3(1.0f);
     s.environment = env;
     return s;
+}
+
+// The tables of a unit sphere of material `m`, as the renderer makes them.
+inline wavefront::SceneTables sphereTables(const scene::Material& m) {
+    scene::Scene s;
+    s.materials.push_back(m);
+    s.spheres.push_back({"ball", glm::vec3(0.0f), 1.0f, 0});
+    return wavefront::buildSceneTables(s);
+}
+
+// The kernels' record of `m`: the host's own conversion, so that tests of
+// the shared BSDF code test scene::Material's fields.
+inline shared::Material gpuMaterial(const scene::Material& m) {
+    return sphereTables(m).materials.at(0);
 }
 
 }  // namespace vkpath::test
