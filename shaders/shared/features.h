@@ -27,9 +27,9 @@
 
 #define VKP_FEATURE_TRIANGLES (1u << 0)
 #define VKP_FEATURE_SPHERES (1u << 1)
-#define VKP_FEATURE_DIFFUSE (1u << 2)  // a primitive with a Lambertian material
-#define VKP_FEATURE_MIRROR (1u << 3)
-#define VKP_FEATURE_GLASS (1u << 4)
+// Bits 2, 3, 4, 20, 21 and 22: the material kinds' (shared/material_kinds.h),
+// VKP_FEATURE_DIFFUSE, _MIRROR, _DIELECTRIC, _CONDUCTOR, _ROUGH_DIELECTRIC and
+// _METALLIC_ROUGHNESS, defined below from the registry.
 #define VKP_FEATURE_EMISSIVE_SURFACES (1u << 5)  // a primitive with a material that emits
 #define VKP_FEATURE_POINT_LIGHTS (1u << 6)
 #define VKP_FEATURE_SPOT_LIGHTS (1u << 7)
@@ -41,13 +41,10 @@
 #define VKP_FEATURE_LIGHT_SAMPLES (1u << 13)  // SceneInfo::lightSamples > 0: next-event estimation
 #define VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES (1u << 14)  // SceneInfo::lightSamples > 1
 #define VKP_FEATURE_ROULETTE (1u << 15)  // rouletteDepth <= maxDepth: roulette can end a path
-#define VKP_FEATURE_SHADING_NORMALS (1u << 16)     // a triangle with interpolated vertex normals
-#define VKP_FEATURE_TEXTURES (1u << 17)            // a material with a texture
-#define VKP_FEATURE_VERTEX_COLORS (1u << 18)       // a triangle with vertex colours
-#define VKP_FEATURE_NORMAL_MAPS (1u << 19)         // a triangle with a normal map and tangents
-#define VKP_FEATURE_CONDUCTOR (1u << 20)           // a primitive with a rough conductor
-#define VKP_FEATURE_ROUGH_GLASS (1u << 21)         // ... with a rough dielectric
-#define VKP_FEATURE_METALLIC_ROUGHNESS (1u << 22)  // ... with glTF's metallic-roughness material
+#define VKP_FEATURE_SHADING_NORMALS (1u << 16)  // a triangle with interpolated vertex normals
+#define VKP_FEATURE_TEXTURES (1u << 17)         // a material with a texture
+#define VKP_FEATURE_VERTEX_COLORS (1u << 18)    // a triangle with vertex colours
+#define VKP_FEATURE_NORMAL_MAPS (1u << 19)      // a triangle with a normal map and tangents
 #define VKP_FEATURE_ALPHA (1u << 23)       // a triangle whose material may leave holes (alphaMode)
 #define VKP_FEATURE_REGULARIZE (1u << 24)  // path regularisation (SceneInfo::regularizeAlpha > 0)
 #define VKP_FEATURE_ABSORPTION \
@@ -59,6 +56,16 @@
 #define VKP_FEATURE_COUNT 28u
 
 #define VKP_FEATURES_ALL 0xffffffffu
+// Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
+#ifdef __cplusplus
+#define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
+    inline constexpr unsigned VKP_FEATURE_##NAME = feature;
+#else
+#define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
+    const uint VKP_FEATURE_##NAME = feature;
+#endif
+VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_CONSTANT)
+#undef VKP_KIND_FEATURE_CONSTANT
 // The material kinds' bits, from their registry (shared/material_kinds.h).
 #define VKP_FEATURES_MATERIALS (0u VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_TERM))
 // The materials with a GGX lobe: they read Material::roughness (and the metallic-roughness

@@ -19,15 +19,17 @@
 //                regularizeTypeMaterial
 //   key          the kind's key in scene-info's JSON and scene::FeatureSummary
 //   "label"      its name in scene-info's text and in the kernels' feature list
-//   FEATURE      its bit in shared/features.h: kernels without it compile none
-//                of its code
+//   FEATURE      its feature bit (shared/features.h), VKP_FEATURE_NAME: kernels
+//                without it compile none of its code. The kinds' bits are
+//                among the other features' (the first free one for a new kind:
+//                kernel_features.cpp static_asserts that every bit is named once)
 //   FLAGS        VKP_KIND_* below
 //   REGULARIZED  the NAME of the kind path regularisation turns it into
 //                (regularizeTypeMaterial returns that kind; itself if it only
 //                roughens or stays)
 //
-// Adding a kind: a row here (the next ID), its feature bit in
-// shared/features.h, its function set in shared/bsdf.h (its lobes beside
+// Adding a kind: a row here (the next ID and a free feature bit), its
+// function set in shared/bsdf.h (its lobes beside
 // those of shared/lobes.h or shared/microfacet.h), the importers that produce
 // it, and its case in the Mitsuba export (the compiler asks for it).
 // docs/ARCHITECTURE.md, "Adding a material kind", is the checklist.
@@ -44,27 +46,26 @@
         // Material::transmittance)
 #define VKP_KIND_LOBE_CHOICE 8u  // sampleTypeMaterial reads its own number uc to choose a lobe
 
-#define VKP_MATERIAL_KINDS(X)                                                                     \
-    /* Lambertian of albedo reflectance */                                                        \
-    X(0u, DIFFUSE, Diffuse, diffuse, "diffuse", VKP_FEATURE_DIFFUSE, VKP_KIND_NON_DELTA, DIFFUSE) \
-    /* perfect specular reflection scaled by reflectance */                                       \
-    X(1u, MIRROR, Mirror, mirror, "mirror", VKP_FEATURE_MIRROR, 0u, CONDUCTOR)                    \
-    /* smooth glass: exact Fresnel between index 1 and ior, tinted by reflectance and             \
-     * transmittance */                                                                           \
-    X(2u, DIELECTRIC, Dielectric, glass, "glass", VKP_FEATURE_GLASS, VKP_KIND_TRANSMITS,          \
-      ROUGH_DIELECTRIC)                                                                           \
-    /* GGX reflection of roughness (shared/microfacet.h): Schlick's Fresnel of F0 reflectance, or \
-       the exact Fresnel of a complex index */                                                    \
-    X(3u, CONDUCTOR, Conductor, conductor, "conductor", VKP_FEATURE_CONDUCTOR,                    \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET, CONDUCTOR)                                        \
-    /* GGX reflection and refraction of roughness between index 1 and ior (Walter et al. 2007) */ \
-    X(4u, ROUGH_DIELECTRIC, RoughDielectric, roughGlass, "rough-glass", VKP_FEATURE_ROUGH_GLASS,  \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_TRANSMITS | VKP_KIND_LOBE_CHOICE,       \
-      ROUGH_DIELECTRIC)                                                                           \
-    /* glTF 2.0's material (Appendix B, shared/metallic_roughness.h) */                           \
-    X(5u, METALLIC_ROUGHNESS, MetallicRoughness, metallicRoughness, "metallic-roughness",         \
-      VKP_FEATURE_METALLIC_ROUGHNESS,                                                             \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_LOBE_CHOICE, METALLIC_ROUGHNESS)
+#define VKP_MATERIAL_KINDS(X)                                                                      \
+    /* Lambertian of albedo reflectance */                                                         \
+    X(0u, DIFFUSE, Diffuse, diffuse, "diffuse", (1u << 2), VKP_KIND_NON_DELTA, DIFFUSE)            \
+    /* perfect specular reflection scaled by reflectance */                                        \
+    X(1u, MIRROR, Mirror, mirror, "mirror", (1u << 3), 0u, CONDUCTOR)                              \
+    /* smooth glass: exact Fresnel between index 1 and ior, tinted by reflectance and              \
+     * transmittance */                                                                            \
+    X(2u, DIELECTRIC, Dielectric, glass, "glass", (1u << 4), VKP_KIND_TRANSMITS, ROUGH_DIELECTRIC) \
+    /* GGX reflection of roughness (shared/microfacet.h): Schlick's Fresnel of F0 reflectance, or  \
+       the exact Fresnel of a complex index */                                                     \
+    X(3u, CONDUCTOR, Conductor, conductor, "conductor", (1u << 20),                                \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET, CONDUCTOR)                                         \
+    /* GGX reflection and refraction of roughness between index 1 and ior (Walter et al. 2007) */  \
+    X(4u, ROUGH_DIELECTRIC, RoughDielectric, roughGlass, "rough-glass", (1u << 21),                \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_TRANSMITS | VKP_KIND_LOBE_CHOICE,        \
+      ROUGH_DIELECTRIC)                                                                            \
+    /* glTF 2.0's material (Appendix B, shared/metallic_roughness.h) */                            \
+    X(5u, METALLIC_ROUGHNESS, MetallicRoughness, metallicRoughness, "metallic-roughness",          \
+      (1u << 22), VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_LOBE_CHOICE,                 \
+      METALLIC_ROUGHNESS)
 
 #define VKP_MATERIAL_KIND_COUNT 6u
 

@@ -39,9 +39,9 @@ TEST(KernelFeatures, ExactlyWhatTheSceneAndSettingsHold) {
     settings.lightSamples = 3;
     settings.rouletteDepth = settings.maxDepth + 1;  // roulette can never apply
     EXPECT_EQ(featuresOf(sphereUnderSky(scene::MaterialKind::Dielectric), settings),
-              uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_GLASS | VKP_FEATURE_ENVIRONMENT_COLOR |
-                       VKP_FEATURE_SAMPLER_INDEPENDENT | VKP_FEATURE_LIGHT_SAMPLES |
-                       VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES));
+              uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIELECTRIC |
+                       VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_SAMPLER_INDEPENDENT |
+                       VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES));
 
     // No light at all: no light samples, whatever -l says.
     scene::Scene dark = sphereUnderSky(scene::MaterialKind::Mirror);
