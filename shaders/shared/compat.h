@@ -35,6 +35,10 @@
 // each part of its design buys"); plain values in GLSL, where a kernel
 // compiler sees through `in` copies.
 #define VKP_IN(T) const T&
+// A named 32-bit unsigned constant at file scope, usable in switch cases and
+// constant expressions (what the registries' tables make: VKP_MATERIAL_*,
+// VKP_LIGHT_*, the material kinds' VKP_FEATURE_*).
+#define VKP_CONSTANT(name, value) inline constexpr unsigned name = value;
 
 namespace vkpath::shared {
 using uint = std::uint32_t;
@@ -68,6 +72,7 @@ inline uint bitfieldReverse(uint x) {
 #define VKP_INOUT(T) inout T
 #define VKP_OUT(T) out T
 #define VKP_IN(T) T
+#define VKP_CONSTANT(name, value) const uint name = value;
 
 #endif
 

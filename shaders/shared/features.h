@@ -57,13 +57,8 @@
 
 #define VKP_FEATURES_ALL 0xffffffffu
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
-#ifdef __cplusplus
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
-    inline constexpr unsigned VKP_FEATURE_##NAME = feature;
-#else
-#define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
-    const uint VKP_FEATURE_##NAME = feature;
-#endif
+    VKP_CONSTANT(VKP_FEATURE_##NAME, feature)
 VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_CONSTANT)
 #undef VKP_KIND_FEATURE_CONSTANT
 // The material kinds' bits, from their registry (shared/material_kinds.h).

@@ -16,13 +16,8 @@
 
 // Values of Light::type, one per row of the registry (shared/light_types.h):
 // VKP_LIGHT_TRIANGLE, VKP_LIGHT_SPHERE, ...
-#ifdef __cplusplus
 #define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) \
-    inline constexpr unsigned VKP_LIGHT_##NAME = id;
-#else
-#define VKP_LIGHT_CONSTANT(id, NAME, Type, label, feature, shape, flags) \
-    const uint VKP_LIGHT_##NAME = id;
-#endif
+    VKP_CONSTANT(VKP_LIGHT_##NAME, id)
 VKP_LIGHT_TYPES(VKP_LIGHT_CONSTANT)
 #undef VKP_LIGHT_CONSTANT
 

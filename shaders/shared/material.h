@@ -9,13 +9,8 @@
 
 // Values of Material::kind, one per row of the registry
 // (shared/material_kinds.h): VKP_MATERIAL_DIFFUSE, VKP_MATERIAL_MIRROR, ...
-#ifdef __cplusplus
 #define VKP_MATERIAL_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
-    inline constexpr unsigned VKP_MATERIAL_##NAME = id;
-#else
-#define VKP_MATERIAL_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
-    const uint VKP_MATERIAL_##NAME = id;
-#endif
+    VKP_CONSTANT(VKP_MATERIAL_##NAME, id)
 VKP_MATERIAL_KINDS(VKP_MATERIAL_CONSTANT)
 #undef VKP_MATERIAL_CONSTANT
 
