@@ -22,7 +22,7 @@ namespace {
 // The first line; the number is the format's version, raised whenever the
 // header's meaning changes (1: "key value" lines; 2: JSON).
 constexpr const char* MAGIC_PREFIX = "vkpath checkpoint ";
-constexpr int FORMAT = 2;
+constexpr int FORMAT = 3;
 
 uint64_t hashText(const std::string& text, uint64_t hash = FNV1A_OFFSET) {
     return fnv1a(std::as_bytes(std::span(text.data(), text.size())), hash);
@@ -43,6 +43,11 @@ std::string header(const Checkpoint& c) {
     fields["width"] = s.width;
     fields["height"] = s.height;
     fields["film-bytes"] = uint64_t(s.film.size());
+    // Adaptive sampling: per-pixel counts and the pass in progress (its
+    // pixels), as 32-bit words after the film.
+    fields["pixel-samples"] = uint64_t(s.pixelSamples.size());
+    fields["pass-pixels"] = s.pass ? uint64_t(s.pass->pixels.size()) : 0;
+    fields["pass-rounds"] = s.pass ? s.pass->rounds : 0;
     fields["non-finite-samples"] = s.nonFiniteSamples;
     fields["firefly-samples"] = s.fireflySamples;
     fields["rejected-light-samples"] = s.rejectedLightSamples;
@@ -92,8 +97,12 @@ std::string text(const nlohmann::ordered_json& fields, const char* key, const st
 
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {
     const std::string text = header(checkpoint);
-    const auto* film = reinterpret_cast<const char*>(checkpoint.state.film.data());
-    const uint64_t hash = fnv1a(checkpoint.state.film, hashText(text));
+    const wavefront::RenderState& state = checkpoint.state;
+    const std::span<const std::byte> counts = std::as_bytes(std::span(state.pixelSamples));
+    const std::span<const std::byte> passPixels =
+        state.pass ? std::as_bytes(std::span(state.pass->pixels)) : std::span<const std::byte>();
+    const auto* film = reinterpret_cast<const char*>(state.film.data());
+    const uint64_t hash = fnv1a(passPixels, fnv1a(counts, fnv1a(state.film, hashText(text))));
     unsigned char hashBytes[8];
     for (int i = 0; i < 8; ++i) hashBytes[i] = uint8_t(hash >> (8 * i));
 
@@ -105,7 +114,9 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
                                              std::strerror(errno)));
     try {
         writeAll(fd, text.data(), text.size(), path);
-        writeAll(fd, film, checkpoint.state.film.size(), path);
+        writeAll(fd, film, state.film.size(), path);
+        writeAll(fd, reinterpret_cast<const char*>(counts.data()), counts.size(), path);
+        writeAll(fd, reinterpret_cast<const char*>(passPixels.data()), passPixels.size(), path);
         writeAll(fd, reinterpret_cast<const char*>(hashBytes), 8, path);
         if (::fsync(fd) != 0)
             throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}",
@@ -182,18 +193,29 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
         throw InputError(fmt::format("{}: damaged checkpoint: no seconds", file));
     s.seconds = seconds->get<double>();
     const uint64_t filmBytes = number<uint64_t>(fields, "film-bytes", file);
+    const uint64_t countBytes = 4 * uint64_t(number<uint32_t>(fields, "pixel-samples", file));
+    const uint64_t passBytes = 4 * uint64_t(number<uint32_t>(fields, "pass-pixels", file));
+    const uint32_t passRounds = number<uint32_t>(fields, "pass-rounds", file);
     const size_t filmStart = headerEnd + 1;
-    if (bytes.size() < filmStart || bytes.size() - filmStart != filmBytes + 8)
+    const uint64_t bodyBytes = filmBytes + countBytes + passBytes;
+    if (bytes.size() < filmStart || bytes.size() - filmStart != bodyBytes + 8)
         throw InputError(fmt::format("{}: damaged checkpoint: {} bytes, expected {}", file,
-                                     bytes.size(), filmStart + filmBytes + 8));
+                                     bytes.size(), filmStart + bodyBytes + 8));
     uint64_t stored = 0;
     for (int i = 0; i < 8; ++i)
-        stored |= uint64_t(uint8_t(bytes[filmStart + filmBytes + i])) << (8 * i);
-    if (fnv1a(std::as_bytes(std::span(bytes.data(), filmStart + filmBytes))) != stored)
+        stored |= uint64_t(uint8_t(bytes[filmStart + bodyBytes + i])) << (8 * i);
+    if (fnv1a(std::as_bytes(std::span(bytes.data(), filmStart + bodyBytes))) != stored)
         throw InputError(
             fmt::format("{}: damaged checkpoint: its hash does not match its contents", file));
     s.film.resize(filmBytes);
     std::memcpy(s.film.data(), bytes.data() + filmStart, filmBytes);
+    s.pixelSamples.resize(countBytes / 4);
+    std::memcpy(s.pixelSamples.data(), bytes.data() + filmStart + filmBytes, countBytes);
+    if (passRounds > 0) {
+        s.pass = wavefront::SamplePass{std::vector<uint32_t>(passBytes / 4), passRounds};
+        std::memcpy(s.pass->pixels.data(), bytes.data() + filmStart + filmBytes + countBytes,
+                    passBytes);
+    }
     return c;
 }
 

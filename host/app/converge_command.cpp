@@ -27,6 +27,7 @@
 #include "scene/load.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
+#include "wavefront/sample_schedule.h"
 
 namespace vkpath::app {
 namespace {
@@ -61,15 +62,18 @@ std::vector<Configuration> tabulated(std::vector<Configuration> configs, bool tr
     return configs;
 }
 
-// One renderer's samples so far: each range it renders is added to a
-// running sum weighted by its sample count; the cost is the wall clock of
+// One renderer's samples so far: each range it renders is added to running
+// sums (of the samples and their squares) weighted by its sample count; the
+// cost is the wall clock of
 // the render calls (film read-back included, as a progressive viewer pays
 // it) and, on the GPU, their summed stage timestamps.
 template <typename Renderer>
 class Progressive {
   public:
     Progressive(std::unique_ptr<Renderer> renderer, uint32_t pixels)
-        : m_renderer(std::move(renderer)), m_sum(pixels, glm::dvec3(0.0)) {}
+        : m_renderer(std::move(renderer)),
+          m_sum(pixels, glm::dvec3(0.0)),
+          m_sumSquares(pixels, glm::dvec3(0.0)) {}
 
     // An untimed first sample: the first dispatches of a process compile the
     // kernels a pipeline cache lacks (seconds on lavapipe), which is no cost
@@ -82,8 +86,14 @@ class Progressive {
             m_renderer->render(wavefront::SampleRange{m_samples, spp - m_samples});
         m_wallSeconds += std::chrono::duration<double>(Clock::now() - start).count();
         for (const auto& [stage, ms] : result.stageMilliseconds) m_deviceSeconds += ms * 1e-3;
-        for (size_t i = 0; i < m_sum.size(); ++i)
-            m_sum[i] += glm::dvec3(result.image.pixels[i]) * double(result.samplesPerPixel);
+        // A range's n samples of mean m and variance of the mean v sum to n m,
+        // their squares to n (v (n - 1) + m^2) (wavefront::estimatePixel undone).
+        const double n = result.samplesPerPixel;
+        for (size_t i = 0; i < m_sum.size(); ++i) {
+            const glm::dvec3 m(result.image.pixels[i]), v(result.varianceOfMean.pixels[i]);
+            m_sum[i] += m * n;
+            m_sumSquares[i] += n * (v * (n - 1) + m * m);
+        }
         m_samples += result.samplesPerPixel;
         m_width = result.image.width;
         m_height = result.image.height;
@@ -95,12 +105,24 @@ class Progressive {
             image.pixels[i] = glm::vec3(m_sum[i] / double(m_samples));
         return image;
     }
+    // The error the render estimates from its own variance.
+    double estimatedRelMse() const {
+        std::vector<wavefront::PixelStatistics> stats(m_sum.size());
+        for (size_t i = 0; i < m_sum.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const wavefront::PixelEstimate e =
+                    wavefront::estimatePixel(m_sum[i][c], m_sumSquares[i][c], m_samples);
+                stats[i].mean[c] = e.mean;
+                stats[i].varianceOfMean[c] = e.varianceOfMean;
+            }
+        return wavefront::estimatedRelMse(stats, m_width, m_height);
+    }
     double wallSeconds() const { return m_wallSeconds; }
     double deviceSeconds() const { return m_deviceSeconds; }
 
   private:
     std::unique_ptr<Renderer> m_renderer;
-    std::vector<glm::dvec3> m_sum;
+    std::vector<glm::dvec3> m_sum, m_sumSquares;
     uint32_t m_samples = 0;
     uint32_t m_width = 0, m_height = 0;
     double m_wallSeconds = 0, m_deviceSeconds = 0;
@@ -109,12 +131,13 @@ class Progressive {
 // The curve of one configuration. Without a reference a second renderer
 // with seed + 1 follows the first, checkpoint by checkpoint; its cost is
 // not counted (it only measures the first). `gpu`: record device times, and
-// warm up before the first configuration.
+// warm up before the first configuration. With `targetError` the curve ends
+// at the first checkpoint whose own estimate reaches it.
 template <typename Renderer, typename Make>
 std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
                                 const std::vector<uint32_t>& spp,
-                                const std::optional<image::Image>& reference, bool gpu,
-                                bool first) {
+                                const std::optional<image::Image>& reference, bool gpu, bool first,
+                                std::optional<double> targetError) {
     const uint32_t pixels = config.settings.width * config.settings.height;
     Progressive<Renderer> a(make(config.settings), pixels);
     if (gpu && first) a.warmUp();
@@ -141,9 +164,12 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
         c.relMse = error.relMse;
         c.rmse = error.rmse;
         c.relMseTrimmed = error.relMseTrimmed;
-        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g (trimmed %.4g)\n",
-                     config.label.c_str(), n, c.wallSeconds, c.relMse, c.relMseTrimmed);
+        c.estimatedRelMse = a.estimatedRelMse();
+        std::fprintf(stderr, "%s: %u spp, %.3f s, relMSE %.4g (trimmed %.4g, estimated %.4g)\n",
+                     config.label.c_str(), n, c.wallSeconds, c.relMse, c.relMseTrimmed,
+                     c.estimatedRelMse);
         curve.push_back(c);
+        if (targetError && c.estimatedRelMse <= *targetError) break;
     }
     return curve;
 }
@@ -158,13 +184,15 @@ void writeCsv(const std::filesystem::path& path, const std::vector<Configuration
     const std::filesystem::path temporary = path.string() + ".tmp";
     {
         std::ofstream out(temporary);
-        out << "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error\n";
+        out << "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error,"
+               "estimated_relmse\n";
         for (const Configuration& config : configs)
             for (const Checkpoint& c : config.curve)
-                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{:.6g},{}\n", config.knob,
-                                   config.value, c.spp, c.wallSeconds,
+                out << fmt::format("{},{},{},{:.6f},{},{:.6g},{:.6g},{:.6g},{},{:.6g}\n",
+                                   config.knob, config.value, c.spp, c.wallSeconds,
                                    c.deviceSeconds ? fmt::format("{:.6f}", *c.deviceSeconds) : "",
-                                   c.relMse, c.rmse, c.relMseTrimmed, errorSource);
+                                   c.relMse, c.rmse, c.relMseTrimmed, errorSource,
+                                   c.estimatedRelMse);
         if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
     }
     std::filesystem::rename(temporary, path);
@@ -207,7 +235,12 @@ void printTables(const std::vector<Configuration>& configs, const char* metric) 
 
 int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
     const std::vector<uint32_t> spp = parseSppList(o.spp);
-    const wavefront::RenderSettings base = renderSettings(o, spp.back());
+    if (o.adaptive)
+        throw InputError(
+            "--adaptive: converge measures one uniform render in sample ranges; measure adaptive "
+            "renders with render --adaptive --target-error");
+    wavefront::RenderSettings base = renderSettings(o, spp.back());
+    base.targetError.reset();  // the curve's stop (measure), not each range's
     std::vector<Configuration> configs;
     if (o.sweep.empty()) {
         configs.push_back({"", "", o.device, base, {}});
@@ -272,7 +305,7 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         };
         return run([&](const Configuration& c) {
             return measure<reference::ReferenceRenderer>(make, c, spp, reference, false,
-                                                         &c == &configs.front());
+                                                         &c == &configs.front(), o.targetError);
         });
     }
     return withContext(global, [&](vk::Context& context) {
@@ -281,7 +314,7 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         };
         return run([&](const Configuration& c) {
             return measure<wavefront::GpuRenderer>(make, c, spp, reference, true,
-                                                   &c == &configs.front());
+                                                   &c == &configs.front(), o.targetError);
         });
     });
 }

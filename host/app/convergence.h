@@ -43,7 +43,8 @@ struct Checkpoint {
     std::optional<double> deviceSeconds;  // GPU: summed stage timestamps; none on the CPU
     double relMse = 0;
     double rmse = 0;
-    double relMseTrimmed = 0;  // image::ChannelMetrics::relMseTrimmed
+    double relMseTrimmed = 0;    // image::ChannelMetrics::relMseTrimmed
+    double estimatedRelMse = 0;  // the render's own estimate (wavefront/sample_schedule.h)
 };
 
 // The time at which the curve first reaches relMSE <= target, interpolated

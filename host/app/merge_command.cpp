@@ -4,11 +4,15 @@
 // count. Random numbers are keyed by (pixel, sample index, seed), so parts
 // of disjoint ranges are exactly the samples one render of their union
 // draws; the merged mean differs from that render's only by the rounding of
-// the parts' float means (tests/cli/merge_test.cpp bounds it).
+// the parts' float means (tests/cli/merge_test.cpp bounds it). An adaptive
+// part (render --adaptive) gave each pixel its own count, a prefix of its
+// range (vkpath:sampleRange samples from vkpath:firstSample): its pixels are
+// weighted by the counts of its spp AOV.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -35,9 +39,15 @@ struct Part {
     std::string path;
     std::map<std::string, std::string> metadata;
     uint32_t first = 0;
-    uint32_t count = 0;
+    uint32_t count = 0;  // every pixel's samples (the least of them when adaptive)
+    uint32_t range = 0;  // the sample indices it drew from: count, or an adaptive render's range
     image::Image mean;
     image::Image varianceOfMean;  // with --aov variance
+    image::Image samples;         // adaptive: each pixel's count (its spp AOV)
+
+    double samplesAt(size_t pixel) const {
+        return samples.pixels.empty() ? double(count) : double(samples.pixels[pixel][0]);
+    }
 };
 
 uint32_t metadataCount(const std::string& path, const std::map<std::string, std::string>& m,
@@ -62,7 +72,20 @@ int runMerge(const MergeOptions& o) {
         p.metadata = image::readVkpathMetadata(path);
         p.first = metadataCount(path, p.metadata, "vkpath:firstSample");
         p.count = metadataCount(path, p.metadata, "vkpath:spp");
-        if (p.count == 0) throw InputError(fmt::format("{}: a part of 0 samples", path));
+        p.range = p.count;
+        const auto adaptive = p.metadata.find("vkpath:adaptive");
+        if (adaptive != p.metadata.end() && adaptive->second != "off") {
+            p.range = metadataCount(path, p.metadata, "vkpath:sampleRange");
+            const auto counts = image::aovPath(path, "spp");
+            if (!std::filesystem::exists(counts))
+                throw InputError(fmt::format(
+                    "{}: an adaptive render, whose pixels merge weighs by their counts: its spp "
+                    "AOV {} is missing (render it with --aov spp)",
+                    path, counts.string()));
+            p.samples = image::readImage(counts);
+        } else if (p.count == 0) {
+            throw InputError(fmt::format("{}: a part of 0 samples", path));
+        }
         for (const char* key : IDENTITY_KEYS)
             if (!p.metadata.count(key))
                 throw InputError(fmt::format(
@@ -73,7 +96,8 @@ int runMerge(const MergeOptions& o) {
                 "render the part again",
                 path));
         p.mean = image::readImage(path);
-        if (!o.aovs.empty()) p.varianceOfMean = image::readImage(image::aovPath(path, "variance"));
+        if (std::count(o.aovs.begin(), o.aovs.end(), "variance"))
+            p.varianceOfMean = image::readImage(image::aovPath(path, "variance"));
         parts.push_back(std::move(p));
     }
     const Part& a = parts.front();
@@ -89,9 +113,11 @@ int runMerge(const MergeOptions& o) {
         if (!theirs.empty())
             throw InputError(fmt::format("{}: rendered with other settings than {}: {} against {}",
                                          p.path, a.path, theirs, ours));
+        auto sized = [&](const image::Image& i) {
+            return i.pixels.empty() || (i.width == a.mean.width && i.height == a.mean.height);
+        };
         if (p.mean.width != a.mean.width || p.mean.height != a.mean.height ||
-            (!o.aovs.empty() &&
-             (p.varianceOfMean.width != a.mean.width || p.varianceOfMean.height != a.mean.height)))
+            !sized(p.varianceOfMean) || !sized(p.samples))
             throw InputError(fmt::format("{}: {}x{} pixels where {} has {}x{}", p.path,
                                          p.mean.width, p.mean.height, a.path, a.mean.width,
                                          a.mean.height));
@@ -99,11 +125,11 @@ int runMerge(const MergeOptions& o) {
     std::sort(parts.begin(), parts.end(),
               [](const Part& x, const Part& y) { return x.first < y.first; });
     for (size_t i = 1; i < parts.size(); ++i) {
-        const uint64_t end = uint64_t(parts[i - 1].first) + parts[i - 1].count;
+        const uint64_t end = uint64_t(parts[i - 1].first) + parts[i - 1].range;
         if (parts[i].first < end)
             throw InputError(fmt::format("{}: samples {}..{} overlap {}'s {}..{}", parts[i].path,
                                          parts[i].first,
-                                         uint64_t(parts[i].first) + parts[i].count - 1,
+                                         uint64_t(parts[i].first) + parts[i].range - 1,
                                          parts[i - 1].path, parts[i - 1].first, end - 1));
         if (parts[i].first > end && !o.allowGaps)
             throw InputError(fmt::format(
@@ -116,29 +142,51 @@ int runMerge(const MergeOptions& o) {
     // Per part and channel: n samples of mean m and variance of the mean v;
     // their sum is n m and the sum of their squares n (v (n - 1) + m^2)
     // (wavefront::estimatePixel's definitions, undone).
-    uint64_t total = 0;
-    for (const Part& p : parts) total += p.count;
-    image::Image mean(a.mean.width, a.mean.height), varianceOfMean(a.mean.width, a.mean.height);
-    for (size_t i = 0; i < mean.pixels.size(); ++i)
+    const bool withVariance = std::count(o.aovs.begin(), o.aovs.end(), "variance") > 0;
+    image::Image mean(a.mean.width, a.mean.height), varianceOfMean(a.mean.width, a.mean.height),
+        samples(a.mean.width, a.mean.height);
+    double least = INFINITY;  // samples of the pixel with the fewest
+    for (size_t i = 0; i < mean.pixels.size(); ++i) {
+        double total = 0;
+        for (const Part& p : parts) total += p.samplesAt(i);
+        least = std::min(least, total);
+        samples.pixels[i] = glm::vec3(float(total));
         for (int c = 0; c < 3; ++c) {
             double sum = 0, sumSquares = 0;
             for (const Part& p : parts) {
-                const double n = p.count, m = p.mean.pixels[i][c];
+                const double n = p.samplesAt(i), m = p.mean.pixels[i][c];
                 sum += n * m;
-                if (!o.aovs.empty())
+                if (withVariance)
                     sumSquares += n * (double(p.varianceOfMean.pixels[i][c]) * (n - 1) + m * m);
             }
-            const double n = double(total), m = sum / n;
+            const double n = total, m = n > 0 ? sum / n : 0.0;
             mean.pixels[i][c] = float(m);
-            if (!o.aovs.empty() && total > 1)
+            if (withVariance && n > 1)
                 varianceOfMean.pixels[i][c] =
                     float(std::max(0.0, (sumSquares - n * m * m) / (n - 1)) / n);
         }
+    }
+    uint64_t range = 0;  // the sample indices the parts drew from
+    for (const Part& p : parts) range += p.range;
+    const uint64_t total = uint64_t(least);
 
     image::Metadata metadata;
+    double sampleSum = 0, most = 0;
+    for (const glm::vec3& n : samples.pixels) sampleSum += n.x, most = std::max(most, double(n.x));
+    // A part's error estimate and target say nothing of the merged image.
+    const std::string partOnly[] = {"vkpath:estimatedRelMse", "vkpath:targetError",
+                                    "vkpath:targetReached"};
     for (const auto& [key, value] : a.metadata) {
-        if (key == "vkpath:spp")
+        if (std::find(std::begin(partOnly), std::end(partOnly), key) != std::end(partOnly))
+            continue;
+        if (key == "vkpath:sppMean")
+            metadata.emplace_back(key, fmt::format("{:.6g}", sampleSum / samples.pixels.size()));
+        else if (key == "vkpath:sppMax")
+            metadata.emplace_back(key, std::to_string(uint64_t(most)));
+        else if (key == "vkpath:spp")
             metadata.emplace_back(key, std::to_string(total));
+        else if (key == "vkpath:sampleRange")
+            metadata.emplace_back(key, std::to_string(range));
         else if (key == "vkpath:firstSample")
             metadata.emplace_back(key, std::to_string(parts.front().first));
         else
@@ -149,14 +197,14 @@ int runMerge(const MergeOptions& o) {
     if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
     image::writeExr(output, mean, metadata);
     std::printf("%s\n", output.string().c_str());
-    if (!o.aovs.empty()) {
-        const auto path = image::aovPath(output, "variance");
-        image::writeExr(path, varianceOfMean, metadata);
+    for (const std::string& aov : o.aovs) {
+        const auto path = image::aovPath(output, aov);
+        image::writeExr(path, aov == "spp" ? samples : varianceOfMean, metadata);
         std::printf("%s\n", path.string().c_str());
     }
     std::fprintf(stderr, "merged %zu parts: samples %u..%llu, %llu spp\n", parts.size(),
                  parts.front().first,
-                 (unsigned long long)(uint64_t(parts.back().first) + parts.back().count - 1),
+                 (unsigned long long)(uint64_t(parts.back().first) + parts.back().range - 1),
                  (unsigned long long)total);
     return 0;
 }
@@ -170,8 +218,10 @@ void addMergeCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
                                    "FIRST:COUNT), weighted by their sample counts");
     cmd->add_option("parts", o->parts, "The parts' EXRs")->required()->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", o->output, "The merged EXR")->required();
-    cmd->add_option("--aov", o->aovs, "Also merge the parts' AOVs beside them: variance")
-        ->check(CLI::IsMember({"variance"}));
+    cmd->add_option("--aov", o->aovs,
+                    "Also write these AOVs beside the merged EXR: variance (merged from the "
+                    "parts'), spp (each pixel's samples)")
+        ->check(CLI::IsMember({"variance", "spp"}));
     cmd->add_flag("--allow-gaps", o->allowGaps,
                   "Merge parts whose sample ranges leave gaps between them");
     cmd->callback([&commands, o] { commands.run = [o] { return runMerge(*o); }; });

@@ -36,7 +36,8 @@ namespace {
 struct RenderCommandOptions : RenderOptions {
     std::string output = "out/render.exr";
     std::string png;
-    std::optional<uint32_t> spp;  // unset: 16, or with --time-budget as many as the budget allows
+    // unset: 16, or with --time-budget or --target-error as many as they allow
+    std::optional<uint32_t> spp;
     std::string samples;  // --samples FIRST:COUNT (instead of -s): that range of sample indices
     std::optional<double> timeBudget;
     float exposure = 0.0f;
@@ -129,6 +130,36 @@ wavefront::SampleRange parseSampleRange(const std::string& text) {
     return {uint32_t(first), uint32_t(count)};
 }
 
+// Samples per pixel: the least, the mean and the most.
+struct SampleCounts {
+    uint32_t least = 0;
+    double mean = 0;
+    uint32_t most = 0;
+};
+SampleCounts sampleCounts(const wavefront::RenderResult& result) {
+    if (result.pixelSamples.empty())
+        return {result.samplesPerPixel, double(result.samplesPerPixel), result.samplesPerPixel};
+    SampleCounts c{UINT32_MAX, 0, 0};
+    for (uint32_t n : result.pixelSamples) {
+        c.least = std::min(c.least, n);
+        c.most = std::max(c.most, n);
+        c.mean += n;
+    }
+    c.mean /= double(result.pixelSamples.size());
+    return c;
+}
+
+// The spp AOV: each pixel's sample count in every channel.
+image::Image sampleCountImage(const wavefront::RenderResult& result) {
+    image::Image counts(result.image.width, result.image.height);
+    for (size_t i = 0; i < counts.pixels.size(); ++i) {
+        const float n =
+            float(result.pixelSamples.empty() ? result.samplesPerPixel : result.pixelSamples[i]);
+        counts.pixels[i] = {n, n, n};
+    }
+    return counts;
+}
+
 // The EXR (with metadata), the AOVs beside it and the PNG preview.
 void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
                   const wavefront::SampleRange& samples, const wavefront::RenderResult& result,
@@ -156,11 +187,26 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
         {"vkpath:guideSpheres",
          o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
         {"vkpath:scene", o.scene}};
-    image::writeExr(output, result.image, metadata);
+    image::Metadata full = metadata;
+    if (result.estimatedRelMse)
+        full.emplace_back("vkpath:estimatedRelMse", fmt::format("{:.6g}", *result.estimatedRelMse));
+    if (o.targetError) {
+        full.emplace_back("vkpath:targetError", fmt::format("{}", *o.targetError));
+        full.emplace_back("vkpath:targetReached", result.reachedTarget ? "yes" : "no");
+    }
+    full.emplace_back("vkpath:adaptive",
+                      o.adaptive ? fmt::format("warm-up {}", o.adaptiveWarmup) : "off");
+    // Each pixel drew a prefix of this many indices from firstSample (merge).
+    if (o.adaptive) full.emplace_back("vkpath:sampleRange", std::to_string(samples.count));
+    const SampleCounts counts = sampleCounts(result);
+    full.emplace_back("vkpath:sppMean", fmt::format("{:.6g}", counts.mean));
+    full.emplace_back("vkpath:sppMax", std::to_string(counts.most));
+    image::writeExr(output, result.image, full);
     std::printf("%s\n", output.string().c_str());
     for (const std::string& aov : o.aovs) {
         const auto path = image::aovPath(output, aov);
-        image::writeExr(path, result.varianceOfMean, metadata);
+        image::writeExr(path, aov == "spp" ? sampleCountImage(result) : result.varianceOfMean,
+                        full);
         std::printf("%s\n", path.string().c_str());
     }
     if (!o.png.empty()) {
@@ -179,13 +225,18 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result,
     const double mrays = result.seconds > 0 ? result.rays.total() / result.seconds * 1e-6 : 0;
     const std::string deviceTime =
         deviceMs ? fmt::format(" (device {:.3f} s)", *deviceMs * 1e-3) : "";
+    const SampleCounts counts = sampleCounts(result);
+    const std::string spp = result.pixelSamples.empty()
+                                ? fmt::format("{} spp", result.samplesPerPixel)
+                                : fmt::format("{:.1f} spp on average ({} to {} per pixel)",
+                                              counts.mean, counts.least, counts.most);
     std::fprintf(
         stderr,
-        "rendered %ux%u at %u spp in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %.3f Mrays/s "
+        "rendered %ux%u at %s in %.3f s%s: %.3f Mpaths/s (%.3f per CPU second), %.3f Mrays/s "
         "(%llu closest-hit, %llu shadow), %u %s of %u paths, %llu NaN/Inf samples dropped, %llu "
         "fireflies%s, "
         "%llu light samples of pdf 0 skipped, on %s\n",
-        film.width, film.height, result.samplesPerPixel, result.seconds, deviceTime.c_str(), mpaths,
+        film.width, film.height, spp.c_str(), result.seconds, deviceTime.c_str(), mpaths,
         mpathsPerCpuSecond, mrays, (unsigned long long)result.rays.closest,
         (unsigned long long)result.rays.shadow, result.waves, deviceMs ? "waves" : "passes",
         result.pathsInFlight, (unsigned long long)result.nonFiniteSamples,
@@ -257,6 +308,12 @@ int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity,
     }
     writeOutputs(o, identity, samples, result, device);
     printSummary(film, result, deviceMs, cpuSeconds, device, o.clamp > 0);
+    if (result.estimatedRelMse)
+        std::fprintf(stderr, "estimated relMSE %.3g%s\n", *result.estimatedRelMse,
+                     !o.targetError ? ""
+                     : result.reachedTarget
+                         ? fmt::format(" (target {} reached)", *o.targetError).c_str()
+                         : fmt::format(" (target {} not reached)", *o.targetError).c_str());
     if (signal) {
         std::fprintf(stderr, "vkpath: stopped by signal %d at %u of %u spp%s\n", signal,
                      result.samplesPerPixel, samples.count,
@@ -273,8 +330,14 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
     const FilmSize film = parseFilmSize(o.size);
     // A budget without -s renders until the budget is spent (sample indices
     // are 32-bit: at most 2^32 - 1 samples).
-    wavefront::SampleRange samples{0, o.spp ? *o.spp : o.timeBudget ? UINT32_MAX : 16};
+    wavefront::SampleRange samples{0, o.spp                             ? *o.spp
+                                      : (o.timeBudget || o.targetError) ? UINT32_MAX
+                                                                        : 16};
     if (!o.samples.empty()) samples = parseSampleRange(o.samples);
+    if (o.adaptive && !o.timeBudget && !o.targetError)
+        throw InputError(
+            "--adaptive needs a stop: --target-error E or --time-budget S (-s N is then each "
+            "pixel's most samples)");
     const uint32_t spp = samples.count;
     wavefront::RenderSettings settings = renderSettings(o, spp);
     settings.timeBudgetSeconds = o.timeBudget;
@@ -363,8 +426,9 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
                     "the summary give the spp reached")
         ->check(realAbove<double>(0, false));
     cmd->add_option("--aov", o->aovs,
-                    "Extra outputs beside the EXR: variance (of each pixel's mean)")
-        ->check(CLI::IsMember({"variance"}));
+                    "Extra outputs beside the EXR: variance (of each pixel's mean), spp (each "
+                    "pixel's samples)")
+        ->check(CLI::IsMember({"variance", "spp"}));
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
     auto* checkpoint = cmd->add_option(
         "--checkpoint", o->checkpoint,

@@ -115,6 +115,19 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
         ->capture_default_str();
     cmd.add_option("-t,--threads", o.threads,
                    "--device cpu: worker threads (default: every hardware thread)");
+    cmd.add_option("--target-error", o.targetError,
+                   "Stop once the image's estimated relMSE (compare's definition, from each "
+                   "pixel's variance) is at most this (with -s or --time-budget: whichever "
+                   "comes first)")
+        ->check(realAbove<double>(0));
+    cmd.add_flag("--adaptive", o.adaptive,
+                 "Adaptive sampling: after --adaptive-warmup uniform samples, more samples "
+                 "where the estimated error is largest (needs --target-error or --time-budget; "
+                 "-s is then each pixel's most)");
+    cmd.add_option("--adaptive-warmup", o.adaptiveWarmup,
+                   "--adaptive: uniform samples of every pixel before any pixel gets more")
+        ->check(CLI::Range(1u, UINT32_MAX))
+        ->capture_default_str();
 }
 
 namespace {
@@ -180,6 +193,9 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
     settings["env-strength"] = optional(o.environmentStrength);
     settings["env-rotate"] = optional(o.environmentRotation);
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
+    // Which samples each pixel takes (the target error only says how many).
+    settings["adaptive"] = o.adaptive ? nlohmann::ordered_json{{"warmup", o.adaptiveWarmup}}
+                                      : nlohmann::ordered_json("off");
     settings["estimator"] = VKP_ESTIMATOR_VERSION;
     return {fmt::format("{:016x}", hash),
             settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
@@ -258,6 +274,9 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
             uint64_t(std::min(*o.maxDeviceMemoryMiB, 1e12) * 1024 * 1024);
     }
     settings.threads = o.threads.value_or(0);
+    settings.targetError = o.targetError;
+    settings.adaptive = o.adaptive;
+    settings.adaptiveWarmup = o.adaptiveWarmup;
     return settings;
 }
 

@@ -49,7 +49,10 @@ struct RenderOptions {
     std::string kernel;          // wavefront::parseKernelForm's names; empty: the device's default
     bool noSpecialize = false;   // general kernels instead of ones specialised to the scene
     std::string device = "gpu";  // gpu: the Vulkan renderer; cpu: the reference
-    std::optional<uint32_t> threads;  // cpu: worker threads (0 or unset: every hardware thread)
+    std::optional<uint32_t> threads;    // cpu: worker threads (0 or unset: every hardware thread)
+    std::optional<double> targetError;  // RenderSettings::targetError
+    bool adaptive = false;              // RenderSettings::adaptive
+    uint32_t adaptiveWarmup = wavefront::RenderSettings{}.adaptiveWarmup;
 };
 
 // Registers the shared flags on `cmd`, the scene as its first positional

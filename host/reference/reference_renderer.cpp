@@ -16,6 +16,7 @@
 #include "input_error.h"
 #include "scene/camera.h"
 #include "wavefront/kernel_features.h"
+#include "wavefront/sample_schedule.h"
 
 namespace vkpath::reference {
 namespace {
@@ -141,8 +142,6 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
         throw std::out_of_range("sample indices beyond 32 bits");
     const uint32_t width = m_camera.width, height = m_camera.height;
     const uint64_t pixels = uint64_t(width) * height;
-    const uint32_t samplesPerPass = uint32_t(std::clamp<uint64_t>(
-        PATHS_PER_PASS / std::max<uint64_t>(pixels, 1), 1, std::max(1u, samples.count)));
     const uint32_t workers = uint32_t(std::min<uint64_t>(threads(), std::max<uint64_t>(height, 1)));
 
     const shared::SceneInfo& info = m_tables.info;
@@ -156,71 +155,101 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
         rejectedLightSamples{0};
 
     wavefront::RenderResult result;
-    result.pathsInFlight = uint32_t(std::min<uint64_t>(pixels * samplesPerPass, UINT32_MAX));
     result.priorSeconds = before.seconds;
-    auto state = [&](uint32_t done, double seconds) {
+    wavefront::SampleSchedule schedule(s, samples, before, pixels);
+    auto statistics = [&] {
+        std::vector<wavefront::PixelStatistics> stats(pixels);
+        for (size_t i = 0; i < pixels; ++i)
+            for (int c = 0; c < 3; ++c) {
+                const wavefront::PixelEstimate e = wavefront::estimatePixel(
+                    film[i].sum[c], film[i].sumSquares[c], schedule.samplesOf(i));
+                stats[i].mean[c] = e.mean;
+                stats[i].varianceOfMean[c] = e.varianceOfMean;
+            }
+        return stats;
+    };
+    auto state = [&](double seconds) {
         std::vector<std::byte> bytes(film.size() * sizeof(PixelSums));
         std::memcpy(bytes.data(), film.data(), bytes.size());
         const wavefront::RunTally run{
             nonFinite,    fireflies, rejectedLightSamples, {closestRays, shadowRays},
             result.waves, seconds};
-        return wavefront::continuedState(before, done, std::move(bytes), run);
+        wavefront::RenderState now = wavefront::continuedState(before, std::move(bytes), run);
+        schedule.store(now);
+        return now;
     };
     const auto start = Clock::now();
     wavefront::WholeSampleGate gate(control, s.timeBudgetSeconds);
-    uint32_t done = before.samplesDone;  // samples per pixel
-    while (done < samples.count) {
-        const uint32_t passSamples = std::min(samples.count - done, samplesPerPass);
-        // 64-bit: the range may end at 2^32 itself.
-        const uint64_t first = uint64_t(samples.first) + done, end = first + passSamples;
-        std::atomic<uint32_t> nextRow{0};
-        auto work = [&] {
-            SampleCounts counts;
-            wavefront::RayCounts rays;
-            uint64_t rejected = 0;
-            for (uint32_t y = nextRow++; y < height; y = nextRow++)
-                for (uint32_t x = 0; x < width; ++x) {
-                    const uint32_t pixel = y * width + x;
-                    for (uint64_t sample = first; sample < end; ++sample)
-                        accumulate(film[pixel], tracePath(pixel, uint32_t(sample), rays, rejected),
-                                   info, counts);
-                }
-            rejectedLightSamples += rejected;
-            nonFinite += counts.dropped;
-            fireflies += counts.fireflies;
-            closestRays += rays.closest;
-            shadowRays += rays.shadow;
-        };
-        std::vector<std::thread> pool;
-        for (uint32_t t = 1; t < workers; ++t) pool.emplace_back(work);
-        work();
-        for (std::thread& thread : pool) thread.join();
+    bool ended = false;
+    while (!ended) {
+        const std::optional<wavefront::SamplePass> pass = schedule.next(statistics);
+        if (!pass) break;
+        // The pass's pixels as entries: every pixel (threads take rows) or its list.
+        const uint64_t entries = pass->pixels.empty() ? pixels : pass->pixels.size();
+        const uint64_t block = pass->pixels.empty() ? width : 64;
+        uint32_t rounds = pass->rounds;
+        while (rounds > 0 && !ended) {
+            // Whole rounds, a fraction of a second of work per core.
+            const uint32_t chunk = uint32_t(
+                std::clamp<uint64_t>(PATHS_PER_PASS / std::max<uint64_t>(entries, 1), 1, rounds));
+            std::atomic<uint64_t> nextBlock{0};
+            auto work = [&] {
+                SampleCounts counts;
+                wavefront::RayCounts rays;
+                uint64_t rejected = 0;
+                for (uint64_t b = nextBlock++; b * block < entries; b = nextBlock++)
+                    for (uint64_t e = b * block; e < std::min(entries, (b + 1) * block); ++e) {
+                        const uint32_t pixel = pass->pixels.empty() ? uint32_t(e) : pass->pixels[e];
+                        // 64-bit: the range may end at 2^32 itself.
+                        const uint64_t first = uint64_t(samples.first) + schedule.samplesOf(pixel);
+                        for (uint64_t sample = first; sample < first + chunk; ++sample)
+                            accumulate(film[pixel],
+                                       tracePath(pixel, uint32_t(sample), rays, rejected), info,
+                                       counts);
+                    }
+                rejectedLightSamples += rejected;
+                nonFinite += counts.dropped;
+                fireflies += counts.fireflies;
+                closestRays += rays.closest;
+                shadowRays += rays.shadow;
+            };
+            std::vector<std::thread> pool;
+            for (uint32_t t = 1; t < workers; ++t) pool.emplace_back(work);
+            work();
+            for (std::thread& thread : pool) thread.join();
 
-        done += passSamples;
-        ++result.waves;
-        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        if (control.progress) control.progress({done, samples.count, seconds});
-        if (gate.ends(done, samples.count, seconds, result.stopped)) break;
-        if (gate.checkpointDue(done, samples.count)) {
-            control.checkpoint(state(done, seconds));
-            gate.checkpointed();
+            for (uint32_t r = 0; r < chunk; ++r) schedule.roundDone();
+            rounds -= chunk;
+            result.paths += entries * chunk;
+            result.pathsInFlight = std::max(
+                result.pathsInFlight, uint32_t(std::min<uint64_t>(entries * chunk, UINT32_MAX)));
+            ++result.waves;
+            const uint32_t done = schedule.wholeSamples();
+            const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            if (control.progress) control.progress({done, samples.count, seconds});
+            if (gate.ends(done, samples.count, seconds, result.stopped))
+                ended = true;
+            else if (gate.checkpointDue(done, samples.count)) {
+                control.checkpoint(state(seconds));
+                gate.checkpointed();
+            }
         }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    result.paths = pixels * (done - before.samplesDone);
     result.rays = {closestRays, shadowRays};
-    const wavefront::RenderState end = state(done, result.seconds);
+    const wavefront::RenderState end = state(result.seconds);
     result.takeTotals(end);
+    result.reachedTarget = schedule.reachedTarget();
     if (control.checkpoint) control.checkpoint(end);
 
+    const std::vector<wavefront::PixelStatistics> stats = statistics();
+    result.estimatedRelMse = wavefront::estimatedRelMse(stats, s.width, s.height);
     result.image = image::Image(width, height);
     result.varianceOfMean = image::Image(width, height);
     for (size_t i = 0; i < pixels; ++i)
         for (int c = 0; c < 3; ++c) {
-            const wavefront::PixelEstimate e =
-                wavefront::estimatePixel(film[i].sum[c], film[i].sumSquares[c], done);
-            result.image.pixels[i][c] = float(e.mean);
-            result.varianceOfMean.pixels[i][c] = float(e.varianceOfMean);
+            result.image.pixels[i][c] = float(stats[i].mean[c]);
+            result.varianceOfMean.pixels[i][c] = float(stats[i].varianceOfMean[c]);
         }
     return result;
 }

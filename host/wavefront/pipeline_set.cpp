@@ -64,7 +64,8 @@ PipelineSet::~PipelineSet() = default;
 void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
                              const shared::WavePush& wave, uint32_t bounces,
                              const vk::Buffer& counters, const std::vector<vk::Buffer>& film,
-                             uint32_t filmWindowPixels) const {
+                             uint32_t filmWindowPixels,
+                             const std::vector<uint32_t>& windowEntries) const {
     timestamps.reset(cmd);
     vk::computeBarrier(cmd);
     auto timed = [&](const char* name, auto&& work) {
@@ -74,7 +75,12 @@ void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
         vk::computeBarrier(cmd);
     };
     auto pushFor = [&](uint32_t bounce, uint32_t mode) {
-        return shared::WavePush{wave.firstSample, wave.firstPixel, wave.pathCount, bounce, mode};
+        return shared::WavePush{.firstSample = wave.firstSample,
+                                .firstPixel = wave.firstPixel,
+                                .pathCount = wave.pathCount,
+                                .bounce = bounce,
+                                .mode = mode,
+                                .pixelListLength = wave.pixelListLength};
     };
     const shared::WavePush p0 = pushFor(0, 0);
     if (m_setup.form == KernelForm::Megakernel) {
@@ -116,8 +122,13 @@ void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
         for (size_t i = 0; i < film.size(); ++i) {
             shared::WavePush window = p0;
             window.filmFirstPixel = uint32_t(i * filmWindowPixels);
-            const uint32_t windowPixels = uint32_t(film[i].size() / sizeof(shared::FilmPixel));
-            m_accumulate->record(cmd, m_accumulateSets[i], windowPixels, bytes(window));
+            uint32_t threads = uint32_t(film[i].size() / sizeof(shared::FilmPixel));
+            if (wave.pixelListLength > 0) {  // one thread per list entry in the window
+                window.listFirstEntry = windowEntries[i];
+                threads = windowEntries[i + 1] - windowEntries[i];
+                if (threads == 0) continue;
+            }
+            m_accumulate->record(cmd, m_accumulateSets[i], threads, bytes(window));
         }
     });
 }

@@ -49,10 +49,13 @@ class PipelineSet {
     // Records one wave: the paths of `wave` (its bounce and mode unused) for
     // `bounces` shading passes, then their accumulation into every window of
     // `film` (windows of `filmWindowPixels`). Each kernel's dispatch is timed
-    // by its name in `timestamps`.
+    // by its name in `timestamps`. In an adaptive pass (wave.pixelListLength
+    // > 0) `windowEntries` holds the first list entry of each window and,
+    // last, the list's length.
     void recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
                     const shared::WavePush& wave, uint32_t bounces, const vk::Buffer& counters,
-                    const std::vector<vk::Buffer>& film, uint32_t filmWindowPixels) const;
+                    const std::vector<vk::Buffer>& film, uint32_t filmWindowPixels,
+                    const std::vector<uint32_t>& windowEntries) const;
 
   private:
     PipelineSetup m_setup;

@@ -55,6 +55,27 @@ void checkResumable(const RenderState& state, const char* format, uint32_t width
     if (state.width != width || state.height != height)
         throw InputError(fmt::format("{}: a {}x{} film; this render is {}x{}", what, state.width,
                                      state.height, width, height));
+    if (!state.pixelSamples.empty() && state.pixelSamples.size() != uint64_t(width) * height)
+        throw InputError(fmt::format("{}: sample counts of {} pixels for a {}x{} film", what,
+                                     state.pixelSamples.size(), width, height));
+    for (uint32_t n : state.pixelSamples)
+        if (n > samples.count)
+            throw InputError(fmt::format("{}: a pixel holds {} samples, more than the {} asked",
+                                         what, n, samples.count));
+    if (state.pass) {
+        const std::vector<uint32_t>& list = state.pass->pixels;
+        for (size_t i = 0; i < list.size(); ++i)
+            if (list[i] >= uint64_t(width) * height || (i > 0 && list[i] <= list[i - 1]))
+                throw InputError(fmt::format("{}: its pass lists pixel {} out of order or range",
+                                             what, list[i]));
+        if (!list.empty() && state.pixelSamples.empty())
+            throw InputError(
+                fmt::format("{}: a pass of listed pixels without their sample counts", what));
+        for (uint32_t p : list)
+            if (uint64_t(state.pixelSamples[p]) + state.pass->rounds > samples.count)
+                throw InputError(fmt::format("{}: its pass takes pixel {} past {} samples", what, p,
+                                             samples.count));
+    }
     if (state.samplesDone > samples.count)
         throw InputError(fmt::format("{}: holds {} samples per pixel, more than the {} asked", what,
                                      state.samplesDone, samples.count));
@@ -69,6 +90,8 @@ RenderState resumedState(const RenderControl& control, const char* format, uint3
             throw InputError(fmt::format("the state to resume: {} bytes of film, expected {}",
                                          control.resume->film.size(), filmBytes));
         before.samplesDone = control.resume->samplesDone;
+        before.pixelSamples = control.resume->pixelSamples;
+        before.pass = control.resume->pass;
         before.nonFiniteSamples = control.resume->nonFiniteSamples;
         before.fireflySamples = control.resume->fireflySamples;
         before.rejectedLightSamples = control.resume->rejectedLightSamples;
@@ -82,10 +105,9 @@ RenderState resumedState(const RenderControl& control, const char* format, uint3
     return before;
 }
 
-RenderState continuedState(const RenderState& before, uint32_t samplesDone,
-                           std::vector<std::byte> film, const RunTally& run) {
+RenderState continuedState(const RenderState& before, std::vector<std::byte> film,
+                           const RunTally& run) {
     RenderState now = before;
-    now.samplesDone = samplesDone;
     now.film = std::move(film);
     now.nonFiniteSamples += run.nonFiniteSamples;
     now.fireflySamples += run.fireflySamples;

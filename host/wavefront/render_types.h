@@ -63,6 +63,14 @@ struct RenderSettings {
     // default was chosen by time to error (docs/TRADEOFFS.md).
     float guideFraction = 0.25f;
     std::optional<double> timeBudgetSeconds;  // stop after the wave that crosses it
+    // Stop once the image's estimated relMSE (sample_schedule.h
+    // estimatedRelMse) is at most this; unset: at the sample count.
+    std::optional<double> targetError;
+    // Adaptive sampling (sample_schedule.h): after adaptiveWarmup uniform
+    // samples, more samples where the estimated error is largest;
+    // samplesPerPixel is then each pixel's most.
+    bool adaptive = false;
+    uint32_t adaptiveWarmup = 16;
     // GPU: the form of the kernels; unset: the measured default for the
     // device's type (defaultKernelForm).
     std::optional<KernelForm> kernel;
@@ -101,6 +109,13 @@ struct SampleRange {
     uint32_t count = 0;
 };
 
+// A pass of a render (wavefront/sample_schedule.h): `rounds` more samples of
+// each of `pixels`, round after round, each pixel's next sample index first.
+struct SamplePass {
+    std::vector<uint32_t> pixels;  // ascending; empty: every pixel
+    uint32_t rounds = 0;           // rounds left to render
+};
+
 struct RenderProgress {
     uint32_t samplesDone;  // per pixel
     uint32_t samplesTotal;
@@ -127,6 +142,10 @@ struct RenderState {
     uint32_t width = 0;
     uint32_t height = 0;
     uint32_t samplesDone = 0;  // whole samples per pixel, from the range's first
+    // Adaptive sampling: each pixel's samples (empty while every pixel has
+    // samplesDone), and the pass in progress, if any (SampleSchedule).
+    std::vector<uint32_t> pixelSamples;
+    std::optional<SamplePass> pass;
     std::vector<std::byte> film;
     uint64_t nonFiniteSamples = 0;
     uint64_t fireflySamples = 0;
@@ -174,9 +193,10 @@ struct RunTally {
     double seconds = 0;
 };
 
-// `before` with `film` (the sums now) and `run` added, `samplesDone` whole samples in.
-RenderState continuedState(const RenderState& before, uint32_t samplesDone,
-                           std::vector<std::byte> film, const RunTally& run);
+// `before` with `film` (the sums now) and `run` added; the schedule's fields
+// (how many samples, the pass) are SampleSchedule::store's.
+RenderState continuedState(const RenderState& before, std::vector<std::byte> film,
+                           const RunTally& run);
 
 // The decisions both renderers take at each whole sample: end there (a stop
 // request, or the time budget spent) or write a checkpoint first.
@@ -214,7 +234,12 @@ struct RenderResult {
     // GPU, RenderSettings::maxWaveMilliseconds: the wave size the cap held
     // the waves to at the end; 0 when it let them hold every path in flight.
     uint32_t cappedWavePaths = 0;
-    double seconds = 0;       // wall clock of this run's waves
+    // Adaptive sampling: each pixel's samples (empty when every pixel has
+    // samplesPerPixel, the least of them otherwise).
+    std::vector<uint32_t> pixelSamples;
+    std::optional<double> estimatedRelMse;  // at the end (sample_schedule.h)
+    bool reachedTarget = false;             // RenderSettings::targetError ended it
+    double seconds = 0;                     // wall clock of this run's waves
     double priorSeconds = 0;  // rendering before it, by the runs a resumed state came from
     std::map<std::string, double>
         stageMilliseconds;  // GPU: device time per stage (empty on the CPU)
@@ -222,6 +247,7 @@ struct RenderResult {
     // The image's totals from the state the render ended in: spp and the counts.
     void takeTotals(const RenderState& end) {
         samplesPerPixel = end.samplesDone;
+        pixelSamples = end.pixelSamples;
         nonFiniteSamples = end.nonFiniteSamples;
         fireflySamples = end.fireflySamples;
         rejectedLightSamples = end.rejectedLightSamples;

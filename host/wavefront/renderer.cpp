@@ -23,6 +23,7 @@
 #include "wavefront/kernel_features.h"
 #include "wavefront/path_buffers.h"
 #include "wavefront/pipeline_set.h"
+#include "wavefront/sample_schedule.h"
 #include "wavefront/wave_sizing.h"
 
 namespace vkpath::wavefront {
@@ -39,6 +40,9 @@ uint64_t join64(glm::uvec2 lowHigh) {
 struct GpuRenderer::Resources {
     bool shadowStage = false;
     vk::Buffer sceneInfo, camera, counters, placeholder;
+    // An adaptive pass's pixel list (shared/wavefront.h VKP_WF_PIXEL_LIST):
+    // one uvec2 per pixel with adaptive sampling, else the placeholder.
+    vk::Buffer pixelList;
     // The film in windows of consecutive pixels, each within one storage
     // binding and one dispatch (shared/wavefront.h WavePush.filmFirstPixel).
     uint32_t filmWindowPixels = 0;
@@ -91,15 +95,20 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
                              vk::MemoryKind::DeviceLocal, "film");
     }
     r->placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
+    if (settings.adaptive)
+        r->pixelList = vk::Buffer(context, pixels * sizeof(glm::uvec2), vk::MemoryKind::DeviceLocal,
+                                  "pixelList");
     r->paths = allocatePathBuffers(context, settings, m_form, shadowSamples, budget);
-    m_memory = {
-        {"scene", m_scene.bytes()}, {"path state", r->paths.bytes}, {"film", r->filmBytes()}};
+    m_memory = {{"scene", m_scene.bytes()},
+                {"path state", r->paths.bytes},
+                {"film", r->filmBytes() + (settings.adaptive ? r->pixelList.size() : 0)}};
 
     std::map<uint32_t, const vk::Buffer*> bindings = {
         {VKP_WF_SCENE_INFO, &r->sceneInfo},
         {VKP_WF_CAMERA, &r->camera},
         {VKP_WF_COUNTERS, &r->counters},
         {VKP_WF_FILM, &r->film.front()},
+        {VKP_WF_PIXEL_LIST, settings.adaptive ? &r->pixelList : &r->placeholder},
     };
     for (const auto& [binding, buffer] : m_scene.bindings()) bindings[binding] = buffer;
     bindPathBuffers(r->paths, r->placeholder, bindings);
@@ -158,7 +167,6 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     Resources& r = *m_resources;
     const RenderSettings& s = m_settings;
     const uint64_t pixels = uint64_t(s.width) * s.height;
-    const uint64_t totalPaths = pixels * samples.count;
     // Sample indices are 32-bit (pixels and samples are separate: shared/wavefront.h WavePush).
     if (uint64_t(samples.first) + samples.count > (uint64_t(1) << 32))
         throw std::out_of_range(fmt::format("samples [{}, {}): sample indices beyond 32 bits",
@@ -183,16 +191,19 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     r.counters.clear();
     result.priorSeconds = before.seconds;
 
+    SampleSchedule schedule(s, samples, before, pixels);
     // The state now: the device's film and counters on top of what came before.
     auto state = [&](std::vector<std::byte> film, const shared::QueueCounters& counters,
-                     uint64_t done, double seconds) {
+                     double seconds) {
         const RunTally run{counters.nonFinite,
                            counters.fireflies,
                            counters.rejectedLightSamples,
                            {join64(counters.closestRays), join64(counters.shadowRays)},
                            result.waves,
                            seconds};
-        return continuedState(before, uint32_t(done / pixels), std::move(film), run);
+        RenderState now = continuedState(before, std::move(film), run);
+        schedule.store(now);
+        return now;
     };
     auto filmBytes = [&] {  // the windows, one after another: the film in pixel order
         std::vector<std::byte> film(r.filmBytes());
@@ -204,9 +215,28 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         return film;
     };
 
+    // The film's per-pixel statistics (downloaded).
+    auto statistics = [&] {
+        const std::vector<std::byte> film = filmBytes();
+        std::vector<PixelStatistics> stats(pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            shared::FilmPixel f;
+            std::memcpy(&f, film.data() + i * sizeof(f), sizeof(f));
+            for (int c = 0; c < 3; ++c) {
+                // Kahan: the true sum is sum - compensation.
+                const double sum = double(f.sum[c]) - double(f.sumCompensation[c]);
+                const double sumSquares =
+                    double(f.sumSquares[c]) - double(f.sumSquaresCompensation[c]);
+                const PixelEstimate e = estimatePixel(sum, sumSquares, schedule.samplesOf(i));
+                stats[i].mean[c] = e.mean;
+                stats[i].varianceOfMean[c] = e.varianceOfMean;
+            }
+        }
+        return stats;
+    };
+
     const auto start = Clock::now();
     WholeSampleGate gate(control, s.timeBudgetSeconds);
-    uint64_t done = uint64_t(before.samplesDone) * pixels;
     // maxWaveMilliseconds: the next wave's size from the paths per
     // millisecond the last one managed, aimed at 3/4 of the cap (room for
     // waves that vary). Over the cap the waves shrink in proportion, never
@@ -225,65 +255,91 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
             return uint32_t(std::clamp<double>(aimed, wave, r.paths.pathCount));
         return wave;
     };
-    while (done < totalPaths) {
-        // A wave holds whole samples of every pixel, or stays within one
-        // sample, so that each whole sample ends a wave (stops, the time
-        // budget and checkpoints come there) whatever the wave sizes.
-        const uint64_t intoSample = done % pixels;
-        const uint64_t fits = intoSample == 0 && wave >= pixels
-                                  ? wave / pixels * pixels
-                                  : std::min<uint64_t>(wave, pixels - intoSample);
-        const uint32_t count = uint32_t(std::min<uint64_t>(fits, totalPaths - done));
-        const auto waveStart = Clock::now();
-        const shared::WavePush first{uint32_t(samples.first + done / pixels),
-                                     uint32_t(done % pixels), count};
-        m_context.submit([&](VkCommandBuffer cmd) {
-            r.pipelines->recordWave(cmd, timestamps, first, bounces, r.counters, r.film,
-                                    r.filmWindowPixels);
-        });
-        if (s.maxWaveMilliseconds)
-            wave = nextWave(
-                count, std::chrono::duration<double, std::milli>(Clock::now() - waveStart).count());
-        for (const vk::TimedInterval& t : timestamps.results())
-            result.stageMilliseconds[t.name] += t.milliseconds;
-        done += count;
-        ++result.waves;
-        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        const uint32_t samplesDone = uint32_t(done / pixels);
-        if (control.progress) control.progress({samplesDone, samples.count, seconds});
-        // Stops, the time budget and checkpoints: at whole samples only.
-        if (done % pixels != 0) continue;
-        if (gate.ends(samplesDone, samples.count, seconds, result.stopped)) break;
-        if (gate.checkpointDue(samplesDone, samples.count)) {
-            control.checkpoint(state(
-                filmBytes(), r.counters.download<shared::QueueCounters>().at(0), done, seconds));
-            gate.checkpointed();
+    bool ended = false;
+    while (!ended) {
+        const std::optional<SamplePass> pass = schedule.next(statistics);
+        if (!pass) break;
+        // The pass's domain: the film's pixels, from the first sample index
+        // they all have next, or its list of (pixel, first sample index).
+        const bool listed = !pass->pixels.empty();
+        const uint64_t domain = listed ? pass->pixels.size() : pixels;
+        const uint32_t firstRound = listed ? 0 : samples.first + schedule.samplesOf(0);
+        std::vector<uint32_t> windowEntries;
+        if (listed) {
+            std::vector<glm::uvec2> list(domain);
+            for (size_t e = 0; e < domain; ++e)
+                list[e] = {pass->pixels[e], samples.first + schedule.samplesOf(pass->pixels[e])};
+            r.pixelList.upload(std::as_bytes(std::span(list)));
+            for (size_t w = 0; w <= r.film.size(); ++w)
+                windowEntries.push_back(
+                    uint32_t(std::lower_bound(pass->pixels.begin(), pass->pixels.end(),
+                                              std::min<uint64_t>(w * r.filmWindowPixels, pixels)) -
+                             pass->pixels.begin()));
+        }
+        const uint64_t passPaths = domain * pass->rounds;
+        uint64_t done = 0;  // paths of this pass
+        while (done < passPaths && !ended) {
+            // A wave holds whole rounds of every entry, or stays within one
+            // round, so that each whole round ends a wave (stops, the time
+            // budget and checkpoints come there) whatever the wave sizes.
+            const uint64_t intoRound = done % domain;
+            const uint64_t fits = intoRound == 0 && wave >= domain
+                                      ? wave / domain * domain
+                                      : std::min<uint64_t>(wave, domain - intoRound);
+            const uint32_t count = uint32_t(std::min<uint64_t>(fits, passPaths - done));
+            const auto waveStart = Clock::now();
+            const shared::WavePush first{.firstSample = uint32_t(firstRound + done / domain),
+                                         .firstPixel = uint32_t(done % domain),
+                                         .pathCount = count,
+                                         .pixelListLength = listed ? uint32_t(domain) : 0u};
+            m_context.submit([&](VkCommandBuffer cmd) {
+                r.pipelines->recordWave(cmd, timestamps, first, bounces, r.counters, r.film,
+                                        r.filmWindowPixels, windowEntries);
+            });
+            if (s.maxWaveMilliseconds)
+                wave = nextWave(
+                    count,
+                    std::chrono::duration<double, std::milli>(Clock::now() - waveStart).count());
+            for (const vk::TimedInterval& t : timestamps.results())
+                result.stageMilliseconds[t.name] += t.milliseconds;
+            const uint64_t roundsBefore = done / domain;
+            done += count;
+            result.paths += count;
+            ++result.waves;
+            for (uint64_t round = roundsBefore; round < done / domain; ++round)
+                schedule.roundDone();
+            const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            const uint32_t samplesDone = schedule.wholeSamples();
+            if (control.progress) control.progress({samplesDone, samples.count, seconds});
+            // Stops, the time budget and checkpoints: at whole rounds only.
+            if (done % domain != 0) continue;
+            if (gate.ends(samplesDone, samples.count, seconds, result.stopped)) {
+                ended = true;
+            } else if (gate.checkpointDue(samplesDone, samples.count)) {
+                control.checkpoint(state(
+                    filmBytes(), r.counters.download<shared::QueueCounters>().at(0), seconds));
+                gate.checkpointed();
+            }
         }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    result.paths = done - uint64_t(before.samplesDone) * pixels;
     if (wave < r.paths.pathCount) result.cappedWavePaths = wave;
 
     const shared::QueueCounters counters = r.counters.download<shared::QueueCounters>().at(0);
     result.rays = {join64(counters.closestRays), join64(counters.shadowRays)};
-    const RenderState end = state(filmBytes(), counters, done, result.seconds);
+    const RenderState end = state(filmBytes(), counters, result.seconds);
     result.takeTotals(end);
+    result.reachedTarget = schedule.reachedTarget();
     if (control.checkpoint) control.checkpoint(end);
+    const std::vector<PixelStatistics> stats = statistics();
+    result.estimatedRelMse = estimatedRelMse(stats, s.width, s.height);
     result.image = image::Image(s.width, s.height);
     result.varianceOfMean = image::Image(s.width, s.height);
-    const double n = result.samplesPerPixel;
-    for (size_t i = 0; i < pixels; ++i) {
-        shared::FilmPixel f;  // read in place: a copy of a large film would double its host memory
-        std::memcpy(&f, end.film.data() + i * sizeof(f), sizeof(f));
+    for (size_t i = 0; i < pixels; ++i)
         for (int c = 0; c < 3; ++c) {
-            // Kahan: the true sum is sum - compensation.
-            const double sum = double(f.sum[c]) - double(f.sumCompensation[c]);
-            const double sumSquares = double(f.sumSquares[c]) - double(f.sumSquaresCompensation[c]);
-            const PixelEstimate e = estimatePixel(sum, sumSquares, n);
-            result.image.pixels[i][c] = float(e.mean);
-            result.varianceOfMean.pixels[i][c] = float(e.varianceOfMean);
+            result.image.pixels[i][c] = float(stats[i].mean[c]);
+            result.varianceOfMean.pixels[i][c] = float(stats[i].varianceOfMean[c]);
         }
-    }
     return result;
 }
 

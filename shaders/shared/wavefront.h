@@ -42,6 +42,8 @@
     28  // vec4[vertices]: world-space unit tangent (xyz), bitangent sign (w)
 #define VKP_WF_MATERIAL_ALPHA \
     29  // MaterialAlpha[materials] (shared/alpha.h), when SceneInfo::alphaTested
+#define VKP_WF_PIXEL_LIST \
+    30  // uvec2[entries]: an adaptive pass's pixels (ascending) and each one's first sample index
 
 VKP_NAMESPACE_BEGIN
 
@@ -91,9 +93,13 @@ struct FilmPixel {
 // (firstPixel + s) % pixels of sample firstSample + (firstPixel + s) / pixels
 // (wavePathOf). Pixel and sample index stay separate 32-bit numbers, so a
 // render may have any number of samples of any number of pixels.
+// In an adaptive pass (pixelListLength > 0) the same order runs over the
+// entries of the pixel list (VKP_WF_PIXEL_LIST) instead of the film's pixels,
+// and the "sample index" is the round, added to the entry's first sample
+// (stages/lib/common.glsl wavePath).
 struct WavePush {
-    uint firstSample;  // sample index of the wave's first path
-    uint firstPixel;   // its pixel, < width x height
+    uint firstSample;  // sample index (or round) of the wave's first path
+    uint firstPixel;   // its pixel (or list entry), < width x height (or pixelListLength)
     uint pathCount;    // paths in this wave
     uint bounce;       // the bounce the stage works on
     uint mode;         // queue_dispatch: what to prepare (VKP_PREPARE_*)
@@ -102,6 +108,9 @@ struct WavePush {
     // lavapipe, 2.8 M pixels) or one dispatch (65535 workgroups) is kept in
     // windows, one buffer and one dispatch each.
     uint filmFirstPixel;
+    uint pixelListLength;  // entries of the pass's pixel list; 0: the film's pixels in order
+    // accumulate in an adaptive pass: the first list entry in the film window bound.
+    uint listFirstEntry;
 };
 
 // (pixel, sample index) of path slot `slot` of the wave.
@@ -121,7 +130,7 @@ VKP_NAMESPACE_END
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
 static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
-static_assert(sizeof(vkpath::shared::WavePush) == 24);
+static_assert(sizeof(vkpath::shared::WavePush) == 32);
 #endif
 
 #endif  // VKPATH_SHARED_WAVEFRONT_H

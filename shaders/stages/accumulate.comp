@@ -34,23 +34,15 @@ void kahanAdd(inout vec3 sum, inout vec3 compensation, vec3 value) {
     sum = t;
 }
 
-void main() {
-    // The film buffer bound is the window of pixels from push.filmFirstPixel.
-    uint slot = gl_GlobalInvocationID.x;
-    if (slot >= film.length()) return;
-    uint pixel = push.filmFirstPixel + slot;
-    uint pixels = info.width * info.height;
-    if (pixel >= pixels) return;
-    // The wave holds the paths of linear positions [firstPixel, firstPixel +
-    // pathCount) from its first sample (shared/wavefront.h wavePathOf); this
-    // pixel's are those congruent to it modulo the pixel count.
-    uint first = push.firstPixel + (pixel + pixels - push.firstPixel) % pixels;
+// Adds the wave's paths at linear positions first, first + stride, ...
+// (below the wave's end) to film[slot], in order.
+void accumulatePixel(uint slot, uint first, uint stride) {
     uint end = push.firstPixel + push.pathCount;
     if (first >= end) return;
     FilmPixel f = film[slot];
     uint dropped = 0u;
     uint fireflies = 0u;
-    for (uint linear = first; linear < end; linear += pixels) {
+    for (uint linear = first; linear < end; linear += stride) {
         vec3 l = radiance[linear - push.firstPixel];
         if (!finiteBits(l)) {
             dropped++;
@@ -75,4 +67,30 @@ void main() {
     film[slot] = f;
     if (dropped > 0u) atomicAdd(counters.nonFinite, dropped);
     if (fireflies > 0u) atomicAdd(counters.fireflies, fireflies);
+}
+
+void main() {
+    // The film buffer bound is the window of pixels from push.filmFirstPixel.
+    if (push.pixelListLength > 0u) {
+        // An adaptive pass: one thread per list entry in the window, from
+        // push.listFirstEntry (the list is ascending, so the window's entries
+        // are consecutive); its paths are the linear positions congruent to
+        // the entry modulo the list's length.
+        uint entry = push.listFirstEntry + gl_GlobalInvocationID.x;
+        if (entry >= push.pixelListLength) return;
+        uint slot = pixelList[entry].x - push.filmFirstPixel;  // wraps below the window
+        if (slot >= film.length()) return;
+        uint length = push.pixelListLength;
+        accumulatePixel(slot, push.firstPixel + (entry + length - push.firstPixel % length) % length, length);
+        return;
+    }
+    uint slot = gl_GlobalInvocationID.x;
+    if (slot >= film.length()) return;
+    uint pixel = push.filmFirstPixel + slot;
+    uint pixels = info.width * info.height;
+    if (pixel >= pixels) return;
+    // The wave holds the paths of linear positions [firstPixel, firstPixel +
+    // pathCount) from its first sample (shared/wavefront.h wavePathOf); this
+    // pixel's are those congruent to it modulo the pixel count.
+    accumulatePixel(slot, push.firstPixel + (pixel + pixels - push.firstPixel) % pixels, pixels);
 }

@@ -1,5 +1,5 @@
 // Stage "generate": starts the wave's paths (shared/integrator.h startPath).
-// Path slot i of the wave is wavePathOf(push, i) (shared/wavefront.h); it
+// Path slot i of the wave is wavePath(i) (stages/lib/common.glsl); it
 // enters ray queue 0.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +20,7 @@ void main() {
         counters.shadowCount = 0u;
     }
     if (slot >= push.pathCount) return;
-    uvec2 path = wavePathOf(push, slot, camera.width * camera.height);
+    uvec2 path = wavePath(slot, camera.width * camera.height);
     PathState state = startPath(camera, path.x, pathRngKey(info, path.x, path.y));
     storePathVertex(slot, state);
     radiance[slot] = state.radiance;

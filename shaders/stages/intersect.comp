@@ -16,7 +16,7 @@ void main() {
     uint alphaKey = 0u;  // the ray's alpha decisions, keyed by its path (shared/alpha.h)
     SceneInfo info = sceneInfo();
     if (hasFeature(VKP_FEATURE_ALPHA) && info.alphaTested != 0u) {
-        uvec2 path = wavePathOf(push, slot, info.width * info.height);
+        uvec2 path = wavePath(slot, info.width * info.height);
         alphaKey = alphaRayKey(pathRngKey(info, path.x, path.y), alphaClosestRay(push.bounce, lightSampleCount()));
     }
     hits[slot] = bvhClosestHit(rays[slot], alphaKey);

@@ -20,7 +20,7 @@ layout(binding = VKP_WF_COUNTERS, scalar) buffer CounterBuffer { QueueCounters c
 uint pixels() { return camera.width * camera.height; }
 
 RngKey keyOf(uint slot) {
-    uvec2 path = wavePathOf(push, slot, pixels());
+    uvec2 path = wavePath(slot, pixels());
     return pathRngKey(sceneInfo(), path.x, path.y);
 }
 

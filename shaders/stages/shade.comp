@@ -21,7 +21,7 @@ void main() {
     uint slot = rayQueueSlot(push.bounce, entry);
 
     SceneInfo info = sceneInfo();
-    uvec2 path = wavePathOf(push, slot, info.width * info.height);
+    uvec2 path = wavePath(slot, info.width * info.height);
     RngKey key = pathRngKey(info, path.x, path.y);
     PathState state = loadPath(slot);
 

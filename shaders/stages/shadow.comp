@@ -20,7 +20,7 @@ void main() {
     SceneInfo info = sceneInfo();
     RngKey key = makeRngKey(0u, 0u, 0u);  // the path's: its rays' alpha decisions (shared/alpha.h)
     if (hasFeature(VKP_FEATURE_ALPHA) && info.alphaTested != 0u) {
-        uvec2 path = wavePathOf(push, slot, info.width * info.height);
+        uvec2 path = wavePath(slot, info.width * info.height);
         key = pathRngKey(info, path.x, path.y);
     }
     vec3 unoccluded = vec3(0.0);

@@ -178,7 +178,7 @@ TEST(Checkpoint, ForeignCheckpointsAreOneLineAndNothingWritten) {
         << "vkpath checkpoint 1\nscene-hash 0123456789abcdef\nsettings "
            "size=24x18 max-depth=8\n\n";
     const std::string notJson = (dir / "not_json.ckpt").string();
-    std::ofstream(notJson, std::ios::binary) << "vkpath checkpoint 2\n{\"scene-hash\": \n12345678";
+    std::ofstream(notJson, std::ios::binary) << "vkpath checkpoint 3\n{\"scene-hash\": \n12345678";
     struct Case {
         std::string args;
         std::string says;

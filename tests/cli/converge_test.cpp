@@ -30,23 +30,25 @@ struct Row {
     std::string deviceSeconds;
     double relMse = 0, rmse = 0, relMseTrimmed = 0;
     std::string error;
+    double estimatedRelMse = 0;
 };
 
 std::vector<Row> readCsv(const std::filesystem::path& path) {
     std::ifstream in(path);
     std::string line;
     std::getline(in, line);
-    EXPECT_EQ(line, "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error");
+    EXPECT_EQ(line,
+              "knob,value,spp,wall_seconds,device_seconds,relmse,rmse,relmse_trimmed,error,"
+              "estimated_relmse");
     std::vector<Row> rows;
     while (std::getline(in, line)) {
         std::vector<std::string> f;
         std::stringstream s(line);
         for (std::string field; std::getline(s, field, ',');) f.push_back(field);
-        if (line.back() == ',') f.push_back("");
-        EXPECT_EQ(f.size(), 9u) << line;
-        if (f.size() != 9) continue;
+        EXPECT_EQ(f.size(), 10u) << line;
+        if (f.size() != 10) continue;
         rows.push_back({f[0], f[1], uint32_t(std::stoul(f[2])), std::stod(f[3]), f[4],
-                        std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), f[8]});
+                        std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), f[8], std::stod(f[9])});
     }
     return rows;
 }
@@ -221,6 +223,26 @@ TEST(Converge, BadInputIsOneLineAndExitTwo) {
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(csv));
     }
+}
+
+// --target-error ends the curve at the first checkpoint whose own estimate
+// reaches it; --adaptive is refused (converge renders uniform sample ranges).
+TEST(Converge, TargetErrorEndsTheCurve) {
+    const test::TempDir dir;
+    const std::string csv = (dir / "c.csv").string();
+    const auto r = test::runVkpath("converge " + scene() +
+                                   " -d 32x24 --spp 1,2,4,8,16,32,64 --target-error 0.05 --csv " +
+                                   csv + " --plot " + (dir / "c.png").string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::vector<Row> rows = readCsv(csv);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_LT(rows.size(), 7u) << "the curve did not stop";
+    EXPECT_LE(rows.back().estimatedRelMse, 0.05);
+    for (size_t i = 0; i + 1 < rows.size(); ++i) EXPECT_GT(rows[i].estimatedRelMse, 0.05);
+
+    const auto refused = test::runVkpath("converge " + scene() + " -d 8x8 --adaptive --csv " + csv);
+    EXPECT_EQ(refused.exitCode, 2);
+    EXPECT_EQ(test::lineCount(refused.err), 1) << refused.err;
 }
 
 }  // namespace

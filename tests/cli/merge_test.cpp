@@ -141,3 +141,43 @@ TEST(Merge, BadSampleRangesAreOneLine) {
 }
 
 }  // namespace
+
+// Adaptive parts (each pixel its own count, a prefix of the part's range):
+// merged by each pixel's counts from their spp AOVs, into the mean of all
+// the pixel's samples; a part without its spp AOV is refused.
+TEST(Merge, AdaptivePartsAreWeightedPerPixel) {
+    const test::TempDir dir;
+    const std::string flags = "--adaptive --adaptive-warmup 4 --target-error 0.02 --aov spp ";
+    const std::string a = render(dir, "a", flags + "--samples 0:64");
+    const std::string b = render(dir, "b", flags + "--samples 64:64");
+    const std::string merged = (dir / "merged.exr").string();
+    const auto r =
+        test::runVkpath("merge " + a + " " + b + " --aov variance --aov spp -o " + merged);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const image::Image ma = image::readImage(a), mb = image::readImage(b);
+    const image::Image na = image::readImage((dir / "a.spp.exr").string()),
+                       nb = image::readImage((dir / "b.spp.exr").string());
+    const image::Image m = image::readImage(merged),
+                       n = image::readImage((dir / "merged.spp.exr").string());
+    bool unequal = false;
+    for (size_t i = 0; i < m.pixels.size(); ++i) {
+        EXPECT_EQ(n.pixels[i].x, na.pixels[i].x + nb.pixels[i].x);
+        unequal |= na.pixels[i].x != na.pixels[0].x;
+        for (int c = 0; c < 3; ++c) {
+            const double expected = (double(ma.pixels[i][c]) * na.pixels[i].x +
+                                     double(mb.pixels[i][c]) * nb.pixels[i].x) /
+                                    (na.pixels[i].x + nb.pixels[i].x);
+            EXPECT_NEAR(m.pixels[i][c], expected, MEAN_BOUND * std::max(1.0, expected));
+        }
+    }
+    EXPECT_TRUE(unequal) << "the parts were not adaptive";
+    const auto metadata = test::vkpathMetadata(merged);
+    EXPECT_EQ(metadata.at("vkpath:sampleRange"), "128");
+    EXPECT_EQ(metadata.count("vkpath:estimatedRelMse"), 0u);
+
+    std::filesystem::remove(dir / "b.spp.exr");
+    const auto refused = test::runVkpath("merge " + a + " " + b + " -o " + merged);
+    EXPECT_EQ(refused.exitCode, 2);
+    EXPECT_EQ(test::lineCount(refused.err), 1) << refused.err;
+    EXPECT_NE(refused.err.find("its spp AOV"), std::string::npos) << refused.err;
+}

@@ -45,6 +45,7 @@ TEST(CameraStage, GpuRaysMatchCpu) {
     vk::Buffer vertices(context, count * sizeof(shared::PathVertex)),
         queues(context, 3 * count * sizeof(uint32_t));
     vk::Buffer counters(context, sizeof(shared::QueueCounters));
+    vk::Buffer noPixelList(context, sizeof(glm::uvec2));  // a uniform wave reads no list
     vk::Kernel generate(context, "generate");
     generate.dispatch(count,
                       {{VKP_WF_SCENE_INFO, &infoBuffer},
@@ -54,7 +55,8 @@ TEST(CameraStage, GpuRaysMatchCpu) {
                        {VKP_WF_RADIANCE, &radiance},
                        {VKP_WF_VERTEX, &vertices},
                        {VKP_WF_QUEUES, &queues},
-                       {VKP_WF_COUNTERS, &counters}},
+                       {VKP_WF_COUNTERS, &counters},
+                       {VKP_WF_PIXEL_LIST, &noPixelList}},
                       shared::WavePush{sampleIndex, 0, count, 0, 0});
     const auto gpu = rays.download<shared::Ray>();
     // Every path starts alive in ray queue 0 with throughput 1.

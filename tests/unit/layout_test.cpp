@@ -134,7 +134,8 @@ std::vector<Expected> expectedLayouts() {
         {"WavePush",
          sizeof(WavePush),
          {VKP_O(WavePush, firstSample), VKP_O(WavePush, firstPixel), VKP_O(WavePush, pathCount),
-          VKP_O(WavePush, bounce), VKP_O(WavePush, mode), VKP_O(WavePush, filmFirstPixel)}},
+          VKP_O(WavePush, bounce), VKP_O(WavePush, mode), VKP_O(WavePush, filmFirstPixel),
+          VKP_O(WavePush, pixelListLength), VKP_O(WavePush, listFirstEntry)}},
     };
 }
 
