@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps configure build demo test test-long bench bench-peer bench-ray fuzz fuzz-smoke format clean
+.PHONY: all deps configure build demo test test-long bench bench-peer bench-suite bench-ray fuzz fuzz-smoke format clean
 
 all: build
 
@@ -55,11 +55,20 @@ bench: build
 
 # vkpath side by side with Mitsuba 3 (not in CI): installs Debian's libllvm19 and a
 # venv in build-peer/ with mitsuba from PyPI, checks that the exported scenes
-# render the same, then plots error against time. PEER_ARGS=--size 800x600 etc.;
-# figures and commands: docs/TRADEOFFS.md.
+# render the same, then plots error against time (PEER_ARGS=--size 800x600 etc.;
+# docs/TRADEOFFS.md), then races both on the scene suite (bench-suite).
 PEER_ARGS ?=
 bench-peer: build
 	@tools/bench/peer-bench --vkpath $(VKPATH) $(PEER_ARGS)
+	@tools/bench/suite-race --vkpath $(VKPATH) --mitsuba on $(SUITE_ARGS)
+
+# The scene suite (tools/bench/suite/suite.json): per scene, vkpath's time to a relMSE on
+# lavapipe and --device cpu and Mitsuba 3's, their ratio and the geometric mean; references
+# cached in build/suite-refs/. SUITE_ARGS=--quick, --scenes a,b, --size 640 etc.; figures and
+# commands: docs/BENCHMARKS.md, "The suite".
+SUITE_ARGS ?=
+bench-suite: build
+	@tools/bench/suite-race --vkpath $(VKPATH) $(SUITE_ARGS)
 
 # The Ray driver's overhead (not in CI: tens of minutes on two cores): the
 # 1024-spp CBspheres 800x600 render in 8, 16 and 32 chunks against one process.
