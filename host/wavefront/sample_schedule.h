@@ -53,8 +53,7 @@ struct PixelStatistics {
 // neighbours' means: a firefly that lifts a pixel's variance lifts its mean
 // with it, so with its own mean the term would stay near 1 however far the
 // pixel is from the truth; a pixel on an edge keeps its own.
-double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t width,
-                       uint32_t height);
+double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height);
 
 // Per pixel and channel: b^2 + 0.01 of estimatedRelMse.
 std::vector<glm::dvec3> relMseDenominators(const std::vector<PixelStatistics>& pixels,
@@ -81,8 +80,7 @@ class SampleSchedule {
     // the render is done: the range used up, the target error reached or no
     // pixel left to sample. `statistics` gives the film's per-pixel
     // statistics (asked only when a decision needs them).
-    std::optional<SamplePass> next(
-        const std::function<std::vector<PixelStatistics>()>& statistics);
+    std::optional<SamplePass> next(const std::function<std::vector<PixelStatistics>()>& statistics);
 
     // The current pass's pixels each took one more sample.
     void roundDone();

@@ -42,9 +42,11 @@ std::vector<PixelStatistics> film(uint32_t width, uint32_t height, uint32_t samp
 TEST(AdaptivePlan, SamplesWhereTheVarianceIsAndNowhereElse) {
     // The left half noisy, the right half nearly converged.
     const uint32_t width = 16, height = 8, n = 16;
-    const auto stats = film(width, height, n, [](uint32_t x, uint32_t) { return x < 8 ? 1 : 1e-6; });
+    const auto stats =
+        film(width, height, n, [](uint32_t x, uint32_t) { return x < 8 ? 1 : 1e-6; });
     const std::vector<uint32_t> samples(stats.size(), n);
-    const auto pass = wavefront::planAdaptivePass(stats, samples, width, height, 1024, std::nullopt);
+    const auto pass =
+        wavefront::planAdaptivePass(stats, samples, width, height, 1024, std::nullopt);
     ASSERT_TRUE(pass);
     // Every noisy pixel and no quiet one (the column beside the noisy ones,
     // widened by its 3x3 neighbourhood to a third of their variance, is
@@ -64,7 +66,8 @@ TEST(AdaptivePlan, WithATargetOnlyThePixelsShortOfItsAllocation) {
     // half 200.
     const uint32_t width = 16, height = 8;
     const double target = 1e-2;
-    std::vector<PixelStatistics> stats = film(width, height, 1, [](uint32_t, uint32_t) { return 1.0; });
+    std::vector<PixelStatistics> stats =
+        film(width, height, 1, [](uint32_t, uint32_t) { return 1.0; });
     std::vector<uint32_t> samples(stats.size());
     for (size_t p = 0; p < stats.size(); ++p) {
         samples[p] = p % width < 8 ? 16 : 200;
@@ -138,7 +141,8 @@ TEST(AdaptiveSampling, MegakernelAndWavefrontGiveTheSameBits) {
     s.kernel = wavefront::KernelForm::Wavefront;
     const auto wave = wavefront::GpuRenderer(test::context(), scene, s).render();
     ASSERT_FALSE(mega.pixelSamples.empty());
-    const auto [least, most] = std::minmax_element(mega.pixelSamples.begin(), mega.pixelSamples.end());
+    const auto [least, most] =
+        std::minmax_element(mega.pixelSamples.begin(), mega.pixelSamples.end());
     EXPECT_LT(*least, *most) << "no pixel was given more samples than another";
     EXPECT_EQ(mega.pixelSamples, wave.pixelSamples);
     EXPECT_TRUE(mega.image.pixels == wave.image.pixels);
@@ -242,13 +246,12 @@ TEST(AdaptiveSampling, ImageAgreesWithAUniformReferenceWithinItsNoise) {
             .render();
     const image::BlockComparison blocks =
         image::compareBlocks(r.image, r.varianceOfMean, ref.image, ref.varianceOfMean, 8, 1e-3);
-    EXPECT_EQ(blocks.rejected, 0) << "worst |z| " << blocks.worstZ << " at " << blocks.worstX
-                                  << "," << blocks.worstY;
+    EXPECT_EQ(blocks.rejected, 0) << "worst |z| " << blocks.worstZ << " at " << blocks.worstX << ","
+                                  << blocks.worstY;
     auto all = [](uint32_t, uint32_t) { return true; };
     const image::RegionMean a = image::regionMean(r.image, r.varianceOfMean, all);
     const image::RegionMean b = image::regionMean(ref.image, ref.varianceOfMean, all);
-    EXPECT_LT(std::abs(a.mean - b.mean),
-              4 * std::hypot(a.standardError, b.standardError));
+    EXPECT_LT(std::abs(a.mean - b.mean), 4 * std::hypot(a.standardError, b.standardError));
 }
 
 // The samples go where the noise is: the pixels of the noisiest quarter
@@ -295,8 +298,8 @@ TEST(AdaptiveSamplingCli, NeedsAStopAndWritesItsCounts) {
     EXPECT_NE(refused.err.find("--adaptive needs a stop"), std::string::npos) << refused.err;
     EXPECT_FALSE(std::filesystem::exists(output));
 
-    const auto r = test::runVkpath("render " + scene +
-                                   " -d 16x12 --adaptive --target-error 0.005 --aov spp -o " + output);
+    const auto r = test::runVkpath(
+        "render " + scene + " -d 16x12 --adaptive --target-error 0.005 --aov spp -o " + output);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("target 0.005 reached"), std::string::npos) << r.err;
     const auto metadata = test::vkpathMetadata(output);
