@@ -68,19 +68,30 @@ void checkWritable(const std::string& flag, const std::filesystem::path& path) {
     ::unlink(probe.c_str());
 }
 
-// With a time budget the bar measures time, unless the sample count runs out first.
-void printProgress(const wavefront::RenderProgress& p, uint64_t pixels,
-                   std::optional<double> timeBudget) {
+// With a time budget the bar measures time, unless the sample count runs out
+// first; with a target error, the estimate's way down to it (on log axes,
+// from 1), when that is further.
+void printProgress(const wavefront::RenderProgress& p, std::optional<double> timeBudget,
+                   std::optional<double> targetError) {
     double fraction = p.samplesTotal ? double(p.samplesDone) / p.samplesTotal : 1.0;
     if (timeBudget && *timeBudget > 0)
         fraction = std::min(1.0, std::max(fraction, p.seconds / *timeBudget));
+    if (targetError && p.estimatedRelMse && *targetError < 1)
+        fraction = std::clamp(
+            std::max(fraction, std::log(*p.estimatedRelMse) / std::log(*targetError)), 0.0, 1.0);
     const int width = 30;
     const int filled = int(fraction * width);
-    const double mpaths = p.seconds > 0 ? double(p.samplesDone) * pixels / p.seconds * 1e-6 : 0.0;
+    const double mpaths = p.seconds > 0 ? double(p.paths) / p.seconds * 1e-6 : 0.0;
     const double eta = fraction > 0 ? p.seconds * (1 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r[%.*s%*s] %u/%u spp  %.2f Mpaths/s  ETA %.1f s ", filled,
-                 "##############################", width - filled, "", p.samplesDone,
-                 p.samplesTotal, mpaths, eta);
+    const std::string error =
+        p.estimatedRelMse ? fmt::format("  relMSE ~{:.2g}", *p.estimatedRelMse) : "";
+    // No -s: no cap to show.
+    const std::string samples = p.samplesTotal == UINT32_MAX
+                                    ? fmt::format("{} spp", p.samplesDone)
+                                    : fmt::format("{}/{} spp", p.samplesDone, p.samplesTotal);
+    std::fprintf(stderr, "\r[%.*s%*s] %s  %.2f Mpaths/s%s  ETA %.1f s ", filled,
+                 "##############################", width - filled, "", samples.c_str(), mpaths,
+                 error.c_str(), eta);
 }
 
 // Either renderer, with a progress bar when stderr is a terminal. Also
@@ -90,13 +101,13 @@ void printProgress(const wavefront::RenderProgress& p, uint64_t pixels,
 template <typename Renderer>
 wavefront::RenderResult renderWithProgress(Renderer& renderer,
                                            const wavefront::SampleRange& samples,
-                                           const FilmSize& film, std::optional<double> timeBudget,
+                                           std::optional<double> timeBudget,
+                                           std::optional<double> targetError,
                                            wavefront::RenderControl control, double& cpuSeconds) {
     const bool terminal = isatty(STDERR_FILENO);
-    const uint64_t pixels = uint64_t(film.width) * film.height;
     const std::clock_t start = std::clock();
     control.progress = [&](const wavefront::RenderProgress& p) {
-        if (terminal) printProgress(p, pixels, timeBudget);
+        if (terminal) printProgress(p, timeBudget, targetError);
     };
     wavefront::RenderResult result;
     try {
@@ -359,7 +370,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
         const auto result =
-            renderWithProgress(renderer, samples, film, o.timeBudget, control, cpuSeconds);
+            renderWithProgress(renderer, samples, o.timeBudget, o.targetError, control, cpuSeconds);
         return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device);
     }
     return withContext(global, [&](vk::Context& context) {
@@ -372,7 +383,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         // that says which checkpoint survives it.
         const auto result = [&] {
             try {
-                return renderWithProgress(renderer, samples, film, o.timeBudget, control,
+                return renderWithProgress(renderer, samples, o.timeBudget, o.targetError, control,
                                           cpuSeconds);
             } catch (const vk::VulkanError& e) {
                 if (!saved) throw;

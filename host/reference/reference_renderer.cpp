@@ -226,7 +226,9 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
             ++result.waves;
             const uint32_t done = schedule.wholeSamples();
             const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-            if (control.progress) control.progress({done, samples.count, seconds});
+            if (control.progress)
+                control.progress(
+                    {done, samples.count, seconds, schedule.lastEstimate(), result.paths});
             if (gate.ends(done, samples.count, seconds, result.stopped))
                 ended = true;
             else if (gate.checkpointDue(done, samples.count)) {

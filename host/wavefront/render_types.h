@@ -117,9 +117,13 @@ struct SamplePass {
 };
 
 struct RenderProgress {
-    uint32_t samplesDone;  // per pixel
+    uint32_t samplesDone;  // per pixel (the least of any pixel's)
     uint32_t samplesTotal;
     double seconds;
+    // The error estimate at the last pass end that measured it (a target-error
+    // or adaptive render; sample_schedule.h), else unset.
+    std::optional<double> estimatedRelMse = std::nullopt;
+    uint64_t paths = 0;  // traced in this run so far
 };
 
 // Rays traced: one closest-hit ray per path segment, one shadow ray per light

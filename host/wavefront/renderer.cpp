@@ -310,7 +310,9 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
                 schedule.roundDone();
             const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
             const uint32_t samplesDone = schedule.wholeSamples();
-            if (control.progress) control.progress({samplesDone, samples.count, seconds});
+            if (control.progress)
+                control.progress(
+                    {samplesDone, samples.count, seconds, schedule.lastEstimate(), result.paths});
             // Stops, the time budget and checkpoints: at whole rounds only.
             if (done % domain != 0) continue;
             if (gate.ends(samplesDone, samples.count, seconds, result.stopped)) {

@@ -26,7 +26,7 @@
 // while its neighbours' samples are independent of its own. What is left
 // (a neighbour's count, and so its variance estimate, depends on the pixel
 // through the neighbour's own neighbours) is second order; docs/ACCURACY.md,
-// "Adaptive sampling and bias", measures it against references.
+// "Stopping at an error and adaptive sampling", measures it against references.
 #pragma once
 
 #include <cstdint>
