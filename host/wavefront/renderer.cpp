@@ -283,8 +283,10 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
             // round, so that each whole round ends a wave (stops, the time
             // budget and checkpoints come there) whatever the wave sizes.
             const uint64_t intoRound = done % domain;
+            // (A short pixel list would otherwise put more rounds in a wave
+            // than accumulate may loop over: MAX_ROUNDS_PER_WAVE.)
             const uint64_t fits = intoRound == 0 && wave >= domain
-                                      ? wave / domain * domain
+                                      ? std::min(wave / domain, MAX_ROUNDS_PER_WAVE) * domain
                                       : std::min<uint64_t>(wave, domain - intoRound);
             const uint32_t count = uint32_t(std::min<uint64_t>(fits, passPaths - done));
             const auto waveStart = Clock::now();

@@ -59,7 +59,8 @@ uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelFor
                          uint32_t shadowSamples) {
     if (!s.maxDeviceMemoryBytes) return UINT64_MAX;
     const uint64_t pixels = uint64_t(s.width) * s.height;
-    const uint64_t taken = sceneBytes + pixels * sizeof(shared::FilmPixel);
+    const uint64_t taken =
+        sceneBytes + pixels * (sizeof(shared::FilmPixel) + (s.adaptive ? sizeof(glm::uvec2) : 0));
     const uint64_t left = *s.maxDeviceMemoryBytes - std::min(taken, *s.maxDeviceMemoryBytes);
     const uint64_t fewest = std::min<uint64_t>(s.workgroupSize, pixels * s.samplesPerPixel);
     if (left / pathStateBytes(form, shadowSamples) < fewest)
@@ -87,12 +88,9 @@ uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowS
     limit = std::min<uint64_t>(limit, uint64_t(device.maxWorkgroupCount[0]) * s.workgroupSize /
                                           std::max<uint32_t>(shadowSamples, 1));
     limit = std::max<uint64_t>(limit, 1);
-    // The accumulate stage loops over a pixel's samples in the wave, and
-    // lavapipe cuts every shader loop at 65535 iterations.
-    constexpr uint64_t MAX_SAMPLES_PER_WAVE = 65535;
     if (pixels <= limit)
         return uint32_t(
-            pixels * std::min<uint64_t>({limit / pixels, s.samplesPerPixel, MAX_SAMPLES_PER_WAVE}));
+            pixels * std::min<uint64_t>({limit / pixels, s.samplesPerPixel, MAX_ROUNDS_PER_WAVE}));
     const uint64_t wavesPerSample = (pixels + limit - 1) / limit;
     return uint32_t((pixels + wavesPerSample - 1) / wavesPerSample);
 }

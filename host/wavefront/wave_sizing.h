@@ -47,8 +47,14 @@ KernelForm defaultKernelForm(const vk::DeviceInfo& device);
 // next (docs/BENCHMARKS.md, "An NVIDIA H200").
 uint32_t defaultPathsInFlight(const vk::DeviceInfo& device);
 
+// The most samples of one pixel (rounds of a pass) a wave may hold: the
+// accumulate stage loops over them, and lavapipe cuts every shader loop at
+// 65535 iterations.
+inline constexpr uint64_t MAX_ROUNDS_PER_WAVE = 65535;
+
 // The device bytes the path state may take: what settings.maxDeviceMemoryBytes
-// leaves after the scene and the film (no limit without it). Throws
+// leaves after the scene and the film (and adaptive sampling's pixel list; no
+// limit without it). Throws
 // InputError when that leaves room for less than one workgroup's paths.
 uint64_t pathStateBudget(const RenderSettings& settings, uint64_t sceneBytes, KernelForm form,
                          uint32_t shadowSamples);

@@ -147,7 +147,7 @@ TEST(Merge, BadSampleRangesAreOneLine) {
 // the pixel's samples; a part without its spp AOV is refused.
 TEST(Merge, AdaptivePartsAreWeightedPerPixel) {
     const test::TempDir dir;
-    const std::string flags = "--adaptive --adaptive-warmup 4 --target-error 0.02 --aov spp ";
+    const std::string flags = "--adaptive --adaptive-warmup 4 --target-error 0.002 --aov spp ";
     const std::string a = render(dir, "a", flags + "--samples 0:64");
     const std::string b = render(dir, "b", flags + "--samples 64:64");
     const std::string merged = (dir / "merged.exr").string();
