@@ -427,6 +427,24 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         "from glTF 2.0 Appendix B's, and which has no KHR_materials_specular "
                         "weight or colour ({} materials)",
                         notes.metallicRoughness));
+    // What the export leaves out of a material: its textures (the factors are
+    // written alone) and its alpha (written opaque).
+    size_t textured = 0, alphaCovered = 0;
+    for (const Material& m : s.materials) {
+        textured += m.baseColorTexture.present() || m.emissiveTexture.present() ||
+                    m.metallicRoughnessTexture.present();
+        alphaCovered += m.alphaMode != AlphaMode::Opaque;
+    }
+    if (textured > 0)
+        result.warnings.push_back(
+            fmt::format("base-colour, emissive and metallic-roughness textures are not exported: "
+                        "Mitsuba renders those materials with their factors alone ({} materials)",
+                        textured));
+    if (alphaCovered > 0)
+        result.warnings.push_back(
+            fmt::format("alpha (glTF alphaMode MASK and BLEND) is not exported: Mitsuba renders "
+                        "those surfaces opaque ({} materials)",
+                        alphaCovered));
     if (normalMapped > 0)
         result.warnings.push_back(
             fmt::format("normal maps are not exported: Mitsuba shades those meshes with their "

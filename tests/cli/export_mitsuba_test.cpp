@@ -249,6 +249,22 @@ TEST(ExportMitsuba, NormalMapsAreWarnedAbout) {
     EXPECT_TRUE(fs::exists(dir / "nm/scene.xml"));
 }
 
+// Textures and alpha are not exported either: Debian's TextureTransformTest
+// (base-colour textures) says so, counting the materials.
+TEST(ExportMitsuba, TexturesAreWarnedAbout) {
+    const fs::path model =
+        "/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf";
+    if (!fs::exists(model)) GTEST_SKIP() << model << " absent (Debian's assimp-testmodels)";
+    const vkpath::test::TempDir dir;
+    const auto r = runVkpath("export-mitsuba " + quoted(model) + " " + quoted(dir / "tt") +
+                             " -d 32x24 --env-color 1,1,1");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("base-colour, emissive and metallic-roughness textures are not exported"),
+              std::string::npos)
+        << r.err;
+    EXPECT_TRUE(fs::exists(dir / "tt/scene.xml"));
+}
+
 TEST(ExportMitsuba, BadInputIsOneLineAndNothingWritten) {
     const vkpath::test::TempDir dir;
     const fs::path missing = dir / "missing.gltf";
