@@ -244,15 +244,7 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
     result.reachedTarget = schedule.reachedTarget();
     if (control.checkpoint) control.checkpoint(end);
 
-    const std::vector<wavefront::PixelStatistics> stats = statistics();
-    result.estimatedRelMse = wavefront::estimatedRelMse(stats, s.width, s.height);
-    result.image = image::Image(width, height);
-    result.varianceOfMean = image::Image(width, height);
-    for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c) {
-            result.image.pixels[i][c] = float(stats[i].mean[c]);
-            result.varianceOfMean.pixels[i][c] = float(stats[i].varianceOfMean[c]);
-        }
+    wavefront::takeImage(statistics(), s.width, s.height, result);
     return result;
 }
 

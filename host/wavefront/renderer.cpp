@@ -335,15 +335,7 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     result.takeTotals(end);
     result.reachedTarget = schedule.reachedTarget();
     if (control.checkpoint) control.checkpoint(end);
-    const std::vector<PixelStatistics> stats = statistics();
-    result.estimatedRelMse = estimatedRelMse(stats, s.width, s.height);
-    result.image = image::Image(s.width, s.height);
-    result.varianceOfMean = image::Image(s.width, s.height);
-    for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c) {
-            result.image.pixels[i][c] = float(stats[i].mean[c]);
-            result.varianceOfMean.pixels[i][c] = float(stats[i].varianceOfMean[c]);
-        }
+    takeImage(statistics(), s.width, s.height, result);
     return result;
 }
 

@@ -59,6 +59,18 @@ double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t widt
     return pixels.empty() ? 0.0 : sum / (3.0 * double(pixels.size()));
 }
 
+void takeImage(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height,
+               RenderResult& result) {
+    result.estimatedRelMse = estimatedRelMse(pixels, width, height);
+    result.image = image::Image(width, height);
+    result.varianceOfMean = image::Image(width, height);
+    for (size_t i = 0; i < pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            result.image.pixels[i][c] = float(pixels[i].mean[c]);
+            result.varianceOfMean.pixels[i][c] = float(pixels[i].varianceOfMean[c]);
+        }
+}
+
 std::optional<SamplePass> planAdaptivePass(const std::vector<PixelStatistics>& pixels,
                                            const std::vector<uint32_t>& samples, uint32_t width,
                                            uint32_t height, uint32_t maxSamples,

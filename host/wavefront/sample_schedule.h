@@ -55,6 +55,11 @@ struct PixelStatistics {
 // pixel is from the truth; a pixel on an edge keeps its own.
 double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height);
 
+// The render's image, its variance AOV and its estimated relMSE from the
+// film's per-pixel statistics (both renderers end with this).
+void takeImage(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height,
+               RenderResult& result);
+
 // Per pixel and channel: b^2 + 0.01 of estimatedRelMse.
 std::vector<glm::dvec3> relMseDenominators(const std::vector<PixelStatistics>& pixels,
                                            uint32_t width, uint32_t height);
