@@ -240,7 +240,10 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
             "--adaptive: converge measures one uniform render in sample ranges; measure adaptive "
             "renders with render --adaptive --target-error");
     wavefront::RenderSettings base = renderSettings(o, spp.back());
-    base.targetError.reset();  // the curve's stop (measure), not each range's
+    // The curve's stop (measure), not each range's. Its estimate is the
+    // samples' variance, merged over the ranges: one stream, so with Sobol'
+    // points an upper bound (docs/ACCURACY.md).
+    base.targetError.reset();
     std::vector<Configuration> configs;
     if (o.sweep.empty()) {
         configs.push_back({"", "", o.device, base, {}});

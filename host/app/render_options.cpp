@@ -193,7 +193,9 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
     settings["env-strength"] = optional(o.environmentStrength);
     settings["env-rotate"] = optional(o.environmentRotation);
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
-    // Which samples each pixel takes (the target error only says how many).
+    // Which samples each pixel takes (the target error says how many, and
+    // with the Sobol' sampler that they come in two streams).
+    settings["sample-streams"] = wavefront::sampleStreams(renderSettings(o, 1));
     settings["adaptive"] = o.adaptive ? nlohmann::ordered_json{{"warmup", o.adaptiveWarmup}}
                                       : nlohmann::ordered_json("off");
     settings["estimator"] = VKP_ESTIMATOR_VERSION;

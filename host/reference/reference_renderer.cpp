@@ -58,9 +58,11 @@ struct SampleCounts {
 // infinite sample is dropped; one whose largest component exceeds the
 // firefly threshold is counted (and, with a clamp, scaled down to it); one
 // that would overflow the GPU's float sums is dropped too, so both
-// renderers keep and drop the same samples.
-void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info,
-                SampleCounts& counts) {
+// renderers keep and drop the same samples. `oddSum`: with two sample
+// streams, the pixel's sum of its odd-indexed samples (the sample's stream
+// is its index's parity), else null.
+void accumulate(PixelSums& pixel, glm::dvec3* oddSum, glm::vec3 l, const shared::SceneInfo& info,
+                SampleCounts& counts, uint64_t sampleIndex) {
     if (!finite(l)) {
         ++counts.dropped;
         return;
@@ -76,6 +78,7 @@ void accumulate(PixelSums& pixel, glm::vec3 l, const shared::SceneInfo& info,
         return;
     }
     pixel = next;
+    if (oddSum && (sampleIndex & 1) == 1) *oddSum += d;
 }
 
 }  // namespace
@@ -146,11 +149,17 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
 
     const shared::SceneInfo& info = m_tables.info;
     std::vector<PixelSums> film(pixels);
-    const wavefront::RenderState before =
-        wavefront::resumedState(control, wavefront::CPU_FILM_FORMAT, width, height, samples,
-                                film.size() * sizeof(PixelSums));
-    if (control.resume)
-        std::memcpy(film.data(), control.resume->film.data(), control.resume->film.size());
+    // With two sample streams the film's state is followed by each pixel's
+    // odd-stream sum.
+    std::vector<glm::dvec3> oddSums(info.sampleStreams == 2 ? pixels : 0, glm::dvec3(0.0));
+    const size_t filmBytes = film.size() * sizeof(PixelSums);
+    const size_t oddBytes = oddSums.size() * sizeof(glm::dvec3);
+    const wavefront::RenderState before = wavefront::resumedState(
+        control, wavefront::CPU_FILM_FORMAT, width, height, samples, filmBytes + oddBytes);
+    if (control.resume) {
+        std::memcpy(film.data(), control.resume->film.data(), filmBytes);
+        std::memcpy(oddSums.data(), control.resume->film.data() + filmBytes, oddBytes);
+    }
     std::atomic<uint64_t> nonFinite{0}, fireflies{0}, closestRays{0}, shadowRays{0},
         rejectedLightSamples{0};
 
@@ -159,18 +168,23 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
     wavefront::SampleSchedule schedule(s, samples, before, pixels);
     auto statistics = [&] {
         std::vector<wavefront::PixelStatistics> stats(pixels);
-        for (size_t i = 0; i < pixels; ++i)
+        for (size_t i = 0; i < pixels; ++i) {
             for (int c = 0; c < 3; ++c) {
                 const wavefront::PixelEstimate e = wavefront::estimatePixel(
                     film[i].sum[c], film[i].sumSquares[c], schedule.samplesOf(i));
                 stats[i].mean[c] = e.mean;
                 stats[i].varianceOfMean[c] = e.varianceOfMean;
             }
+            if (!oddSums.empty())
+                stats[i].streamVarianceOfMean = wavefront::streamVarianceOfMean(
+                    film[i].sum, oddSums[i], samples.first, schedule.samplesOf(i));
+        }
         return stats;
     };
     auto state = [&](double seconds) {
-        std::vector<std::byte> bytes(film.size() * sizeof(PixelSums));
-        std::memcpy(bytes.data(), film.data(), bytes.size());
+        std::vector<std::byte> bytes(filmBytes + oddBytes);
+        std::memcpy(bytes.data(), film.data(), filmBytes);
+        std::memcpy(bytes.data() + filmBytes, oddSums.data(), oddBytes);
         const wavefront::RunTally run{
             nonFinite,    fireflies, rejectedLightSamples, {closestRays, shadowRays},
             result.waves, seconds};
@@ -203,9 +217,9 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
                         // 64-bit: the range may end at 2^32 itself.
                         const uint64_t first = uint64_t(samples.first) + schedule.samplesOf(pixel);
                         for (uint64_t sample = first; sample < first + chunk; ++sample)
-                            accumulate(film[pixel],
+                            accumulate(film[pixel], oddSums.empty() ? nullptr : &oddSums[pixel],
                                        tracePath(pixel, uint32_t(sample), rays, rejected), info,
-                                       counts);
+                                       counts, sample);
                     }
                 rejectedLightSamples += rejected;
                 nonFinite += counts.dropped;

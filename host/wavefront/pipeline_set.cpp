@@ -18,7 +18,8 @@ std::span<const std::byte> bytes(const shared::WavePush& p) {
 
 PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
                          std::map<uint32_t, const vk::Buffer*> bindings,
-                         const std::vector<vk::Buffer>& film, vk::Buffer& counters)
+                         const std::vector<vk::Buffer>& film,
+                         const std::vector<vk::Buffer>& filmOdd, vk::Buffer& counters)
     : m_setup(setup) {
     const vk::KernelOptions options{.workgroupSize = setup.workgroupSize};
     vk::KernelOptions sceneOptions = options;
@@ -33,11 +34,13 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
                                             .specialization = {{1, setup.workgroupSize}}};
     m_queueDispatch = build("queue_dispatch", dispatchOptions, m_queueDispatchSet);
     m_accumulate = std::make_unique<vk::Kernel>(context, "accumulate", options);
-    for (const vk::Buffer& window : film) {
-        bindings[VKP_WF_FILM] = &window;
+    const std::map<uint32_t, const vk::Buffer*> whole = bindings;
+    for (size_t i = 0; i < film.size(); ++i) {
+        bindings[VKP_WF_FILM] = &film[i];
+        if (!filmOdd.empty()) bindings[VKP_WF_FILM_ODD] = &filmOdd[i];
         m_accumulateSets.push_back(m_accumulate->bindDeclared(bindings));
     }
-    bindings[VKP_WF_FILM] = &film.front();
+    bindings = whole;
     m_built.emplace_back(m_accumulate.get(), &m_accumulateSets.front());
     if (setup.form == KernelForm::Megakernel) {
         m_megakernel = build("megakernel", sceneOptions, m_megakernelSet);

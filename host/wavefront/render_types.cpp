@@ -24,6 +24,10 @@ const char* kernelFormName(KernelForm form) {
     return form == KernelForm::Megakernel ? "megakernel" : "wavefront";
 }
 
+uint32_t sampleStreams(const RenderSettings& settings) {
+    return settings.targetError && settings.sampler == SamplerKind::Sobol ? 2 : 1;
+}
+
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings) {
     shared::SceneInfo info = tables.info;
     info.lightSamples = tables.lights.empty() ? 0 : settings.lightSamples;
@@ -39,6 +43,7 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.guideFraction = info.guideSphereCount > 0 ? settings.guideFraction : 0.0f;
     // A firefly: one sample that alone adds more than 1 (display white) to its pixel's mean.
     info.fireflyThreshold = float(settings.samplesPerPixel);
+    info.sampleStreams = sampleStreams(settings);
     return info;
 }
 

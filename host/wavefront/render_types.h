@@ -99,6 +99,10 @@ struct RenderSettings {
     uint32_t filmWindowPixels = 0;
     uint32_t threads = 0;  // CPU reference: worker threads, 0 = every hardware thread
 };
+// The sample streams of a render (shared::SceneInfo::sampleStreams): 2 for a
+// target error with the Sobol' sampler, whose error only two independent
+// randomisations measure (sample_schedule.h streamVarianceOfMean), else 1.
+uint32_t sampleStreams(const RenderSettings& settings);
 
 // Samples [first, first + count) of every pixel. Random numbers are keyed by
 // sample index, so renders of disjoint ranges are independent, and ranges

@@ -47,12 +47,25 @@ struct GpuRenderer::Resources {
     // binding and one dispatch (shared/wavefront.h WavePush.filmFirstPixel).
     uint32_t filmWindowPixels = 0;
     std::vector<vk::Buffer> film;
+    // With two sample streams: the odd stream's sums, in the same windows;
+    // else oddPlaceholder is bound (accumulate may write the binding, so it
+    // shares no buffer with a binding read elsewhere).
+    std::vector<vk::Buffer> filmOdd;
+    vk::Buffer oddPlaceholder;
     PathBuffers paths;
     std::unique_ptr<PipelineSet> pipelines;
 
-    uint64_t filmBytes() const {
+    // The buffers of the film's state (RenderState::film), in its order: the
+    // windows in pixel order, then the odd stream's.
+    std::vector<vk::Buffer*> filmState() {
+        std::vector<vk::Buffer*> buffers;
+        for (vk::Buffer& window : film) buffers.push_back(&window);
+        for (vk::Buffer& window : filmOdd) buffers.push_back(&window);
+        return buffers;
+    }
+    uint64_t filmBytes() {
         uint64_t bytes = 0;
-        for (const vk::Buffer& window : film) bytes += window.size();
+        for (const vk::Buffer* buffer : filmState()) bytes += buffer->size();
         return bytes;
     }
 };
@@ -93,8 +106,14 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
         const uint64_t windowPixels = std::min<uint64_t>(r->filmWindowPixels, pixels - first);
         r->film.emplace_back(context, windowPixels * sizeof(shared::FilmPixel),
                              vk::MemoryKind::DeviceLocal, "film");
+        if (info.sampleStreams == 2)
+            r->filmOdd.emplace_back(context, windowPixels * sizeof(shared::FilmStreamPixel),
+                                    vk::MemoryKind::DeviceLocal, "filmOdd");
     }
     r->placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
+    if (r->filmOdd.empty())
+        r->oddPlaceholder = vk::Buffer(context, sizeof(shared::FilmStreamPixel),
+                                       vk::MemoryKind::DeviceLocal, "film odd placeholder");
     if (settings.adaptive)
         r->pixelList = vk::Buffer(context, pixels * sizeof(glm::uvec2), vk::MemoryKind::DeviceLocal,
                                   "pixelList");
@@ -109,6 +128,7 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
         {VKP_WF_COUNTERS, &r->counters},
         {VKP_WF_FILM, &r->film.front()},
         {VKP_WF_PIXEL_LIST, settings.adaptive ? &r->pixelList : &r->placeholder},
+        {VKP_WF_FILM_ODD, r->filmOdd.empty() ? &r->oddPlaceholder : &r->filmOdd.front()},
     };
     for (const auto& [binding, buffer] : m_scene.bindings()) bindings[binding] = buffer;
     bindPathBuffers(r->paths, r->placeholder, bindings);
@@ -120,7 +140,8 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
                         .sceneSpecialization = {bvh::sceneAccessConstant(m_scene.byAddress),
                                                 {VKP_SPEC_FEATURES, m_features}},
                         .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation};
-    r->pipelines = std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->counters);
+    r->pipelines =
+        std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->filmOdd, r->counters);
     m_pipelines = r->pipelines->count();
     m_pipelineMilliseconds =
         std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -181,12 +202,12 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         resumedState(control, GPU_FILM_FORMAT, s.width, s.height, samples, r.filmBytes());
     if (control.resume) {  // its film goes to the device
         size_t offset = 0;
-        for (vk::Buffer& window : r.film) {
-            window.upload(std::span(control.resume->film).subspan(offset, window.size()));
-            offset += window.size();
+        for (vk::Buffer* buffer : r.filmState()) {
+            buffer->upload(std::span(control.resume->film).subspan(offset, buffer->size()));
+            offset += buffer->size();
         }
     } else {
-        for (vk::Buffer& window : r.film) window.clear();
+        for (vk::Buffer* buffer : r.filmState()) buffer->clear();
     }
     r.counters.clear();
     result.priorSeconds = before.seconds;
@@ -205,12 +226,12 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
         schedule.store(now);
         return now;
     };
-    auto filmBytes = [&] {  // the windows, one after another: the film in pixel order
+    auto filmBytes = [&] {  // the film's state (Resources::filmState)
         std::vector<std::byte> film(r.filmBytes());
         size_t offset = 0;
-        for (const vk::Buffer& window : r.film) {
-            window.download(std::span(film).subspan(offset, window.size()));
-            offset += window.size();
+        for (const vk::Buffer* buffer : r.filmState()) {
+            buffer->download(std::span(film).subspan(offset, buffer->size()));
+            offset += buffer->size();
         }
         return film;
     };
@@ -230,6 +251,14 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
                 const PixelEstimate e = estimatePixel(sum, sumSquares, schedule.samplesOf(i));
                 stats[i].mean[c] = e.mean;
                 stats[i].varianceOfMean[c] = e.varianceOfMean;
+            }
+            if (!r.filmOdd.empty()) {
+                shared::FilmStreamPixel odd;
+                std::memcpy(&odd, film.data() + pixels * sizeof(f) + i * sizeof(odd), sizeof(odd));
+                const glm::dvec3 oddSum = glm::dvec3(odd.sum) - glm::dvec3(odd.sumCompensation);
+                stats[i].streamVarianceOfMean =
+                    streamVarianceOfMean(stats[i].mean * double(schedule.samplesOf(i)), oddSum,
+                                         samples.first, schedule.samplesOf(i));
             }
         }
         return stats;

@@ -44,15 +44,35 @@ namespace vkpath::wavefront {
 struct PixelStatistics {
     glm::dvec3 mean{0.0};
     glm::dvec3 varianceOfMean{0.0};
+    // With two sample streams (SceneInfo::sampleStreams): the variance of the
+    // mean from the difference of the streams' means (streamVarianceOfMean),
+    // which the error estimate takes instead of varianceOfMean.
+    std::optional<glm::dvec3> streamVarianceOfMean;
 };
+
+// The variance of a pixel's mean from its two streams, per channel: `sum` of
+// its `samples` samples from index `first` on, `oddSum` of the odd-indexed
+// ones. Owen-scrambled Sobol' points are not independent, so their sample
+// variance overstates the error of their mean (4x at 256 spp on the diffuse
+// box: docs/ACCURACY.md); two independent randomisations are, and for means
+// m_e, m_o of n_e, n_o samples E[(m_e - m_o)^2] n_e n_o / n^2 is the
+// variance of the whole mean (exact for independent samples, and for nets
+// whose variance falls as a power of n when n_e = n_o). nullopt when one
+// stream has no sample.
+std::optional<glm::dvec3> streamVarianceOfMean(const glm::dvec3& sum, const glm::dvec3& oddSum,
+                                               uint32_t first, uint32_t samples);
 
 // The image's relMSE as `vkpath compare` measures it against the truth b
 // (mean over pixels and channels of (a - b)^2 / (b^2 + 0.01)), estimated
-// from each pixel's variance of its mean: E[(a - b)^2] = Var(a) for an
-// unbiased a. b is the pixel's own mean clamped to the range of its eight
-// neighbours' means: a firefly that lifts a pixel's variance lifts its mean
-// with it, so with its own mean the term would stay near 1 however far the
-// pixel is from the truth; a pixel on an edge keeps its own.
+// from each pixel's variance of its mean (from its two streams where it has
+// them): E[(a - b)^2] = Var(a) for an unbiased a. b is the smaller of the
+// pixel's own mean clamped to the range of its eight neighbours' means and
+// their mean, but not below two standard errors under its own mean
+// (relMseDenominators): a rare bright path that lifts a pixel's variance
+// lifts its own mean with it, so with its own mean the term would stay small
+// however far the pixel is from the truth; the neighbours' mean is free of
+// its samples, and a pixel on an edge keeps its own. docs/ACCURACY.md
+// measures the estimate against deep references.
 double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height);
 
 // The render's image, its variance AOV and its estimated relMSE from the
@@ -67,12 +87,17 @@ std::vector<glm::dvec3> relMseDenominators(const std::vector<PixelStatistics>& p
 // What the next pass of an adaptive render is, from the film's statistics,
 // each pixel's sample count and the most samples a pixel may take
 // (`maxSamples`); with `targetError`, the pixels the allocation for that
-// relMSE still needs, and as many rounds as the estimate needs to reach it.
+// relMSE still needs, and as many rounds as the estimate needs to reach it,
+// each pixel's term falling as n^-decay (errorDecay).
 // nullopt: every pixel is at `maxSamples`.
 std::optional<SamplePass> planAdaptivePass(const std::vector<PixelStatistics>& pixels,
                                            const std::vector<uint32_t>& samples, uint32_t width,
                                            uint32_t height, uint32_t maxSamples,
-                                           std::optional<double> targetError);
+                                           std::optional<double> targetError, double decay);
+
+// The steepest the error falls with the samples n, as n^-b: 1 for the
+// independent sampler, 3 for Sobol' points (sample_schedule.cpp).
+double errorDecay(const RenderSettings& settings);
 
 class SampleSchedule {
   public:
@@ -114,7 +139,6 @@ class SampleSchedule {
     uint32_t m_uniformSamples = 0;         // every pixel's, while sampling is uniform
     std::vector<uint32_t> m_pixelSamples;  // per pixel, once adaptive passes have begun
     std::optional<SamplePass> m_pass;      // in progress (roundsLeft > 0)
-    uint32_t m_nextCheck = 0;              // uniform: the spp at which to measure the error
     std::optional<double> m_lastEstimate;
     bool m_reachedTarget = false;
 };

@@ -60,7 +60,8 @@ uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelFor
     if (!s.maxDeviceMemoryBytes) return UINT64_MAX;
     const uint64_t pixels = uint64_t(s.width) * s.height;
     const uint64_t taken =
-        sceneBytes + pixels * (sizeof(shared::FilmPixel) + (s.adaptive ? sizeof(glm::uvec2) : 0));
+        sceneBytes + pixels * (sizeof(shared::FilmPixel) + (s.adaptive ? sizeof(glm::uvec2) : 0) +
+                               (sampleStreams(s) == 2 ? sizeof(shared::FilmStreamPixel) : 0));
     const uint64_t left = *s.maxDeviceMemoryBytes - std::min(taken, *s.maxDeviceMemoryBytes);
     const uint64_t fewest = std::min<uint64_t>(s.workgroupSize, pixels * s.samplesPerPixel);
     if (left / pathStateBytes(form, shadowSamples) < fewest)

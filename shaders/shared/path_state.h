@@ -36,8 +36,18 @@ struct PathTally {
 };
 
 // The key of path `sampleIndex` of `pixel`: every random number it draws.
+// The odd stream's seed is the render's seed with these bits flipped.
+#define VKP_ODD_STREAM_SEED 0x9e3779b9u
+
 VKP_FN RngKey pathRngKey(VKP_IN(SceneInfo) info, uint pixel, uint sampleIndex) {
-    return makeRngKey(pixel, sampleIndex, info.seed, featureSampler(info.samplerKind));
+    // Two streams (SceneInfo::sampleStreams): index i is sample i / 2 of the
+    // randomisation seeded by seed (i even) or by another seed (i odd).
+    uint seed = info.seed;
+    if (info.sampleStreams == 2u) {
+        seed ^= (sampleIndex & 1u) * VKP_ODD_STREAM_SEED;
+        sampleIndex >>= 1u;
+    }
+    return makeRngKey(pixel, sampleIndex, seed, featureSampler(info.samplerKind));
 }
 
 // SceneInfo::lightSamples, a constant when the kernel's features fix it

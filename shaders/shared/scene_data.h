@@ -42,12 +42,17 @@ struct SceneInfo {
                              // sampleGuidedDiffuse); their (centre, radius) follow the SceneInfo in
                              // its buffer
     float guideFraction;     // the share of a guided vertex's samples drawn toward the spheres
+    // 2: even and odd sample indices are two independent randomisations of
+    // the sampler (shared/path_state.h pathRngKey), whose means' difference
+    // measures a render's error where the sample variance cannot (Sobol'
+    // points are not independent); 1: one (wavefront/sample_schedule.h).
+    uint sampleStreams;
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 104);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 108);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

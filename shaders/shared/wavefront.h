@@ -44,6 +44,7 @@
     29  // MaterialAlpha[materials] (shared/alpha.h), when SceneInfo::alphaTested
 #define VKP_WF_PIXEL_LIST \
     30  // uvec2[entries]: an adaptive pass's pixels (ascending) and each one's first sample index
+#define VKP_WF_FILM_ODD 31  // FilmStreamPixel[width height]: the odd stream's sums (two streams)
 
 VKP_NAMESPACE_BEGIN
 
@@ -88,6 +89,13 @@ struct FilmPixel {
     vec3 sumSquaresCompensation;
 };
 
+// With two sample streams (SceneInfo::sampleStreams), the sum of each
+// pixel's odd-indexed samples beside FilmPixel's sum of all of them.
+struct FilmStreamPixel {
+    vec3 sum;
+    vec3 sumCompensation;
+};
+
 // A wave is `pathCount` consecutive paths in (sample index, pixel) order,
 // starting at pixel firstPixel of sample firstSample: path slot s is pixel
 // (firstPixel + s) % pixels of sample firstSample + (firstPixel + s) / pixels
@@ -130,6 +138,7 @@ VKP_NAMESPACE_END
 static_assert(sizeof(vkpath::shared::PathVertex) == 20);
 static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
+static_assert(sizeof(vkpath::shared::FilmStreamPixel) == 24);
 static_assert(sizeof(vkpath::shared::WavePush) == 32);
 #endif
 

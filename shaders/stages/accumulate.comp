@@ -16,6 +16,8 @@ layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { Sc
 layout(binding = VKP_WF_RADIANCE, scalar) readonly buffer RadianceBuffer { vec3 radiance[]; };
 layout(binding = VKP_WF_COUNTERS, scalar) buffer CounterBuffer { QueueCounters counters; };
 layout(binding = VKP_WF_FILM, scalar) buffer FilmBuffer { FilmPixel film[]; };
+// The window's odd-stream sums (two sample streams), parallel to the film's.
+layout(binding = VKP_WF_FILM_ODD, scalar) buffer FilmOddBuffer { FilmStreamPixel filmOdd[]; };
 
 // By bit pattern: a compiler may fold isnan()/isinf() away under fast-math
 // assumptions; exponent all ones means NaN or infinity.
@@ -35,14 +37,20 @@ void kahanAdd(inout vec3 sum, inout vec3 compensation, vec3 value) {
 }
 
 // Adds the wave's paths at linear positions first, first + stride, ...
-// (below the wave's end) to film[slot], in order.
-void accumulatePixel(uint slot, uint first, uint stride) {
+// (below the wave's end) to film[slot], in order; with two sample streams
+// the odd-indexed ones also to filmOdd[slot]. The path at `first` has sample
+// index firstIndex, and each next one the index after.
+void accumulatePixel(uint slot, uint first, uint stride, uint firstIndex) {
     uint end = push.firstPixel + push.pathCount;
     if (first >= end) return;
+    bool streams = info.sampleStreams == 2u;
+    FilmStreamPixel odd;
+    if (streams) odd = filmOdd[slot];
+    uint index = firstIndex;
     FilmPixel f = film[slot];
     uint dropped = 0u;
     uint fireflies = 0u;
-    for (uint linear = first; linear < end; linear += stride) {
+    for (uint linear = first; linear < end; linear += stride, ++index) {
         vec3 l = radiance[linear - push.firstPixel];
         if (!finiteBits(l)) {
             dropped++;
@@ -63,8 +71,10 @@ void accumulatePixel(uint slot, uint first, uint stride) {
             continue;
         }
         f = next;
+        if (streams && (index & 1u) == 1u) kahanAdd(odd.sum, odd.sumCompensation, l);
     }
     film[slot] = f;
+    if (streams) filmOdd[slot] = odd;
     if (dropped > 0u) atomicAdd(counters.nonFinite, dropped);
     if (fireflies > 0u) atomicAdd(counters.fireflies, fireflies);
 }
@@ -81,7 +91,8 @@ void main() {
         uint slot = pixelList[entry].x - push.filmFirstPixel;  // wraps below the window
         if (slot >= film.length()) return;
         uint length = push.pixelListLength;
-        accumulatePixel(slot, push.firstPixel + (entry + length - push.firstPixel % length) % length, length);
+        uint first = push.firstPixel + (entry + length - push.firstPixel % length) % length;
+        accumulatePixel(slot, first, length, pixelList[entry].y + push.firstSample + first / length);
         return;
     }
     uint slot = gl_GlobalInvocationID.x;
@@ -92,5 +103,6 @@ void main() {
     // The wave holds the paths of linear positions [firstPixel, firstPixel +
     // pathCount) from its first sample (shared/wavefront.h wavePathOf); this
     // pixel's are those congruent to it modulo the pixel count.
-    accumulatePixel(slot, push.firstPixel + (pixel + pixels - push.firstPixel) % pixels, pixels);
+    uint first = push.firstPixel + (pixel + pixels - push.firstPixel) % pixels;
+    accumulatePixel(slot, first, pixels, push.firstSample + first / pixels);
 }

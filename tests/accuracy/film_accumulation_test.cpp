@@ -36,7 +36,8 @@ Accumulated accumulate(const std::vector<glm::vec3>& waveRadiance, uint32_t wave
     vk::Buffer radiance = vk::Buffer::fromSpan(context, std::span(waveRadiance));
     vk::Buffer counters(context, sizeof(shared::QueueCounters));
     vk::Buffer film(context, sizeof(shared::FilmPixel));
-    vk::Buffer noPixelList(context, sizeof(glm::uvec2));  // a uniform pass reads no list
+    // A uniform pass of one stream reads no pixel list and no odd film.
+    vk::Buffer noPixelList(context, sizeof(glm::uvec2));
     counters.clear();
     film.clear();
     vk::Kernel kernel(context, "accumulate");
@@ -44,7 +45,8 @@ Accumulated accumulate(const std::vector<glm::vec3>& waveRadiance, uint32_t wave
                                          {VKP_WF_RADIANCE, &radiance},
                                          {VKP_WF_COUNTERS, &counters},
                                          {VKP_WF_FILM, &film},
-                                         {VKP_WF_PIXEL_LIST, &noPixelList}});
+                                         {VKP_WF_PIXEL_LIST, &noPixelList},
+                                         {VKP_WF_FILM_ODD, &noPixelList}});
     // Every wave in one command buffer, in order, as the renderer records them.
     context.submit([&](VkCommandBuffer cmd) {
         for (uint32_t w = 0; w < waves; ++w) {

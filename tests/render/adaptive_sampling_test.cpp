@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include "image/metrics.h"
 #include "image/statistics.h"
@@ -46,7 +47,7 @@ TEST(AdaptivePlan, SamplesWhereTheVarianceIsAndNowhereElse) {
         film(width, height, n, [](uint32_t x, uint32_t) { return x < 8 ? 1 : 1e-6; });
     const std::vector<uint32_t> samples(stats.size(), n);
     const auto pass =
-        wavefront::planAdaptivePass(stats, samples, width, height, 1024, std::nullopt);
+        wavefront::planAdaptivePass(stats, samples, width, height, 1024, std::nullopt, 1);
     ASSERT_TRUE(pass);
     // Every noisy pixel and no quiet one (the column beside the noisy ones,
     // widened by its 3x3 neighbourhood to a third of their variance, is
@@ -73,7 +74,8 @@ TEST(AdaptivePlan, WithATargetOnlyThePixelsShortOfItsAllocation) {
         samples[p] = p % width < 8 ? 16 : 200;
         stats[p].varianceOfMean /= samples[p];
     }
-    const auto pass = wavefront::planAdaptivePass(stats, samples, width, height, 1u << 20, target);
+    const auto pass =
+        wavefront::planAdaptivePass(stats, samples, width, height, 1u << 20, target, 1);
     ASSERT_TRUE(pass);
     ASSERT_EQ(pass->pixels.size(), stats.size() / 2);
     for (uint32_t p : pass->pixels) EXPECT_LT(p % width, 8u);
@@ -89,12 +91,13 @@ TEST(AdaptivePlan, NoPixelPastItsMostSamples) {
     const auto stats = film(width, height, 16, [](uint32_t x, uint32_t) { return 1.0 + x; });
     std::vector<uint32_t> samples(stats.size(), 16);
     samples[5] = 20;  // at its most
-    const auto pass = wavefront::planAdaptivePass(stats, samples, width, height, 20, std::nullopt);
+    const auto pass =
+        wavefront::planAdaptivePass(stats, samples, width, height, 20, std::nullopt, 1);
     ASSERT_TRUE(pass);
     EXPECT_LE(pass->rounds, 4u);
     EXPECT_EQ(std::count(pass->pixels.begin(), pass->pixels.end(), 5u), 0);
     samples.assign(stats.size(), 20);
-    EXPECT_FALSE(wavefront::planAdaptivePass(stats, samples, width, height, 20, std::nullopt));
+    EXPECT_FALSE(wavefront::planAdaptivePass(stats, samples, width, height, 20, std::nullopt, 1));
 }
 
 // The estimate is compare's relMSE with each squared error replaced by its
@@ -114,6 +117,55 @@ TEST(AdaptivePlan, EstimateIsCompareRelMseOfTheVariance) {
         }
     const double relMse = image::compareImages(a, truth).overall.relMse;
     EXPECT_NEAR(wavefront::estimatedRelMse(stats, 4, 3), relMse, 1e-9 * relMse);
+}
+
+// With two streams the estimate takes each pixel's variance from their
+// difference: n_e n_o / n^2 (m_e - m_o)^2, which for independent streams
+// has the variance of the whole mean as its expectation. Checked exactly on
+// sums, for a range starting at an odd index (the even stream is then one
+// sample short), and averaged over many independent pixels.
+TEST(AdaptivePlan, StreamVarianceIsTheVarianceOfTheWholeMean) {
+    // Samples 3..9 (7 of them): odd indices 3, 5, 7, 9 sum to 4 x 2,
+    // even ones 4, 6, 8 to 3 x 5.
+    const auto v = wavefront::streamVarianceOfMean(glm::dvec3(8 + 15), glm::dvec3(8), 3, 7);
+    ASSERT_TRUE(v);
+    EXPECT_NEAR(v->x, (5.0 - 2.0) * (5.0 - 2.0) * 4 * 3 / 49.0, 1e-12);
+    EXPECT_FALSE(wavefront::streamVarianceOfMean(glm::dvec3(1), glm::dvec3(0), 4, 1));
+    // 40000 pixels of 16 exponential samples of mean 1: the streams' estimate
+    // averages to the mean's variance 1/16 (its standard error, from the
+    // fourth moment of the streams' difference, is 0.77%: 3.1% is 4 of them).
+    std::mt19937 random(3);
+    std::exponential_distribution<double> sample(1.0);
+    double sum = 0;
+    const int pixels = 40000;
+    for (int p = 0; p < pixels; ++p) {
+        double all = 0, odd = 0;
+        for (int i = 0; i < 16; ++i) {
+            const double x = sample(random);
+            all += x;
+            if (i & 1) odd += x;
+        }
+        sum += wavefront::streamVarianceOfMean(glm::dvec3(all), glm::dvec3(odd), 0, 16)->x;
+    }
+    EXPECT_NEAR(sum / pixels * 16, 1.0, 0.031);
+}
+
+// A pixel whose mean a rare bright path lifted (here 4x its neighbours,
+// within their range's top but far above their mean) is measured against
+// its neighbours' mean, which its samples do not move: its term is the
+// variance over that mean squared, not over its own.
+TEST(AdaptivePlan, EstimateMeasuresAnOutlierAgainstItsNeighboursMean) {
+    std::vector<PixelStatistics> stats(9);
+    for (PixelStatistics& s : stats) {
+        s.mean = glm::dvec3(0.5);
+        s.varianceOfMean = glm::dvec3(0.0);
+    }
+    stats[0].mean = glm::dvec3(2.0);  // a corner neighbour: the range reaches 2
+    stats[4].mean = glm::dvec3(2.0);  // the centre, lifted by one path
+    stats[4].varianceOfMean = glm::dvec3(1.0);
+    const double neighbours = (2.0 + 7 * 0.5) / 8;
+    const double expected = 1.0 / (neighbours * neighbours + image::RELMSE_EPSILON) / 9;
+    EXPECT_NEAR(wavefront::estimatedRelMse(stats, 3, 3), expected, 1e-12 * expected);
 }
 
 scene::Scene box() {
@@ -231,25 +283,55 @@ double trueRelMse(const wavefront::RenderResult& result, const wavefront::Render
 }
 
 // The estimate a render stops at is its error: the true relMSE at the stop
-// within +-25% of the target (the bound), uniform and adaptive, on
-// the box with its caustics. Measured 1.03 and 1.16 times the target (54 and
-// 47.9 spp); docs/ACCURACY.md, "Stopping at an error and adaptive sampling".
-TEST(TargetError, TrueErrorAtTheStopIsTheTarget) {
-    const scene::Scene scene = box();
-    const uint32_t width = 64, height = 48;
+// within +-25% of the target (the bound), uniform and adaptive, as
+// the median of three seeds: at these sizes a few pixels (a lamp's edge, a
+// caustic's) hold much of the error, and the true error at the stop varies
+// by up to +-40% between seeds while the estimate says the target (on the
+// diffuse box at 96x72: 0.74, 1.39, 0.85 and 1.00 of it). On the box with
+// its caustics and on the diffuse box, where the Sobol' points' sample
+// variance is 2.3 to 2.9 times their error and the two streams measure it
+// (docs/ACCURACY.md, "Stopping at an error and adaptive sampling").
+struct StopCase {
+    const char* scene;
+    double target;
+    uint32_t width, height;
+};
+
+class TargetErrorOn : public testing::TestWithParam<StopCase> {};
+
+TEST_P(TargetErrorOn, TrueErrorAtTheStopIsTheTarget) {
+    const scene::Scene scene = scene::loadScene(test::sourcePath(GetParam().scene));
+    const uint32_t width = GetParam().width, height = GetParam().height;
+    const double target = GetParam().target;
     const auto ref = reference(scene, width, height);
     for (const bool adaptive : {false, true}) {
-        const double target = 1e-2;
-        wavefront::RenderSettings s = adaptiveSettings(width, height, target);
-        s.adaptive = adaptive;
-        const auto r = wavefront::GpuRenderer(test::context(), scene, s).render();
-        EXPECT_TRUE(r.reachedTarget);
-        EXPECT_LE(*r.estimatedRelMse, target);
-        const double truth = trueRelMse(r, ref);
-        EXPECT_GT(truth, 0.75 * target) << (adaptive ? "adaptive" : "uniform");
-        EXPECT_LT(truth, 1.25 * target) << (adaptive ? "adaptive" : "uniform");
+        std::vector<double> ratios;
+        for (const uint32_t seed : {1u, 2u, 3u}) {
+            wavefront::RenderSettings s = adaptiveSettings(width, height, target);
+            s.adaptive = adaptive;
+            s.seed = seed;
+            const auto r = wavefront::GpuRenderer(test::context(), scene, s).render();
+            EXPECT_TRUE(r.reachedTarget);
+            EXPECT_LE(*r.estimatedRelMse, target);
+            ratios.push_back(trueRelMse(r, ref) / target);
+        }
+        std::sort(ratios.begin(), ratios.end());
+        const std::string what = std::string(adaptive ? "adaptive" : "uniform") + ": " +
+                                 std::to_string(ratios[0]) + ", " + std::to_string(ratios[1]) +
+                                 ", " + std::to_string(ratios[2]);
+        RecordProperty(adaptive ? "adaptive" : "uniform", what);
+        EXPECT_GT(ratios[1], 0.75) << what;
+        EXPECT_LT(ratios[1], 1.25) << what;
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Scenes, TargetErrorOn,
+                         testing::Values(StopCase{"assets/cornell_box.gltf", 1e-2, 64, 48},
+                                         StopCase{"assets/cornell_box_diffuse.gltf", 1e-3, 96, 72}),
+                         [](const testing::TestParamInfo<StopCase>& param) {
+                             return param.index == 0 ? std::string("CausticBox")
+                                                     : std::string("DiffuseBox");
+                         });
 
 // Adaptive decisions come from the samples they average, which can bias a
 // pixel; the image stays within its noise of the truth: block z-tests
