@@ -194,8 +194,11 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
     settings["env-rotate"] = optional(o.environmentRotation);
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
     // Which samples each pixel takes (the target error says how many, and
-    // with the Sobol' sampler that they come in two streams).
-    settings["sample-streams"] = wavefront::sampleStreams(renderSettings(o, 1));
+    // with the Sobol' sampler that they come in two streams; recorded only
+    // then, so that renders of one stream resume checkpoints from builds
+    // before streams).
+    if (const uint32_t streams = wavefront::sampleStreams(renderSettings(o, 1)); streams != 1)
+        settings["sample-streams"] = streams;
     settings["adaptive"] = o.adaptive ? nlohmann::ordered_json{{"warmup", o.adaptiveWarmup}}
                                       : nlohmann::ordered_json("off");
     settings["estimator"] = VKP_ESTIMATOR_VERSION;
