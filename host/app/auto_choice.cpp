@@ -48,6 +48,7 @@ std::string describeAutoChoice(const AutoChoice& c) {
         line += fmt::format(", kernel {}{}, paths {}{}", c.kernel, sourceNote(c, "kernel"),
                             pathCount(c.pathsInFlight), sourceNote(c, "paths-in-flight"));
     if (c.resumed) return line + " (the checkpoint's choice)";
+    if (c.pilotRenders == 0) return line + " (no pilots: " + c.skipped + ")";
     const double share = c.budgetSeconds > 0 ? 100 * c.pilotSeconds / c.budgetSeconds : 0;
     line += fmt::format(" (pilots {:.3g} s, {:.1f}% of the budget {:.3g} s, {} renders{}",
                         c.pilotSeconds, share, c.budgetSeconds, c.pilotRenders,

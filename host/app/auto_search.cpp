@@ -86,12 +86,18 @@ constexpr double FEWEST_PILOT_PATHS = 2048;
 // paths (about 10^4 paths' worth on lavapipe).
 constexpr uint64_t CALIBRATION_PIXELS = 4096;
 constexpr double CALIBRATION_PATHS = 65536;
+// ... and at most this share of the render's paths (-s) or time budget.
+constexpr double CALIBRATION_SHARE = 0.01;
+// A render whose 5% holds fewer paths than this (the incumbent's pair and a
+// few comparisons of FEWEST_PILOT_PATHS) is not measured at all.
+constexpr double FEWEST_RENDER_SHARE_PATHS = 8 * 2 * FEWEST_PILOT_PATHS;
 // Pixels a comparison pilot has before its spp grow (Search::run, step 3).
 constexpr uint64_t PILOT_PIXELS = 1024;
-// The variance knobs in the order they are searched, with the comparisons
-// each is planned to take (light samples: 2 and 4, rarely 8).
+// The variance knobs in the order they are searched, with the pilot pairs
+// each is planned to take, in the incumbent's pairs' cost (light samples: 2
+// and 4 per vertex, about 1.5 and 2.5 times a path with one; rarely 8).
 constexpr std::pair<const char*, int> VARIANCE_KNOBS[] = {
-    {"sampler", 1}, {"light-samples", 2}, {"guide-spheres", 2}, {"rr-depth", 2}};
+    {"sampler", 1}, {"light-samples", 4}, {"guide-spheres", 2}, {"rr-depth", 2}};
 
 // A pilot seed: a hash of the render's seed and the pilot's number, never the
 // render's seed itself.
@@ -174,12 +180,17 @@ class Search {
             pilot(settingsOf(k, m_film, m_spp, pilotSeed(m_request.base.seed, 1)));
         const PilotRender b =
             pilot(settingsOf(k, m_film, m_spp, pilotSeed(m_request.base.seed, 2)));
-        // Per pixel: the error of a pixel does not depend on how many there
-        // are, so pilots of different films compare (replan).
-        const double pixels = double(m_film.pixels());
-        return measurePair(a.image, b.image, a.seconds / pixels, b.seconds / pixels);
+        m_measuredWall = (a.seconds + b.seconds) / 2;
+        return measurePair(a.image, b.image, a.costSeconds, b.costSeconds);
     }
-    // The comparisons planned from `knob` on (VARIANCE_KNOBS' counts).
+    // The incumbent and the wall seconds of one of its pilots (what the next
+    // pilots' cost is predicted from).
+    void setIncumbent(const PilotMeasurement& m, double wallSeconds) {
+        m_incumbent = m;
+        m_incumbentWall = wallSeconds;
+    }
+    double pilotSeconds() const { return m_incumbentWall; }
+    // The pilot pairs planned from `knob` on (VARIANCE_KNOBS' counts).
     int comparisonsFrom(const char* knob) const {
         int count = 0;
         bool from = false;
@@ -190,17 +201,21 @@ class Search {
         return count;
     }
     // Shrinks the pilots' film (never their spp) so that the comparisons
-    // planned from `knob` on fit what is left of the budget at the
-    // incumbent's cost per pixel (more light samples cost more); false when
-    // they would fall under FEWEST_PILOT_PATHS.
+    // planned from `knob` on, and the incumbent's again on the smaller film
+    // (a pixel's error grows with its footprint: only pilots of one film
+    // compare), fit what is left of the budget at the incumbent's cost per
+    // pixel (more light samples cost more); false when they would fall under
+    // FEWEST_PILOT_PATHS.
     bool replan(const char* knob) {
         const int comparisons = comparisonsFrom(knob);
-        if (comparisons == 0) return true;
-        const double perRender = (m_budget - m_spent) / (2.0 * comparisons) - m_overhead;
-        const double pixels = perRender / m_incumbent.seconds;
-        if (pixels >= double(m_film.pixels())) return true;
+        if (comparisons == 0 || affordable(2 * comparisons * pilotSeconds())) return true;
+        const double perRender = (m_budget - m_spent) / (2.0 * (comparisons + 1)) - m_overhead;
+        const double pixels =
+            perRender / std::max(m_incumbentWall - m_overhead, 1e-9) * double(m_film.pixels());
         if (pixels * m_spp < FEWEST_PILOT_PATHS) return false;
         m_film = filmOf(pixels, m_request.base.width, m_request.base.height);
+        const PilotMeasurement m = measure(m_best);
+        setIncumbent(m, m_measuredWall);
         return true;
     }
     // Whether `seconds` more of pilots stay within the budget.
@@ -236,7 +251,9 @@ class Search {
     const PilotRenderer& m_render;
     AutoChoice m_choice;
     Knobs m_best{};
-    PilotMeasurement m_incumbent;
+    PilotMeasurement m_incumbent;  // cost seconds (PilotRender::costSeconds) and error
+    double m_incumbentWall = 0;    // wall seconds of one of its pilots
+    double m_measuredWall = 0;     // of the last pair measured
     Film m_film;
     uint32_t m_spp = 1;
     double m_budget = std::numeric_limits<double>::infinity();
@@ -255,7 +272,7 @@ bool Search::descend(const char* knob, size_t candidates, bool ordered, const Ap
         Knobs k = m_best;
         double costFactor = 1;
         if (!apply(i, k, costFactor)) continue;  // the same render as the incumbent
-        if (!affordable(2 * m_incumbent.seconds * double(m_film.pixels()) * costFactor)) {
+        if (!affordable(2 * pilotSeconds() * costFactor)) {
             if (measured) setSource(knob, KnobSource::Measured);
             return false;
         }
@@ -263,7 +280,7 @@ bool Search::descend(const char* knob, size_t candidates, bool ordered, const Ap
         measured = true;
         if (clearlyMoreEfficient(m, m_incumbent)) {
             m_best = k;
-            m_incumbent = m;
+            setIncumbent(m, m_measuredWall);
         } else if (ordered) {
             break;
         }
@@ -276,14 +293,13 @@ bool Search::chooseKernelForm() {
     if (!searched("kernel")) return true;
     Knobs k = m_best;
     k.form = m_best.form == KernelForm::Megakernel ? KernelForm::Wavefront : KernelForm::Megakernel;
-    if (!affordable(m_incumbent.seconds * double(m_film.pixels()) * 1.5)) return false;
-    const double seconds =
-        pilot(settingsOf(k, m_film, m_spp, pilotSeed(m_request.base.seed, 1))).seconds /
-        double(m_film.pixels());
+    if (!affordable(1.5 * pilotSeconds())) return false;
+    const PilotRender r = pilot(settingsOf(k, m_film, m_spp, pilotSeed(m_request.base.seed, 1)));
     setSource("kernel", KnobSource::Measured);
-    if (clearlyFaster(seconds, m_incumbent.seconds)) {
+    if (clearlyFaster(r.costSeconds, m_incumbent.seconds)) {
         m_best.form = k.form;
-        m_incumbent.seconds = seconds;  // the same image: the same error
+        m_incumbent.seconds = r.costSeconds;  // the same image: the same error
+        m_incumbentWall = r.seconds;
     }
     return true;
 }
@@ -309,8 +325,8 @@ bool Search::choosePathsInFlight() {
         k.paths = candidate;
         const Film whole{base.width, base.height};
         const uint32_t seed = pilotSeed(base.seed, 1);
-        const double incumbent = pilot(settingsOf(m_best, whole, spp, seed)).seconds;
-        const double seconds = pilot(settingsOf(k, whole, spp, seed)).seconds;
+        const double incumbent = pilot(settingsOf(m_best, whole, spp, seed)).costSeconds;
+        const double seconds = pilot(settingsOf(k, whole, spp, seed)).costSeconds;
         measured = true;
         if (clearlyFaster(seconds, incumbent)) m_best.paths = candidate;
     }
@@ -329,7 +345,7 @@ AutoChoice Search::finish(std::string skipped) {
     }
     m_choice.pilotSeconds = m_spent;
     m_choice.setupSeconds = m_setup;
-    m_choice.budgetSeconds = m_budget / BUDGET_SHARE;
+    m_choice.budgetSeconds = std::isfinite(m_budget) ? m_budget / BUDGET_SHARE : 0.0;
     m_choice.pilotRenders = m_renders;
     const std::string last = fmt::format("{}x{} at {} spp", m_film.width, m_film.height, m_spp);
     if (!m_choice.pilotFilm.empty() && last != m_choice.pilotFilm)
@@ -367,18 +383,35 @@ AutoChoice Search::run() {
         {"paths-in-flight", source(r.givenPathsInFlight, r.gpu)},
     };
 
+    // 0. A render of fewer paths than pilots need within 5% of it takes none.
+    const double fullPixels = double(base.width) * base.height;
+    double calibrationPaths = CALIBRATION_PATHS;
+    if (r.spp) {
+        const double renderPaths = fullPixels * *r.spp;
+        if (BUDGET_SHARE * renderPaths < FEWEST_RENDER_SHARE_PATHS)
+            return finish(
+                fmt::format("{:.3g} paths are too few to measure settings within 5% of "
+                            "them: defaults kept",
+                            renderPaths));
+        calibrationPaths = std::min(calibrationPaths, CALIBRATION_SHARE * renderPaths);
+    }
+    // (A time budget's paths are not known before the calibration: its size
+    // assumes at least 1.6 Mpaths/s, lavapipe's least on the suite.)
+    if (r.timeBudget)
+        calibrationPaths = std::min(calibrationPaths, CALIBRATION_SHARE * *r.timeBudget * 1.6e6);
+
     // 1. What a render costs besides its paths (a film of a few pixels, one
     // sample), and the default settings' time per path (calibration).
-    const double fullPixels = double(base.width) * base.height;
     const uint32_t seedA = pilotSeed(base.seed, 1);
     // The least of two: the first render of a process also pays for its start.
     const Film tiny = filmOf(16, base.width, base.height);
     m_overhead = pilot(settingsOf(m_best, tiny, 1, seedA)).seconds;
     m_overhead = std::min(m_overhead, pilot(settingsOf(m_best, tiny, 1, seedA)).seconds);
     const Film calibration =
-        filmOf(std::min(fullPixels, double(CALIBRATION_PIXELS)), base.width, base.height);
+        filmOf(std::min({fullPixels, double(CALIBRATION_PIXELS), calibrationPaths}), base.width,
+               base.height);
     const uint32_t calibrationSpp =
-        uint32_t(std::ceil(CALIBRATION_PATHS / double(calibration.pixels())));
+        uint32_t(std::ceil(calibrationPaths / double(calibration.pixels())));
     const double calibrated = pilot(settingsOf(m_best, calibration, calibrationSpp, seedA)).seconds;
     m_secondsPerPath = std::max(calibrated - m_overhead, 0.1 * calibrated) /
                        (double(calibration.pixels()) * calibrationSpp);
@@ -413,7 +446,8 @@ AutoChoice Search::run() {
     if (m_film.pixels() == uint64_t(fullPixels)) m_spp = powerOfTwoBelow(paths / fullPixels, 256);
 
     // 4. The incumbent: the render's own settings.
-    m_incumbent = measure(m_best);
+    const PilotMeasurement incumbent = measure(m_best);
+    setIncumbent(incumbent, m_measuredWall);
     m_choice.pilotFilm = fmt::format("{}x{} at {} spp", m_film.width, m_film.height, m_spp);
     if (r.targetError) {
         // The time the target implies at the default settings: error falls

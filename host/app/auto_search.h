@@ -25,18 +25,25 @@
 
 namespace vkpath::app {
 
-// One pilot: its image, its render time (the renderer's own loop, seconds)
-// and the time building its renderer took (scene upload, pipelines).
+// One pilot: its image, its render time (the renderer's own loop, wall
+// seconds: what the budget counts), the time settings are compared by, and
+// the time building its renderer took (scene upload, pipelines).
+//
+// The comparison time is the process's CPU time on a CPU device (lavapipe,
+// --device cpu): on a machine shared with other work the wall clock of a
+// pilot of milliseconds varied 2x from one pilot to the next, its CPU time
+// far less. On a GPU it is the device's time (the stages' timestamps).
 struct PilotRender {
     image::Image image;
     double seconds = 0;
+    double costSeconds = 0;
     double setupSeconds = 0;
 };
 using PilotRenderer = std::function<PilotRender(const wavefront::RenderSettings&)>;
 
 // What a pair of pilots (the same settings, different seeds) says.
 struct PilotMeasurement {
-    double seconds = 0;  // one render's time (the pair's mean)
+    double seconds = 0;  // one render's comparison time (PilotRender::costSeconds; the pair's mean)
     // One render's relMSE (compare's definition), estimated from the pair:
     // the mean over pixels of mean_c (a - b)^2 / 2 / (m^2 + 0.01), m = (a + b) / 2
     // (E[(a - b)^2] = 2 Var for independent renders), and its standard error

@@ -460,8 +460,10 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
                     const auto start = Clock::now();
                     const reference::ReferenceRenderer renderer(*tables, s);
                     const double setup = secondsSince(start);
+                    const std::clock_t cpuStart = std::clock();
                     wavefront::RenderResult r = renderer.render();
-                    return PilotRender{std::move(r.image), r.seconds, setup};
+                    const double cpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+                    return PilotRender{std::move(r.image), r.seconds, cpu, setup};
                 },
                 nullptr);
             applyChoice(*choice, o);
@@ -483,14 +485,21 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
     }
     return withContext(global, [&](vk::Context& context) {
         if (o.autoSettings && !choice) {
+            const bool cpuDevice = context.info().type == "cpu";
             choice = searchSettings(
                 o, samples, *tables,
                 [&](const wavefront::RenderSettings& s) {
                     const auto start = Clock::now();
                     wavefront::GpuRenderer renderer(context, *tables, s);
                     const double setup = secondsSince(start);
+                    const std::clock_t cpuStart = std::clock();
                     wavefront::RenderResult r = renderer.render();
-                    return PilotRender{std::move(r.image), r.seconds, setup};
+                    double cost = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+                    if (!cpuDevice) {  // a GPU: its own time
+                        cost = 0;
+                        for (const auto& [stage, ms] : r.stageMilliseconds) cost += ms * 1e-3;
+                    }
+                    return PilotRender{std::move(r.image), r.seconds, cost, setup};
                 },
                 &context.info());
             applyChoice(*choice, o);
