@@ -94,8 +94,8 @@ constexpr double FEWEST_RENDER_SHARE_PATHS = 8 * 2 * FEWEST_PILOT_PATHS;
 // Pixels a comparison pilot has before its spp grow (Search::run, step 3).
 constexpr uint64_t PILOT_PIXELS = 1024;
 // The variance knobs in the order they are searched, with the pilot pairs
-// each is planned to take, in the incumbent's pairs' cost (light samples: 2
-// and 4 per vertex, about 1.5 and 2.5 times a path with one; rarely 8).
+// each is planned to take, in the incumbent's pairs' cost (light samples: 4
+// per vertex, about 2.5 times a path with one, then 8 or 2).
 constexpr std::pair<const char*, int> VARIANCE_KNOBS[] = {
     {"sampler", 1}, {"light-samples", 4}, {"guide-spheres", 2}, {"rr-depth", 2}};
 
@@ -237,12 +237,13 @@ class Search {
     }
     bool searched(const char* knob) const { return sourceOf(knob) == KnobSource::NotMeasured; }
 
-    // Coordinate descent over one variance knob: each candidate in order,
-    // measured against the incumbent; the list ends at the first that does
-    // not clearly win when `ordered` (values further along go the same way),
-    // and the search ends where the budget does. False when it ran out.
+    // Coordinate descent over one variance knob: each candidate in order
+    // (`apply` makes candidate i from the incumbent so far, or says it is the
+    // incumbent's render), measured against the incumbent, which it replaces
+    // when it clearly wins; the search ends where the budget does. False when
+    // it ran out.
     template <typename Apply>
-    bool descend(const char* knob, size_t candidates, bool ordered, const Apply& apply);
+    bool descend(const char* knob, size_t candidates, const Apply& apply);
     bool chooseKernelForm();
     bool choosePathsInFlight();
     AutoChoice finish(std::string skipped);
@@ -264,7 +265,7 @@ class Search {
 };
 
 template <typename Apply>
-bool Search::descend(const char* knob, size_t candidates, bool ordered, const Apply& apply) {
+bool Search::descend(const char* knob, size_t candidates, const Apply& apply) {
     if (!searched(knob)) return true;
     if (!replan(knob)) return false;
     bool measured = false;
@@ -281,8 +282,6 @@ bool Search::descend(const char* knob, size_t candidates, bool ordered, const Ap
         if (clearlyMoreEfficient(m, m_incumbent)) {
             m_best = k;
             setIncumbent(m, m_measuredWall);
-        } else if (ordered) {
-            break;
         }
     }
     setSource(knob, measured ? KnobSource::Measured : KnobSource::DoesNotApply);
@@ -383,7 +382,11 @@ AutoChoice Search::run() {
         {"paths-in-flight", source(r.givenPathsInFlight, r.gpu)},
     };
 
-    // 0. A render of fewer paths than pilots need within 5% of it takes none.
+    // 0. Nothing to search, or a render of fewer paths than pilots need
+    // within 5% of it: no pilot.
+    if (std::none_of(m_choice.sources.begin(), m_choice.sources.end(),
+                     [](const auto& knob) { return knob.second == KnobSource::NotMeasured; }))
+        return finish("every knob is given or does not apply here");
     const double fullPixels = double(base.width) * base.height;
     double calibrationPaths = CALIBRATION_PATHS;
     if (r.spp) {
@@ -391,7 +394,7 @@ AutoChoice Search::run() {
         if (BUDGET_SHARE * renderPaths < FEWEST_RENDER_SHARE_PATHS)
             return finish(
                 fmt::format("{:.3g} paths are too few to measure settings within 5% of "
-                            "them: defaults kept",
+                            "them: the knobs not given keep their defaults",
                             renderPaths));
         calibrationPaths = std::min(calibrationPaths, CALIBRATION_SHARE * renderPaths);
     }
@@ -438,9 +441,10 @@ AutoChoice Search::run() {
     double paths = std::isfinite(m_budget) ? (perRender - m_overhead) / m_secondsPerPath
                                            : 4.0 * PILOT_PIXELS;  // a target error alone
     if (paths < FEWEST_PILOT_PATHS)
-        return finish(fmt::format(
-            "the render is too short for pilots of {} paths within 5% of it: defaults kept",
-            FEWEST_PILOT_PATHS));
+        return finish(
+            fmt::format("the render is too short for pilots of {} paths within 5% of it: the knobs "
+                        "not given keep their defaults",
+                        FEWEST_PILOT_PATHS));
     m_spp = powerOfTwoBelow(paths / double(PILOT_PIXELS), 64);
     m_film = filmOf(paths / m_spp, base.width, base.height);
     if (m_film.pixels() == uint64_t(fullPixels)) m_spp = powerOfTwoBelow(paths / fullPixels, 256);
@@ -456,32 +460,35 @@ AutoChoice Search::run() {
         m_budget = std::min(m_budget, BUDGET_SHARE * predictedSeconds(fullPixels, spp));
     }
     if (m_spent > m_budget)
-        return finish("the render is too short to compare settings within 5% of it: defaults kept");
+        return finish(
+            "the render is too short to compare settings within 5% of it: the knobs not given keep "
+            "their defaults");
 
     // 5. The knobs, by expected effect (docs/TRADEOFFS.md): the kernel form
     // (time only, one pilot), the sampler, light samples, guiding, roulette.
     bool withinBudget = chooseKernelForm();
-    withinBudget = withinBudget && descend("sampler", 1, false, [&](size_t, Knobs& k, double&) {
+    withinBudget = withinBudget && descend("sampler", 1, [&](size_t, Knobs& k, double&) {
                        k.sampler = k.sampler == SamplerKind::Sobol ? SamplerKind::Independent
                                                                    : SamplerKind::Sobol;
                        return true;
                    });
     withinBudget =
-        withinBudget && descend("light-samples", 3, true, [&](size_t i, Knobs& k, double& cost) {
-            const uint32_t candidates[] = {2, 4, 8};
-            if (candidates[i] <= m_best.lightSamples) return false;
-            cost = (1.0 + candidates[i]) / (1.0 + m_best.lightSamples);
-            k.lightSamples = candidates[i];
+        withinBudget && descend("light-samples", 2, [&](size_t i, Knobs& k, double& cost) {
+            // Four first (the larger step stands further above the pilots'
+            // noise), then eight where four won, else two.
+            const uint32_t candidate = i == 0 ? 4 : m_best.lightSamples == 4 ? 8 : 2;
+            if (candidate == m_best.lightSamples) return false;
+            cost = (1.0 + candidate) / (1.0 + m_best.lightSamples);
+            k.lightSamples = candidate;
             return true;
         });
-    withinBudget =
-        withinBudget && descend("guide-spheres", 2, false, [&](size_t i, Knobs& k, double&) {
-            const float candidates[] = {0.5f, 0.0f};
-            if (candidates[i] == m_best.guide) return false;
-            k.guide = candidates[i];
-            return true;
-        });
-    withinBudget = withinBudget && descend("rr-depth", 2, false, [&](size_t i, Knobs& k, double&) {
+    withinBudget = withinBudget && descend("guide-spheres", 2, [&](size_t i, Knobs& k, double&) {
+                       const float candidates[] = {0.5f, 0.0f};
+                       if (candidates[i] == m_best.guide) return false;
+                       k.guide = candidates[i];
+                       return true;
+                   });
+    withinBudget = withinBudget && descend("rr-depth", 2, [&](size_t i, Knobs& k, double&) {
                        // Roulette from bounce 3, and none (past the last bounce): a depth
                        // beyond maxDepth + 1 is the same render as maxDepth + 1.
                        const uint32_t off = base.maxDepth + 1;
