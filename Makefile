@@ -56,11 +56,15 @@ bench: build
 # vkpath side by side with Mitsuba 3 (not in CI): installs Debian's libllvm19 and a
 # venv in build-peer/ with mitsuba from PyPI, checks that the exported scenes
 # render the same, then plots error against time (PEER_ARGS=--size 800x600 etc.;
-# docs/TRADEOFFS.md), then races both on the scene suite (bench-suite).
+# docs/TRADEOFFS.md), then races both on the scene suite (bench-suite), then races
+# render --auto against converge's fixed settings on the suite (AUTO_ARGS=--scenes a,b etc.;
+# docs/BENCHMARKS.md, "Settings chosen by measurement").
 PEER_ARGS ?=
+AUTO_ARGS ?=
 bench-peer: build
 	@tools/bench/peer-bench --vkpath $(VKPATH) $(PEER_ARGS)
 	@tools/bench/suite-race --vkpath $(VKPATH) --mitsuba on $(SUITE_ARGS)
+	@tools/bench/auto-race --vkpath $(VKPATH) $(AUTO_ARGS)
 
 # The scene suite (tools/bench/suite/suite.json): per scene, vkpath's time to a relMSE on
 # lavapipe and --device cpu and Mitsuba 3's, their ratio and the geometric mean; references

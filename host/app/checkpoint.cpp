@@ -55,6 +55,8 @@ std::string header(const Checkpoint& c) {
     fields["shadow-rays"] = s.rays.shadow;
     fields["waves"] = s.waves;
     fields["seconds"] = s.seconds;  // JSON numbers keep a double exactly
+    if (!c.autoChoice.empty())
+        fields["auto"] = nlohmann::ordered_json::parse(c.autoChoice, nullptr, false);
     return fmt::format("{}{}\n{}\n", MAGIC_PREFIX, FORMAT,
                        fields.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
@@ -192,6 +194,11 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
     if (seconds == fields.end() || !seconds->is_number())
         throw InputError(fmt::format("{}: damaged checkpoint: no seconds", file));
     s.seconds = seconds->get<double>();
+    if (const auto choice = fields.find("auto"); choice != fields.end()) {
+        if (!choice->is_object())
+            throw InputError(fmt::format("{}: damaged checkpoint: its auto choice", file));
+        c.autoChoice = choice->dump();
+    }
     const uint64_t filmBytes = number<uint64_t>(fields, "film-bytes", file);
     const uint64_t countBytes = 4 * uint64_t(number<uint32_t>(fields, "pixel-samples", file));
     const uint64_t passBytes = 4 * uint64_t(number<uint32_t>(fields, "pass-pixels", file));

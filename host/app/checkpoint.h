@@ -26,6 +26,9 @@ struct Checkpoint {
     RenderIdentity identity;
     wavefront::SampleRange samples;  // the range the render was asked for
     wavefront::RenderState state;
+    // render --auto: the choice (app/auto_choice.h, as JSON) that a resumed
+    // render goes on with; empty without --auto.
+    std::string autoChoice;
 };
 
 // Throws std::runtime_error (naming the file and the system's reason) when

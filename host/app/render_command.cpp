@@ -7,14 +7,18 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <memory>
 #include <optional>
 
+#include "app/auto_choice.h"
+#include "app/auto_search.h"
 #include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/film_size.h"
@@ -28,6 +32,7 @@
 #include "vk/check.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
+#include "wavefront/wave_sizing.h"
 
 namespace vkpath::app {
 namespace {
@@ -45,7 +50,11 @@ struct RenderCommandOptions : RenderOptions {
     bool timings = false;
     std::string checkpoint;  // --checkpoint FILE
     double checkpointEvery = 300;
-    std::string resume;  // --resume FILE
+    std::string resume;         // --resume FILE
+    bool autoSettings = false;  // --auto: the knobs chosen by pilot renders (app/auto_search.h)
+    // The knobs given as flags, which --auto keeps and does not search.
+    bool givenRouletteDepth = false, givenLightSamples = false, givenSampler = false,
+         givenGuideSpheres = false, givenKernel = false, givenPathsInFlight = false;
 };
 
 // Before any rendering: `path`'s folder exists (made if need be) and a file
@@ -174,7 +183,7 @@ image::Image sampleCountImage(const wavefront::RenderResult& result) {
 // The EXR (with metadata), the AOVs beside it and the PNG preview.
 void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
                   const wavefront::SampleRange& samples, const wavefront::RenderResult& result,
-                  const std::string& device) {
+                  const std::string& device, const std::optional<AutoChoice>& choice) {
     const std::filesystem::path output(o.output);
     const image::Metadata metadata = {
         {"vkpath:version", VKPATH_VERSION},
@@ -212,6 +221,7 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     const SampleCounts counts = sampleCounts(result);
     full.emplace_back("vkpath:sppMean", fmt::format("{:.6g}", counts.mean));
     full.emplace_back("vkpath:sppMax", std::to_string(counts.most));
+    full.emplace_back("vkpath:auto", choice ? autoChoiceJson(*choice) : std::string("off"));
     image::writeExr(output, result.image, full);
     std::printf("%s\n", output.string().c_str());
     for (const std::string& aov : o.aovs) {
@@ -255,19 +265,77 @@ void printSummary(const FilmSize& film, const wavefront::RenderResult& result,
         (unsigned long long)result.rejectedLightSamples, device.c_str());
 }
 
-// The checkpoint to resume, read and matched against this render; nullopt without --resume.
-std::optional<Checkpoint> resumeCheckpoint(const RenderCommandOptions& o,
-                                           const RenderIdentity& identity,
-                                           const wavefront::SampleRange& samples,
-                                           const FilmSize& film) {
-    if (o.resume.empty()) return std::nullopt;
-    Checkpoint checkpoint = readCheckpoint(o.resume);
+// The checkpoint to resume (read before the knobs are settled: an --auto
+// checkpoint holds its choice), matched against this render; throws
+// InputError where it cannot continue it.
+void checkResume(const RenderCommandOptions& o, const Checkpoint& checkpoint,
+                 const RenderIdentity& identity, const wavefront::SampleRange& samples,
+                 const FilmSize& film) {
     checkCheckpointMatches(o.resume, checkpoint, identity, samples);
     wavefront::checkResumable(
         checkpoint.state,
         o.device == "cpu" ? wavefront::CPU_FILM_FORMAT : wavefront::GPU_FILM_FORMAT, film.width,
         film.height, samples, o.resume);
-    return checkpoint;
+}
+
+// A resumed render's --auto choice: the checkpoint's, never a new one (the
+// film's samples were drawn with it). nullopt without --resume or --auto;
+// throws InputError where the flag and the checkpoint disagree.
+std::optional<AutoChoice> resumedChoice(const RenderCommandOptions& o,
+                                        const std::optional<Checkpoint>& checkpoint) {
+    if (!checkpoint) return std::nullopt;
+    if (!o.autoSettings && !checkpoint->autoChoice.empty())
+        throw InputError(fmt::format(
+            "{}: rendered with --auto ({}): resume it with --auto, which goes on with that choice",
+            o.resume, describeAutoChoice(parseAutoChoice(checkpoint->autoChoice, o.resume))));
+    if (!o.autoSettings) return std::nullopt;
+    if (checkpoint->autoChoice.empty())
+        throw InputError(fmt::format(
+            "{}: rendered without --auto: resume it without --auto, with the same flags",
+            o.resume));
+    AutoChoice choice = parseAutoChoice(checkpoint->autoChoice, o.resume);
+    choice.resumed = true;
+    return choice;
+}
+
+// --auto's search on this device: pilots of the scene's tables, each its own
+// renderer with the settings under test.
+AutoChoice searchSettings(const RenderCommandOptions& o, const wavefront::SampleRange& samples,
+                          const wavefront::SceneTables& tables, const PilotRenderer& pilots,
+                          const vk::DeviceInfo* device) {
+    AutoRequest request;
+    request.base = renderSettings(o, samples.count);
+    request.givenRouletteDepth = o.givenRouletteDepth;
+    request.givenLightSamples = o.givenLightSamples;
+    request.givenSampler = o.givenSampler;
+    request.givenGuideSpheres = o.givenGuideSpheres;
+    request.givenKernel = o.givenKernel;
+    request.givenPathsInFlight = o.givenPathsInFlight;
+    request.sceneHasLights = !tables.lights.empty();
+    request.sceneHasGuideSpheres = !tables.guideSpheres.empty();
+    request.gpu = device != nullptr;
+    if (device) {
+        request.defaultForm = wavefront::defaultKernelForm(*device);
+        request.defaultPathsInFlight = wavefront::defaultPathsInFlight(*device);
+    }
+    if (samples.count != UINT32_MAX) request.spp = samples.count;
+    request.timeBudget = o.timeBudget;
+    request.targetError = o.targetError;
+    return chooseSettings(request, pilots);
+}
+
+// The render's options with the choice in place, its time budget less what
+// the pilots spent of it.
+void applyChoice(const AutoChoice& choice, RenderCommandOptions& o) {
+    applyAutoChoice(choice, o);
+    if (o.timeBudget && !choice.resumed)
+        o.timeBudget = std::max(*o.timeBudget - choice.pilotSeconds, 1e-3);
+    std::fprintf(stderr, "%s\n", describeAutoChoice(choice).c_str());
+}
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
 // The checkpoint a render that fails leaves to resume from: the last one it
@@ -284,6 +352,7 @@ wavefront::RenderControl renderControl(const RenderCommandOptions& o,
                                        const RenderIdentity& identity,
                                        const wavefront::SampleRange& samples,
                                        const std::optional<Checkpoint>& resume,
+                                       const std::optional<AutoChoice>& choice,
                                        std::optional<SavedCheckpoint>& saved) {
     wavefront::RenderControl control;
     control.stopRequested = [] { return StopOnSignal::requested() != 0; };
@@ -291,8 +360,10 @@ wavefront::RenderControl renderControl(const RenderCommandOptions& o,
     if (resume) saved = SavedCheckpoint{o.resume, resume->state.samplesDone};
     if (!o.checkpoint.empty()) {
         control.checkpointEverySeconds = o.checkpointEvery;
-        control.checkpoint = [&o, identity, samples, &saved](const wavefront::RenderState& state) {
-            const Checkpoint checkpoint{identity, samples, state};
+        const std::string autoChoice = choice ? autoChoiceJson(*choice) : std::string();
+        control.checkpoint = [&o, identity, samples, autoChoice,
+                              &saved](const wavefront::RenderState& state) {
+            const Checkpoint checkpoint{identity, samples, state, autoChoice};
             const bool last = state.samplesDone == samples.count;
             try {
                 writeCheckpoint(o.checkpoint, checkpoint);
@@ -311,13 +382,14 @@ wavefront::RenderControl renderControl(const RenderCommandOptions& o,
 int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity,
                  const wavefront::SampleRange& samples, const FilmSize& film,
                  const wavefront::RenderResult& result, std::optional<double> deviceMs,
-                 double cpuSeconds, const std::string& device) {
+                 double cpuSeconds, const std::string& device,
+                 const std::optional<AutoChoice>& choice) {
     const int signal = result.stopped ? StopOnSignal::requested() : 0;
     if (result.samplesPerPixel == 0) {
         std::fprintf(stderr, "vkpath: stopped before the first whole sample; no image written\n");
         return 128 + signal;
     }
-    writeOutputs(o, identity, samples, result, device);
+    writeOutputs(o, identity, samples, result, device, choice);
     printSummary(film, result, deviceMs, cpuSeconds, device, o.clamp > 0);
     if (result.estimatedRelMse)
         std::fprintf(stderr, "estimated relMSE %.3g%s\n", *result.estimatedRelMse,
@@ -336,7 +408,8 @@ int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity,
     return 0;
 }
 
-int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
+int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
+    RenderCommandOptions o = flags;  // --auto puts its choice in place of the knobs' values
     // The flags' values were checked as they were parsed (addRenderCommand).
     const FilmSize film = parseFilmSize(o.size);
     // A budget without -s renders until the budget is spent (sample indices
@@ -349,32 +422,95 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         throw InputError(
             "--adaptive needs a stop: --target-error E or --time-budget S (-s N is then each "
             "pixel's most samples)");
-    const uint32_t spp = samples.count;
-    wavefront::RenderSettings settings = renderSettings(o, spp);
-    settings.timeBudgetSeconds = o.timeBudget;
+    if (o.autoSettings && !o.samples.empty())
+        throw InputError(
+            "--auto with --samples: parts rendered apart would each choose their own settings "
+            "and could not be merged; render one part with --auto and give the others the "
+            "knobs it printed");
+    renderSettings(o, samples.count);  // the flags that do not go together, before any work
     // Every output can be written before any time goes into rendering.
     checkWritable("-o", o.output);
     for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
     if (!o.png.empty()) checkWritable("--png", o.png);
     if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
     const scene::Scene scene = loadRenderScene(o);
-    const RenderIdentity identity = renderIdentity(o, scene);
-    const std::optional<Checkpoint> resume = resumeCheckpoint(o, identity, samples, film);
+    std::optional<Checkpoint> resume;
+    if (!o.resume.empty()) resume = readCheckpoint(o.resume);
+    std::optional<AutoChoice> choice = resumedChoice(o, resume);
+    if (choice) applyChoice(*choice, o);
+    // --auto: the scene's tables, built once for the pilots and the render.
+    std::optional<wavefront::SceneTables> tables;
+    if (o.autoSettings) tables = wavefront::buildSceneTables(scene);
 
-    const StopOnSignal stopOnSignal;
+    // Once the knobs are settled: the identity, the resume and the controls.
     std::optional<SavedCheckpoint> saved;
-    const wavefront::RenderControl control = renderControl(o, identity, samples, resume, saved);
+    auto prepare = [&](RenderIdentity& identity, wavefront::RenderSettings& settings) {
+        settings = renderSettings(o, samples.count);
+        settings.timeBudgetSeconds = o.timeBudget;
+        identity = renderIdentity(o, scene);
+        if (resume) checkResume(o, *resume, identity, samples, film);
+        return renderControl(o, identity, samples, resume, choice, saved);
+    };
+    const StopOnSignal stopOnSignal;
     if (o.device == "cpu") {
-        const reference::ReferenceRenderer renderer(scene, settings);
+        if (o.autoSettings && !choice) {
+            choice = searchSettings(
+                o, samples, *tables,
+                [&](const wavefront::RenderSettings& s) {
+                    const auto start = Clock::now();
+                    const reference::ReferenceRenderer renderer(*tables, s);
+                    const double setup = secondsSince(start);
+                    const std::clock_t cpuStart = std::clock();
+                    wavefront::RenderResult r = renderer.render();
+                    const double cpu = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+                    return PilotRender{std::move(r.image), r.seconds, cpu, setup};
+                },
+                nullptr);
+            applyChoice(*choice, o);
+        }
+        RenderIdentity identity;
+        wavefront::RenderSettings settings;
+        const wavefront::RenderControl control = prepare(identity, settings);
+        const std::unique_ptr<reference::ReferenceRenderer> made =
+            tables ? std::make_unique<reference::ReferenceRenderer>(std::move(*tables), settings)
+                   : std::make_unique<reference::ReferenceRenderer>(scene, settings);
+        const reference::ReferenceRenderer& renderer = *made;
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
         const auto result =
             renderWithProgress(renderer, samples, o.timeBudget, o.targetError, control, cpuSeconds);
-        return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device);
+        return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device,
+                            choice);
     }
     return withContext(global, [&](vk::Context& context) {
-        wavefront::GpuRenderer renderer(context, scene, settings);
+        if (o.autoSettings && !choice) {
+            const bool cpuDevice = context.info().type == "cpu";
+            choice = searchSettings(
+                o, samples, *tables,
+                [&](const wavefront::RenderSettings& s) {
+                    const auto start = Clock::now();
+                    wavefront::GpuRenderer renderer(context, *tables, s);
+                    const double setup = secondsSince(start);
+                    const std::clock_t cpuStart = std::clock();
+                    wavefront::RenderResult r = renderer.render();
+                    double cost = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
+                    if (!cpuDevice) {  // a GPU: its own time
+                        cost = 0;
+                        for (const auto& [stage, ms] : r.stageMilliseconds) cost += ms * 1e-3;
+                    }
+                    return PilotRender{std::move(r.image), r.seconds, cost, setup};
+                },
+                &context.info());
+            applyChoice(*choice, o);
+        }
+        RenderIdentity identity;
+        wavefront::RenderSettings settings;
+        const wavefront::RenderControl control = prepare(identity, settings);
+        std::unique_ptr<wavefront::GpuRenderer> made =
+            tables ? std::make_unique<wavefront::GpuRenderer>(context, std::move(*tables), settings)
+                   : std::make_unique<wavefront::GpuRenderer>(context, scene, settings);
+        wavefront::GpuRenderer& renderer = *made;
         std::fprintf(stderr, "%s\n",
                      wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
@@ -398,7 +534,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& o) {
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
         const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds,
-                                      context.info().name);
+                                      context.info().name, choice);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
                 std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms,
@@ -455,8 +591,24 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
            "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "
            "the image equals the uninterrupted render's bit for bit")
         ->check(CLI::ExistingFile);
-    cmd->callback(
-        [&global, &commands, o] { commands.run = [&global, o] { return runRender(global, *o); }; });
+    cmd->add_flag(
+        "--auto", o->autoSettings,
+        "Choose --rr-depth, -l, --sampler, --guide-spheres, --kernel and --paths-in-flight for "
+        "this scene and device by short pilot renders (at most 5% of the render's budget: -s's "
+        "time at the defaults, --time-budget or what --target-error implies); these knobs change "
+        "the time to an error, never what the image converges to. Knobs given as flags are kept "
+        "and not searched. The choice is printed and stored in the EXR (vkpath:auto) and the "
+        "checkpoint, which --resume goes on with");
+    cmd->callback([&global, &commands, o, cmd] {
+        auto given = [cmd](const char* name) { return cmd->get_option(name)->count() > 0; };
+        o->givenRouletteDepth = given("--rr-depth");
+        o->givenLightSamples = given("--light-samples");
+        o->givenSampler = given("--sampler");
+        o->givenGuideSpheres = given("--guide-spheres");
+        o->givenKernel = given("--kernel");
+        o->givenPathsInFlight = given("--paths-in-flight");
+        commands.run = [&global, o] { return runRender(global, *o); };
+    });
 }
 
 }  // namespace vkpath::app

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
 #include "input_error.h"
 #include "scene/camera.h"
@@ -76,6 +77,20 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
       m_settings(settings),
       m_constructed(Clock::now()),
       m_tables(buildSceneTables(scene)) {
+    setUp();
+}
+
+GpuRenderer::GpuRenderer(vk::Context& context, SceneTables tables, const RenderSettings& settings)
+    : m_context(context),
+      m_settings(settings),
+      m_constructed(Clock::now()),
+      m_tables(std::move(tables)) {
+    setUp();
+}
+
+void GpuRenderer::setUp() {
+    vk::Context& context = m_context;
+    const RenderSettings& settings = m_settings;
     const shared::Camera camera =
         scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
     m_scene = uploadScene(context, m_tables);

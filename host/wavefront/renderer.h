@@ -43,6 +43,9 @@ class GpuRenderer {
     // Where the device is out of memory for the per-path buffers, fewer paths
     // are in flight (pathsInFlight(); a warning on stderr says so).
     GpuRenderer(vk::Context& context, const scene::Scene& scene, const RenderSettings& settings);
+    // From tables already built (buildSceneTables), for several renders of one
+    // scene with other settings (render --auto's pilots): no second BVH build.
+    GpuRenderer(vk::Context& context, SceneTables tables, const RenderSettings& settings);
     ~GpuRenderer();
     GpuRenderer(const GpuRenderer&) = delete;
     GpuRenderer& operator=(const GpuRenderer&) = delete;
@@ -77,6 +80,7 @@ class GpuRenderer {
 
   private:
     struct Resources;
+    void setUp();  // the constructors' work once the tables are built
     vk::Context& m_context;
     RenderSettings m_settings;
     std::chrono::steady_clock::time_point m_constructed;
