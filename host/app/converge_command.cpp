@@ -132,7 +132,8 @@ class Progressive {
 // with seed + 1 follows the first, checkpoint by checkpoint; its cost is
 // not counted (it only measures the first). `gpu`: record device times, and
 // warm up before the first configuration. With `targetError` the curve ends
-// at the first checkpoint whose own estimate reaches it.
+// at the first checkpoint from wavefront::FIRST_ERROR_CHECK spp on whose own
+// estimate reaches it.
 template <typename Renderer, typename Make>
 std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
                                 const std::vector<uint32_t>& spp,
@@ -169,7 +170,8 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
                      config.label.c_str(), n, c.wallSeconds, c.relMse, c.relMseTrimmed,
                      c.estimatedRelMse);
         curve.push_back(c);
-        if (targetError && c.estimatedRelMse <= *targetError) break;
+        if (targetError && n >= wavefront::FIRST_ERROR_CHECK && c.estimatedRelMse <= *targetError)
+            break;
     }
     return curve;
 }

@@ -8,12 +8,6 @@
 namespace vkpath::wavefront {
 namespace {
 
-// Where a target-error render first measures its error: fewer samples give
-// a variance estimate too rough to stop on (on the bundled box, whose
-// caustics few samples find, the estimate at 4 and 8 spp is off by up to
-// 2.4x, at 16 by 35%, from 32 on within 15%: docs/ACCURACY.md).
-constexpr uint32_t FIRST_CHECK = 16;
-
 // The median of `values` (reordered); 0 when empty.
 template <typename T>
 T median(std::vector<T>& values) {
@@ -246,8 +240,8 @@ std::optional<SamplePass> SampleSchedule::next(
         uint32_t until = uniformEnd;
         if (target) {
             const uint32_t n = m_uniformSamples;
-            if (n < FIRST_CHECK) {
-                until = std::min(uniformEnd, FIRST_CHECK);
+            if (n < FIRST_ERROR_CHECK) {
+                until = std::min(uniformEnd, FIRST_ERROR_CHECK);
             } else {
                 if (measure(statistics())) return std::nullopt;
                 // Where the error, falling at its steepest, would reach E

@@ -50,6 +50,11 @@ struct PixelStatistics {
     std::optional<glm::dvec3> streamVarianceOfMean;
 };
 
+// Where a target-error stop first measures the error: fewer samples give a
+// variance estimate too rough to stop on (below 16 spp the bundled box's
+// caustics are too rare for any estimate; at 1 spp there is no variance).
+constexpr uint32_t FIRST_ERROR_CHECK = 16;
+
 // The variance of a pixel's mean from its two streams, per channel: `sum` of
 // its `samples` samples from index `first` on, `oddSum` of the odd-indexed
 // ones. Owen-scrambled Sobol' points are not independent, so their sample
