@@ -28,6 +28,7 @@
 #include "vk/context.h"
 #include "wavefront/renderer.h"
 #include "wavefront/sample_schedule.h"
+#include "wavefront/scene_footprint.h"
 
 namespace vkpath::app {
 namespace {
@@ -314,6 +315,8 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         });
     }
     return withContext(global, [&](vk::Context& context) {
+        wavefront::admitOnDevice(
+            o.scene, wavefront::estimateFootprint(scene.countGeometry(), false), context.info());
         auto make = [&](const wavefront::RenderSettings& s) {
             return std::make_unique<wavefront::GpuRenderer>(context, scene, s);
         };

@@ -32,6 +32,7 @@
 #include "vk/check.h"
 #include "vk/context.h"
 #include "wavefront/renderer.h"
+#include "wavefront/scene_footprint.h"
 #include "wavefront/wave_sizing.h"
 
 namespace vkpath::app {
@@ -438,9 +439,10 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
     if (!o.resume.empty()) resume = readCheckpoint(o.resume);
     std::optional<AutoChoice> choice = resumedChoice(o, resume);
     if (choice) applyChoice(*choice, o);
-    // --auto: the scene's tables, built once for the pilots and the render.
+    // --auto: the scene's tables, built once for the pilots and the render
+    // (for the GPU, once the device has admitted the scene).
     std::optional<wavefront::SceneTables> tables;
-    if (o.autoSettings) tables = wavefront::buildSceneTables(scene);
+    if (o.autoSettings && o.device == "cpu") tables = wavefront::buildSceneTables(scene);
 
     // Once the knobs are settled: the identity, the resume and the controls.
     std::optional<SavedCheckpoint> saved;
@@ -484,6 +486,9 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
                             choice);
     }
     return withContext(global, [&](vk::Context& context) {
+        wavefront::admitOnDevice(
+            o.scene, wavefront::estimateFootprint(scene.countGeometry(), false), context.info());
+        if (o.autoSettings) tables = wavefront::buildSceneTables(scene);
         if (o.autoSettings && !choice) {
             const bool cpuDevice = context.info().type == "cpu";
             choice = searchSettings(

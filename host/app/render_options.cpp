@@ -14,6 +14,7 @@
 #include "scene/environment.h"
 #include "scene/load.h"
 #include "shared/dimensions.h"
+#include "wavefront/scene_footprint.h"
 
 namespace vkpath::app {
 
@@ -228,6 +229,11 @@ std::pair<std::string, std::string> firstSettingDifference(const std::string& x,
 scene::Scene loadRenderScene(const RenderOptions& o) {
     scene::LoadOptions loadOptions;
     loadOptions.cameraName = o.camera;
+    loadOptions.admit = [&](const std::string& file, const scene::GeometryCounts& counts) {
+        wavefront::admitOnHost(file, counts,
+                               wavefront::estimateFootprint(counts, o.device == "cpu"),
+                               wavefront::availableHostMemory());
+    };
     scene::Scene scene = scene::loadScene(o.scene, loadOptions);
     if (!o.environment.empty() || !o.environmentColor.empty()) {
         scene::Environment env;

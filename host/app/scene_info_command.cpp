@@ -17,6 +17,7 @@
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
 #include "wavefront/renderer.h"
+#include "wavefront/scene_footprint.h"
 
 namespace vkpath::app {
 namespace {
@@ -214,7 +215,13 @@ void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands
     cmd->callback([&commands, o] {
         commands.run = [o] {
             // Bad input throws InputError: runCli prints it as one line, exit 2.
-            const scene::Scene s = scene::loadScene(o->file);
+            // It builds the tables the GPU renderer would (planKernels).
+            scene::LoadOptions load;
+            load.admit = [](const std::string& file, const scene::GeometryCounts& counts) {
+                wavefront::admitOnHost(file, counts, wavefront::estimateFootprint(counts, false),
+                                       wavefront::availableHostMemory());
+            };
+            const scene::Scene s = scene::loadScene(o->file, load);
             const SceneCounts counts = countScene(s);
             const KernelPlan plan = planKernels(s);
             if (o->json)

@@ -5,17 +5,12 @@
 #include <span>
 #include <vector>
 
+#include "format_bytes.h"
 #include "vk/context.h"
 
 namespace vkpath::bvh {
 
 namespace {
-
-std::string formatBytes(uint64_t bytes) {
-    if (bytes < 1024) return fmt::format("{} B", bytes);
-    if (bytes < 1024 * 1024) return fmt::format("{:.1f} KiB", bytes / 1024.0);
-    return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
-}
 
 glm::uvec2 split(VkDeviceAddress address) {
     return {uint32_t(address), uint32_t(address >> 32)};

@@ -6,7 +6,8 @@
 // a root transform turns Z_UP / X_UP files to +Y up exactly as Scotty3D does
 // (SOURCE.md: x' = -x, y' = z, z' = y for Z_UP) and applies <unit meter>.
 // Geometry is instanced per node (a geometry used twice is parsed once,
-// collada_geometry); materials are bound per instance through <bind_material>
+// collada_geometry), after the hierarchy is walked and the scene's geometry
+// counted (LoadOptions::admit); materials are bound per instance through <bind_material>
 // symbols (collada_materials). Lights and the camera are gathered here and
 // handed to the Scotty3D policy (scotty3d_policy.h), which decides what they
 // become where Scotty3D is not physical.
@@ -61,6 +62,15 @@ struct CameraInstance {
     glm::dmat4 world;
 };
 
+// An <instance_geometry> met in the node hierarchy, built once the whole
+// scene's geometry has been counted (LoadOptions::admit).
+struct GeometryInstance {
+    pugi::xml_node instance;
+    pugi::xml_node geometry;
+    glm::dmat4 world;
+    std::string nodeName;
+};
+
 class ColladaLoader {
   public:
     ColladaLoader(const std::filesystem::path& path, const LoadOptions& options)
@@ -85,8 +95,8 @@ class ColladaLoader {
     glm::dmat4 rootTransform();
     glm::dmat4 localTransform(pugi::xml_node node);
     void visitNode(pugi::xml_node node, const glm::dmat4& parent, int depth);
-    void addGeometryInstance(pugi::xml_node instance, const glm::dmat4& world,
-                             const std::string& nodeName);
+    GeometryCounts countGeometry();
+    void addGeometryInstance(const GeometryInstance& instance);
     void addLightInstance(pugi::xml_node instance, const glm::dmat4& world,
                           const std::string& nodeName);
     std::optional<glm::dmat4> readCamera();
@@ -99,6 +109,7 @@ class ColladaLoader {
     Materials m_materials;
     Scotty3dLights m_lights;
     std::vector<CameraInstance> m_cameras;
+    std::vector<GeometryInstance> m_geometryInstances;  // in document order
     uint64_t m_nodeVisits = 0;
 };
 
@@ -218,7 +229,10 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
                 m_document.resolve(child.attribute("url").as_string(nullptr), "node", context),
                 world, depth + 1);
         } else if (kind == "instance_geometry") {
-            addGeometryInstance(child, world, nodeName);
+            m_geometryInstances.push_back(
+                {child,
+                 m_document.resolve(child.attribute("url").as_string(nullptr), "geometry", context),
+                 world, nodeName});
         } else if (kind == "instance_camera") {
             // A camera that cannot be found is a warning, as in Scotty3D, which
             // places its camera from the scene's bounds.
@@ -246,11 +260,34 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
 // Geometry, lights and the camera
 // ===========================================================================
 
-void ColladaLoader::addGeometryInstance(pugi::xml_node instance, const glm::dmat4& world,
-                                        const std::string& nodeName) {
-    const std::string context = fmt::format("node '{}'", nodeName);
-    const pugi::xml_node geometry =
-        m_document.resolve(instance.attribute("url").as_string(nullptr), "geometry", context);
+// The geometry the instances will add: each <mesh> geometry's triangles once
+// per instance, with a vertex per corner (an upper bound: an instance splits
+// a position only where its corners' normals differ).
+GeometryCounts ColladaLoader::countGeometry() {
+    GeometryCounts counts;
+    for (const GeometryInstance& g : m_geometryInstances) {
+        if (g.geometry.child("mesh")) {
+            const LocalMesh& local = m_geometry.localMesh(g.geometry);
+            for (const Primitive& primitive : local.primitives) {
+                const uint64_t corners = primitive.corners.size();
+                counts.triangles += corners / 3;
+                counts.vertices += corners;
+                if (!primitive.corners.empty() && primitive.corners[0].normal != NO_INDEX)
+                    counts.normals += corners;
+                if (!primitive.corners.empty() && primitive.corners[0].texCoord != NO_INDEX)
+                    counts.texcoords += corners;
+            }
+        } else if (cmuTechnique(g.geometry).child("sphere")) {
+            counts.spheres += 1;
+        }
+    }
+    return counts;
+}
+
+void ColladaLoader::addGeometryInstance(const GeometryInstance& g) {
+    const pugi::xml_node instance = g.instance, geometry = g.geometry;
+    const glm::dmat4& world = g.world;
+    const std::string& nodeName = g.nodeName;
     Bindings bindings;
     for (pugi::xml_node im :
          instance.child("bind_material").child("technique_common").children("instance_material"))
@@ -476,6 +513,8 @@ Scene ColladaLoader::load(std::vector<std::string>* warningLines) {
 
     const glm::dmat4 rootMatrix = rootTransform();
     for (pugi::xml_node node : visualScene.children("node")) visitNode(node, rootMatrix, 0);
+    if (m_options.admit) m_options.admit(m_document.file(), countGeometry());
+    for (const GeometryInstance& instance : m_geometryInstances) addGeometryInstance(instance);
 
     const uint64_t dropped = m_geometry.droppedTriangles();
     if (m_scene.meshes.empty() && m_scene.spheres.empty()) {

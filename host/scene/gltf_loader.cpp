@@ -62,7 +62,9 @@ class Importer {
             m_warnings.addCounted("animations are ignored: the scene is loaded at rest",
                                   "animation", m_model.animations[0].name);
 
-        for (const Visit& visit : traverse()) visitNode(visit.node, visit.world);
+        const std::vector<Visit> visits = traverse();
+        if (m_options.admit) m_options.admit(m_file, countGeometry(visits));
+        for (const Visit& visit : visits) visitNode(visit.node, visit.world);
 
         if (m_scene.meshes.empty() && m_scene.spheres.empty())
             fail("no geometry: the scene has no triangles and no spheres");
@@ -254,6 +256,18 @@ class Importer {
                 stack.push_back({*it, world});
         }
         return order;
+    }
+
+    // The geometry the visits will add, each node's mesh counted once per
+    // node that references it (the scene holds them flattened).
+    GeometryCounts countGeometry(const std::vector<Visit>& visits) const {
+        GeometryCounts counts;
+        for (const Visit& visit : visits) {
+            const tinygltf::Node& node = m_model.nodes[size_t(visit.node)];
+            if (node.mesh >= 0) counts += gltf::countMesh(m_model, node.mesh);
+            if (node.extensions.contains("VKPATH_sphere")) counts.spheres += 1;
+        }
+        return counts;
     }
 
     void visitNode(int index, const glm::dmat4& world) {

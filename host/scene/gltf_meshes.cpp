@@ -142,6 +142,38 @@ class AttributeReader {
 
 }  // namespace
 
+GeometryCounts countMesh(const tinygltf::Model& model, int meshIndex) {
+    GeometryCounts counts;
+    if (meshIndex < 0 || size_t(meshIndex) >= model.meshes.size()) return counts;
+    auto accessorCount = [&](int accessor) -> uint64_t {
+        return accessor >= 0 && size_t(accessor) < model.accessors.size()
+                   ? model.accessors[size_t(accessor)].count
+                   : 0;
+    };
+    for (const tinygltf::Primitive& primitive : model.meshes[size_t(meshIndex)].primitives) {
+        const auto position = primitive.attributes.find("POSITION");
+        if (position == primitive.attributes.end()) continue;
+        const uint64_t vertices = accessorCount(position->second);
+        const uint64_t corners =
+            primitive.indices >= 0 ? accessorCount(primitive.indices) : vertices;
+        uint64_t triangles = 0;
+        if (primitive.mode == TINYGLTF_MODE_TRIANGLES)
+            triangles = corners / 3;
+        else if (primitive.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+                 primitive.mode == TINYGLTF_MODE_TRIANGLE_FAN)
+            triangles = corners >= 3 ? corners - 2 : 0;
+        if (triangles == 0) continue;  // omitted from the scene, or refused by convertMesh
+        auto has = [&](const char* name) { return primitive.attributes.contains(name); };
+        counts.triangles += triangles;
+        counts.vertices += vertices;
+        if (has("NORMAL")) counts.normals += vertices;
+        if (has("TEXCOORD_0") || has("TEXCOORD_1")) counts.texcoords += vertices;
+        if (has("COLOR_0")) counts.colors += vertices;
+        if (has("TANGENT")) counts.tangents += vertices;
+    }
+    return counts;
+}
+
 std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Accessors& accessors,
                                         int nodeIndex, const std::string& nodeName,
                                         const glm::dmat4& world, const std::string& file,

@@ -35,4 +35,11 @@ std::vector<WorldPrimitive> convertMesh(const tinygltf::Model& model, const Acce
                                         const glm::dmat4& world, const std::string& file,
                                         ImportWarnings& warnings);
 
+// What convertMesh makes of mesh `meshIndex` under one node, counted from its
+// accessors' counts without reading them: an upper bound where degenerate
+// triangles are dropped or unusable normals and tangents discarded. A
+// primitive convertMesh would refuse counts what its accessors say, or
+// nothing where they do not exist: convertMesh says what is wrong.
+GeometryCounts countMesh(const tinygltf::Model& model, int meshIndex);
+
 }  // namespace vkpath::scene::gltf

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace vkpath::scene {
@@ -24,6 +25,20 @@ size_t Scene::triangleCount() const {
     size_t count = 0;
     for (const Mesh& m : meshes) count += m.triangles.size();
     return count;
+}
+
+GeometryCounts Scene::countGeometry() const {
+    GeometryCounts c;
+    for (const Mesh& m : meshes) {
+        c.triangles += m.triangles.size();
+        c.vertices += m.positions.size();
+        c.normals += m.normals.size();
+        c.texcoords += std::max(m.texcoords0.size(), m.texcoords1.size());
+        c.colors += m.colors.size();
+        c.tangents += m.tangents.size();
+    }
+    c.spheres = spheres.size();
+    return c;
 }
 
 FeatureSummary Scene::features() const {

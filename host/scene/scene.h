@@ -212,6 +212,35 @@ struct FeatureSummary {
     bool environment = false;
 };
 
+// How much geometry a scene holds, as its meshes and spheres will be once
+// loaded: what the size of its tables is estimated from
+// (wavefront/scene_footprint.h). The importers count it from the file before
+// they build any mesh (LoadOptions::admit), so that a scene too large for the
+// machine is refused before its memory is spent; countGeometry counts a
+// loaded scene.
+struct GeometryCounts {
+    uint64_t triangles = 0;
+    uint64_t vertices = 0;
+    // Vertices that carry each per-vertex attribute (a mesh's vertices, for
+    // each mesh that has it); texture coordinates count once for both sets.
+    uint64_t normals = 0;
+    uint64_t texcoords = 0;
+    uint64_t colors = 0;
+    uint64_t tangents = 0;
+    uint64_t spheres = 0;
+
+    GeometryCounts& operator+=(const GeometryCounts& o) {
+        triangles += o.triangles;
+        vertices += o.vertices;
+        normals += o.normals;
+        texcoords += o.texcoords;
+        colors += o.colors;
+        tangents += o.tangents;
+        spheres += o.spheres;
+        return *this;
+    }
+};
+
 // An axis-aligned box, world space.
 struct Bounds {
     glm::vec3 lo, hi;
@@ -235,6 +264,7 @@ struct Scene {
 
     FeatureSummary features() const;
     size_t triangleCount() const;
+    GeometryCounts countGeometry() const;
     // The box around the triangles of the meshes and the spheres (lo > hi
     // when there are none): what the importers frame a default camera on.
     Bounds geometryBounds() const;

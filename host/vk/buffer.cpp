@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "format_bytes.h"
 #include "input_error.h"
 #include "vk/check.h"
 #include "vk/context.h"
@@ -173,16 +174,6 @@ void Buffer::clear() {
     m_context->submit(
         [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, m_buffer, 0, VK_WHOLE_SIZE, 0); });
 }
-
-namespace {
-
-std::string formatBytes(uint64_t bytes) {
-    if (bytes < 1024) return fmt::format("{} B", bytes);
-    if (bytes < 1024 * 1024) return fmt::format("{:.1f} KiB", bytes / 1024.0);
-    return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
-}
-
-}  // namespace
 
 BufferLimits bufferLimits(const DeviceInfo& device) {
     // A bound array is read as a storage buffer or as a texel buffer of
