@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "input_error.h"
 
@@ -90,6 +91,9 @@ std::vector<double> Document::numbers(pugi::xml_node element, const std::string&
     forEachToken(element.child_value(), [&](std::string_view token) {
         double v = 0;
         if (!parseNumber(token, v)) fail(fmt::format("{}: '{}' is not a number", what, token));
+        // Finite in the file, an infinity as the scene's 32-bit floats.
+        if (std::isfinite(v) && std::abs(v) > double(std::numeric_limits<float>::max()))
+            fail(fmt::format("{}: '{}' is beyond the range of a 32-bit float", what, token));
         out.push_back(v);
     });
     return out;

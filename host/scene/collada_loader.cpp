@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
 #include <optional>
 #include <pugixml.hpp>
 #include <string_view>
@@ -216,8 +217,9 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
     const glm::dmat4 world = parent * localTransform(node);
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(world[c][r]))
-                fail(fmt::format("node '{}': its world transform is not finite", nodeName));
+            if (!(std::abs(world[c][r]) <= double(std::numeric_limits<float>::max())))
+                fail(fmt::format("node '{}': its world transform is not finite as 32-bit floats",
+                                 nodeName));
 
     for (pugi::xml_node child : node.children()) {
         const std::string_view kind = child.name();

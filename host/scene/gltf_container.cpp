@@ -3,10 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <span>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "input_error.h"
 
@@ -288,6 +293,33 @@ std::string oneLine(std::string text) {
     return text;
 }
 
+// Every glTF number is read as a 32-bit float or an integer: a number that
+// is finite in the file but beyond a float's range (a node matrix's 5.6e88)
+// would become an infinity in the scene, so it is bad input, named by its
+// JSON pointer.
+void checkNumbersFitFloats(const Json& root, const std::string& file) {
+    std::vector<std::pair<const Json*, std::string>> stack{{&root, ""}};
+    while (!stack.empty()) {
+        const auto [value, pointer] = stack.back();
+        stack.pop_back();
+        if (value->is_object()) {
+            for (const auto& [key, child] : value->items()) {
+                std::string token;  // RFC 6901: ~ as ~0, / as ~1
+                for (char c : key) token += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+                stack.push_back({&child, pointer + "/" + token});
+            }
+        } else if (value->is_array()) {
+            for (size_t i = 0; i < value->size(); ++i)
+                stack.push_back({&(*value)[i], pointer + "/" + std::to_string(i)});
+        } else if (value->is_number_float()) {
+            const double v = value->get<double>();
+            if (std::abs(v) > double(std::numeric_limits<float>::max()))
+                throw InputError(fmt::format("{}: {} is {:g}, beyond the range of a 32-bit float",
+                                             file, pointer, v));
+        }
+    }
+}
+
 }  // namespace
 
 Document readDocument(const std::filesystem::path& path) {
@@ -318,6 +350,7 @@ Document readDocument(const std::filesystem::path& path) {
     }
     if (!root.is_object())
         throw InputError(fmt::format("{}: not glTF: the JSON is not an object", file));
+    checkNumbersFitFloats(root, file);
     const auto asset = root.find("asset");
     if (asset == root.end() || !asset->is_object() || !asset->contains("version") ||
         !(*asset)["version"].is_string())

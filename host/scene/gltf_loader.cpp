@@ -14,6 +14,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <limits>
 #include <optional>
 #include <set>
 
@@ -250,6 +251,11 @@ class Importer {
             const Visit top = stack.back();
             stack.pop_back();
             const glm::dmat4 world = top.world * localMatrix(top.node);
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 4; ++r)
+                    if (!(std::abs(world[c][r]) <= double(std::numeric_limits<float>::max())))
+                        fail("{}: its world transform is not finite as 32-bit floats",
+                             nodeName(top.node));
             order.push_back({top.node, world});
             const auto& children = m_model.nodes[size_t(top.node)].children;
             for (auto it = children.rbegin(); it != children.rend(); ++it)

@@ -105,9 +105,8 @@ void admitOnHost(const std::string& file, const scene::GeometryCounts& counts,
     throw InputError(fmt::format(
         "{}: too large for this machine: {} would need about {} of host memory to load and "
         "build ({} on the device), and {} is available",
-        file, geometry(counts),
-        formatBytes(footprint.hostBytes), formatBytes(footprint.deviceBytes),
-        formatBytes(available)));
+        file, geometry(counts), formatBytes(footprint.hostBytes),
+        formatBytes(footprint.deviceBytes), formatBytes(available)));
 }
 
 void admitOnDevice(const std::string& file, const SceneFootprint& footprint,

@@ -25,10 +25,10 @@ struct DeviceInfo;
 namespace vkpath::wavefront {
 
 struct SceneFootprint {
-    uint64_t deviceBytes = 0;         // the scene's arrays (the tables the kernels read)
-    std::string largestArray;         // the largest of them, named as vk::ArrayExtent names it
+    uint64_t deviceBytes = 0;  // the scene's arrays (the tables the kernels read)
+    std::string largestArray;  // the largest of them, named as vk::ArrayExtent names it
     uint64_t largestArrayBytes = 0;
-    uint64_t hostBytes = 0;           // peak host memory of loading, building (and uploading)
+    uint64_t hostBytes = 0;  // peak host memory of loading, building (and uploading)
 };
 
 // The estimate for the GPU renderer (cpuReference false: the tables, their

@@ -15,7 +15,9 @@
 
 #include "input_error.h"
 #include "scene/environment.h"
+#include "scene/load.h"
 #include "support/temp_dir.h"
+#include "support/test_context.h"
 
 namespace {
 
@@ -205,6 +207,105 @@ TEST(EnvironmentFuzzRegression, ExtraChannelsAreIgnored) {
     ASSERT_EQ(map.height, 1u);
     EXPECT_EQ(map.at(0, 0), glm::vec3(1.0f, 2.0f, 3.0f));
     EXPECT_EQ(map.at(1, 0), glm::vec3(4.0f, 5.0f, 6.0f));
+}
+
+// ---------------------------------------------------------------------------
+// Numbers finite in the file but not as the scene's 32-bit floats
+// ---------------------------------------------------------------------------
+
+// The InputError of loading `bytes` as `name`; fails the test if it loads.
+std::string refusal(const TempDir& dir, const std::string& name, const std::string& bytes) {
+    const fs::path path = dir.write(name, bytes);
+    try {
+        scene::loadScene(path);
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
+        return message;
+    }
+    ADD_FAILURE() << name << " loaded";
+    return {};
+}
+
+std::string dae(const std::string& matrix) {
+    return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <library_lights><light id="sun"><technique_common><directional><color>1 1 1</color>
+  </directional></technique_common></light></library_lights>
+  <library_geometries><geometry id="tri"><mesh>
+    <source id="p"><float_array id="pa" count="9">0 0 0 1 0 0 0 1 0</float_array>
+      <technique_common><accessor source="#pa" count="3" stride="3"/></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s">
+    <node id="t"><instance_geometry url="#tri"/></node>
+    <node id="light"><matrix>)" +
+           matrix + R"(</matrix><instance_light url="#sun"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)";
+}
+
+// collada_fuzz (tools/fuzz-smoke 300): a node <matrix> holding a 90-digit
+// number (5.6e88: finite as a double, not as a float) gave a directional
+// light a non-finite direction, and `render` drew the scene with 122 NaN/Inf
+// samples dropped and exit code 0. Reduced here to the light, its matrix and
+// a triangle. A number beyond a float's range is bad input now, and so is a
+// world transform whose product leaves it (1e20 x 1e20).
+TEST(ColladaFuzzRegression, NumbersBeyondAFloatAreBadInput) {
+    const TempDir dir;
+    const std::string huge(90, '5');
+    EXPECT_NE(refusal(dir, "huge.dae",
+                      dae("0.7 0.5 0.5 1 -0.7 0.5 0.5 1 0 -0.7 0" + huge + ".7 1.5 0 0 0 1"))
+                  .find("is beyond the range of a 32-bit float"),
+              std::string::npos);
+    const std::string product = dae("1e20 0 0 0 0 1e20 0 0 0 0 1e20 0 0 0 0 1");
+    const std::string nested =
+        std::string(product).replace(product.find("<instance_light url=\"#sun\"/>"),
+                                     std::string("<instance_light url=\"#sun\"/>").size(),
+                                     "<node id=\"inner\"><matrix>1e20 0 0 0 0 1e20 0 0 0 0 1e20 "
+                                     "0 0 0 0 1</matrix><instance_light url=\"#sun\"/></node>");
+    EXPECT_NE(refusal(dir, "nested.dae", nested).find("not finite as 32-bit floats"),
+              std::string::npos);
+}
+
+// The finding itself, where the shared folder has it.
+TEST(ColladaFuzzRegression, TheOverflowingMatrixFindingIsBadInput) {
+    const fs::path finding =
+        test::scenesDir().parent_path() / "fuzz-findings" / "collada_overflowing_matrix.dae";
+    if (!fs::exists(finding)) GTEST_SKIP() << "no " << finding.string();
+    try {
+        scene::loadScene(finding);
+        ADD_FAILURE() << "loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("beyond the range of a 32-bit float"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+// The same in glTF, in any field: a node matrix, a material factor, a light's
+// intensity, named by JSON pointer; and a product of node scales.
+TEST(GltfFuzzRegression, NumbersBeyondAFloatAreBadInput) {
+    const TempDir dir;
+    const std::string head = R"({"asset": {"version": "2.0"}, )";
+    EXPECT_NE(refusal(dir, "matrix.gltf",
+                      head + R"("nodes": [{"matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5e88,1]}]})")
+                  .find(": /nodes/0/matrix/14 is 5e+88, beyond the range of a 32-bit float"),
+              std::string::npos);
+    EXPECT_NE(
+        refusal(dir, "factor.gltf", head + R"("materials": [{"emissiveFactor": [1, 1, -3.5e38]}]})")
+            .find("/materials/0/emissiveFactor/2 is -3.5e+38"),
+        std::string::npos);
+    EXPECT_NE(refusal(dir, "scales.gltf",
+                      head + R"("scene": 0, "scenes": [{"nodes": [0]}], "nodes": [)"
+                             R"({"scale": [1e20, 1e20, 1e20], "children": [1]},)"
+                             R"({"scale": [1e20, 1e20, 1e20]}]})")
+                  .find("node 1: its world transform is not finite as 32-bit floats"),
+              std::string::npos);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // built (wavefront/scene_footprint.h): the importers count what they will
 // build, the estimate follows the tables' layouts, and a scene too large for
 // the machine is refused in one line before its memory is spent.
+#include "wavefront/scene_footprint.h"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -18,7 +20,6 @@
 #include "support/test_context.h"
 #include "vk/context.h"
 #include "wavefront/gpu_scene.h"
-#include "wavefront/scene_footprint.h"
 
 namespace {
 
@@ -49,9 +50,8 @@ int uvSphere(test::GltfBuilder& b, int rings, bool texcoords) {
     const int n = b.vec3s(positions);  // a unit sphere's normals are its positions
     const int m = b.mesh(p, b.indices(indices, test::U32), n);
     if (texcoords)
-        b.doc["meshes"][size_t(m)]["primitives"][0]["attributes"]["TEXCOORD_0"] =
-            b.accessor(b.view(uvs.data(), uvs.size() * sizeof(glm::vec2)), test::F32, "VEC2",
-                       uvs.size());
+        b.doc["meshes"][size_t(m)]["primitives"][0]["attributes"]["TEXCOORD_0"] = b.accessor(
+            b.view(uvs.data(), uvs.size() * sizeof(glm::vec2)), test::F32, "VEC2", uvs.size());
     return m;
 }
 
