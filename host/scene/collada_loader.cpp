@@ -60,8 +60,23 @@ constexpr uint64_t MAX_NODE_VISITS = 1'000'000;
 struct CameraInstance {
     std::string nodeName;
     pugi::xml_node camera;
-    glm::dmat4 world;
+    std::optional<glm::dmat4> world;  // none: its node's transform is malformed
 };
+
+// Whether `node` holds cameras and nothing its transform would place besides
+// (no geometry, light or child node): Scotty3D keeps only a camera's direction.
+bool holdsOnlyCameras(pugi::xml_node node) {
+    bool camera = false;
+    for (pugi::xml_node child : node.children()) {
+        const std::string_view kind = child.name();
+        if (kind == "instance_camera")
+            camera = true;
+        else if (kind == "node" || kind == "instance_node" || kind == "instance_geometry" ||
+                 kind == "instance_light" || kind == "instance_controller")
+            return false;
+    }
+    return camera;
+}
 
 // An <instance_geometry> met in the node hierarchy, built once the whole
 // scene's geometry has been counted (LoadOptions::admit).
@@ -214,7 +229,21 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
     if (++m_nodeVisits > MAX_NODE_VISITS)
         fail(fmt::format("more than {} node instances", MAX_NODE_VISITS));
     const std::string nodeName = nameOf(node);
-    const glm::dmat4 world = parent * localTransform(node);
+    // Scotty3D reads a <matrix> as whatever numbers it holds and keeps only a
+    // camera's direction: a camera node's malformed transform is a warning,
+    // and the camera is placed as when there is none.
+    glm::dmat4 local(1.0);
+    bool placed = true;
+    try {
+        local = localTransform(node);
+    } catch (const InputError& e) {
+        if (!holdsOnlyCameras(node)) throw;
+        m_warnings.addExample(
+            "camera transform",
+            fmt::format("{}; the camera is placed by Scotty3D's rule from +Z", withoutFile(e)));
+        placed = false;
+    }
+    const glm::dmat4 world = parent * local;
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (!(std::abs(world[c][r]) <= double(std::numeric_limits<float>::max())))
@@ -242,7 +271,7 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
                 m_cameras.push_back({nodeName,
                                      m_document.resolve(child.attribute("url").as_string(nullptr),
                                                         "camera", context),
-                                     world});
+                                     placed ? std::optional(world) : std::nullopt});
             } catch (const InputError& e) {
                 m_warnings.addExample("camera instance",
                                       fmt::format("{}; ignored", withoutFile(e)));

@@ -689,6 +689,36 @@ TEST(ColladaLeniency, MalformedCameraIsAWarningAndScotty3dsFieldOfView) {
     EXPECT_EQ(s.triangleCount(), 1u);
 }
 
+// Scotty3D keeps only a camera's direction (SOURCE.md), and reads a node's
+// <matrix> as whatever numbers it holds: a camera node whose transform is
+// malformed (15 numbers, a word, a degenerate <lookat>) is a warning, and the
+// camera is placed by Scotty3D's rule as when there is none (from +Z). A node
+// that holds geometry with such a transform is still refused: nothing says
+// where its triangles are.
+TEST(ColladaLeniency, MalformedCameraTransformIsAWarningAndScotty3dsPlacement) {
+    TempDir dir;
+    const std::string cameraMatrix = "<matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix>";
+    for (const std::string bad : {"<matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0</matrix>",
+                                  "<matrix>1 0 0 0 0 1 0 0 0 0 1 five 0 0 0 1</matrix>",
+                                  "<lookat>0 0 0 0 0 0 0 1 0</lookat>"}) {
+        SCOPED_TRACE(bad);
+        std::string text = xml(Doc{});
+        text.replace(text.find(cameraMatrix), cameraMatrix.size(), bad);
+        std::vector<std::string> warnings;
+        const scene::Scene s = loadQuiet(dir.write("camera.dae", text), &warnings);
+        EXPECT_TRUE(anyContains(warnings, "node 'Camera'"));
+        EXPECT_TRUE(anyContains(warnings, "the camera is placed by Scotty3D's rule from +Z"));
+        EXPECT_EQ(s.camera.name, "Camera");
+        EXPECT_EQ(s.camera.xfovDegrees, 50.0f) << "the optics are still read";
+        EXPECT_FLOAT_EQ(s.camera.position.x, s.camera.target.x);
+        EXPECT_FLOAT_EQ(s.camera.position.y, s.camera.target.y);
+        EXPECT_GT(s.camera.position.z, s.camera.target.z);
+    }
+    Doc d;
+    d.nodeMatrix = "1 0 0 0  0 1 0 0  0 0 1 0  0 0 0";
+    expectInputError(dir.write("geometry.dae", xml(d)), "has 15 numbers, needs 16");
+}
+
 TEST(ColladaBadInput, NoGeometry) {
     TempDir dir;
     Doc d;
