@@ -27,6 +27,7 @@
 #include "app/validators.h"
 #include "image/image.h"
 #include "image/statistics.h"
+#include "image/tev_client.h"
 #include "input_error.h"
 #include "reference/reference_renderer.h"
 #include "vk/check.h"
@@ -51,6 +52,7 @@ struct RenderCommandOptions : RenderOptions {
     bool timings = false;
     std::string checkpoint;  // --checkpoint FILE
     double checkpointEvery = 300;
+    std::string displayServer;  // --display-server HOST:PORT (tev)
     std::string resume;         // --resume FILE
     bool autoSettings = false;  // --auto: the knobs chosen by pilot renders (app/auto_search.h)
     // The knobs given as flags, which --auto keeps and does not search.
@@ -349,14 +351,25 @@ struct SavedCheckpoint {
 // Checkpoints while rendering (a failure there is a warning: the render goes
 // on, the file keeps its last good state) and at the end (a failure is an
 // error); each one written becomes `saved`.
+// --display-server: the image so far at most this often (RenderControl::preview
+// spaces them further where making one takes longer than 2% of the time).
+constexpr double DISPLAY_EVERY_SECONDS = 0.25;
+// How long the render waits at its end for the viewer to take the last image.
+constexpr double DISPLAY_FINISH_SECONDS = 3.0;
+
 wavefront::RenderControl renderControl(const RenderCommandOptions& o,
                                        const RenderIdentity& identity,
                                        const wavefront::SampleRange& samples,
                                        const std::optional<Checkpoint>& resume,
                                        const std::optional<AutoChoice>& choice,
-                                       std::optional<SavedCheckpoint>& saved) {
+                                       std::optional<SavedCheckpoint>& saved,
+                                       image::TevClient* display) {
     wavefront::RenderControl control;
     control.stopRequested = [] { return StopOnSignal::requested() != 0; };
+    if (display) {
+        control.preview = [display](const image::Image& image) { display->show(image); };
+        control.previewEverySeconds = DISPLAY_EVERY_SECONDS;
+    }
     control.resume = resume ? &resume->state : nullptr;
     if (resume) saved = SavedCheckpoint{o.resume, resume->state.samplesDone};
     if (!o.checkpoint.empty()) {
@@ -434,6 +447,17 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
     for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
     if (!o.png.empty()) checkWritable("--png", o.png);
     if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
+    std::unique_ptr<image::TevClient> display;
+    if (!o.displayServer.empty())
+        display = std::make_unique<image::TevClient>(
+            image::parseDisplayServer(o.displayServer, "--display-server"),
+            std::filesystem::path(o.output).filename().string());
+    // The final image, whatever ended the render.
+    auto showFinal = [&](const wavefront::RenderResult& result) {
+        if (!display || result.samplesPerPixel == 0) return;
+        display->show(result.image);
+        display->finish(DISPLAY_FINISH_SECONDS);
+    };
     const scene::Scene scene = loadRenderScene(o);
     std::optional<Checkpoint> resume;
     if (!o.resume.empty()) resume = readCheckpoint(o.resume);
@@ -451,7 +475,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         settings.timeBudgetSeconds = o.timeBudget;
         identity = renderIdentity(o, scene);
         if (resume) checkResume(o, *resume, identity, samples, film);
-        return renderControl(o, identity, samples, resume, choice, saved);
+        return renderControl(o, identity, samples, resume, choice, saved, display.get());
     };
     const StopOnSignal stopOnSignal;
     if (o.device == "cpu") {
@@ -482,6 +506,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         double cpuSeconds = 0;
         const auto result =
             renderWithProgress(renderer, samples, o.timeBudget, o.targetError, control, cpuSeconds);
+        showFinal(result);
         return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device,
                             choice);
     }
@@ -536,6 +561,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
                 stderr,
                 "vkpath: waves capped at %g ms: %u paths per wave at the end (of %u in flight)\n",
                 *settings.maxWaveMilliseconds, result.cappedWavePaths, result.pathsInFlight);
+        showFinal(result);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
         const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds,
@@ -591,6 +617,11 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
         ->check(realAtLeast<double>(0))
         ->capture_default_str()
         ->needs(checkpoint);
+    cmd->add_option("--display-server", o->displayServer,
+                    "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
+                    "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "
+                    "render goes on if the viewer cannot be reached")
+        ->type_name("HOST:PORT");
     cmd->add_option(
            "--resume", o->resume,
            "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "

@@ -249,6 +249,10 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
                 control.checkpoint(state(seconds));
                 gate.checkpointed();
             }
+            if (!ended)
+                gate.previewIfDue(done, samples.count, [&] {
+                    return wavefront::meanImage(statistics(), s.width, s.height);
+                });
         }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();

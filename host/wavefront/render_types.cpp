@@ -128,7 +128,10 @@ WholeSampleGate::WholeSampleGate(const RenderControl& control,
                                  std::optional<double> timeBudgetSeconds)
     : m_control(control),
       m_timeBudget(timeBudgetSeconds),
-      m_lastCheckpoint(std::chrono::steady_clock::now()) {}
+      m_lastCheckpoint(std::chrono::steady_clock::now()),
+      m_nextPreview(m_lastCheckpoint +
+                    std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::duration<double>(control.previewEverySeconds))) {}
 
 bool WholeSampleGate::ends(uint32_t done, uint32_t total, double seconds, bool& stopped) const {
     if (m_control.stopRequested && m_control.stopRequested()) {
@@ -146,6 +149,19 @@ bool WholeSampleGate::checkpointDue(uint32_t done, uint32_t total) const {
 
 void WholeSampleGate::checkpointed() {
     m_lastCheckpoint = std::chrono::steady_clock::now();
+}
+
+void WholeSampleGate::previewIfDue(uint32_t done, uint32_t total,
+                                   const std::function<image::Image()>& make) {
+    using Clock = std::chrono::steady_clock;
+    if (!m_control.preview || done >= total || Clock::now() < m_nextPreview) return;
+    const auto begin = Clock::now();
+    m_control.preview(make());
+    const auto end = Clock::now();
+    m_nextPreview = end + std::max<Clock::duration>(
+                              std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(m_control.previewEverySeconds)),
+                              49 * (end - begin));
 }
 
 PixelEstimate estimatePixel(double sum, double sumSquares, double samples) {

@@ -174,6 +174,12 @@ struct RenderControl {
     // once at the end (done, stopped or out of time budget).
     std::function<void(const RenderState&)> checkpoint;
     double checkpointEverySeconds = 0;
+    // Called with the image so far (each pixel's mean) at whole samples, at
+    // most every `previewEverySeconds` and never sooner after the last than
+    // 49 times what that one took (making it: the film's download and its
+    // statistics), so that previews cost at most 2% of the render.
+    std::function<void(const image::Image&)> preview;
+    double previewEverySeconds = 0;
 };
 
 // The film format names of RenderState.
@@ -217,11 +223,15 @@ class WholeSampleGate {
     // True when a checkpoint is due (then the caller writes it and calls checkpointed()).
     bool checkpointDue(uint32_t done, uint32_t total) const;
     void checkpointed();
+    // The same for RenderControl::preview: `make` gives the image, whose
+    // making is timed to space the next.
+    void previewIfDue(uint32_t done, uint32_t total, const std::function<image::Image()>& make);
 
   private:
     const RenderControl& m_control;
     std::optional<double> m_timeBudget;
     std::chrono::steady_clock::time_point m_lastCheckpoint;
+    std::chrono::steady_clock::time_point m_nextPreview;
 };
 
 struct RenderResult {

@@ -368,6 +368,9 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
                     filmBytes(), r.counters.download<shared::QueueCounters>().at(0), seconds));
                 gate.checkpointed();
             }
+            if (!ended)
+                gate.previewIfDue(samplesDone, samples.count,
+                                  [&] { return meanImage(statistics(), s.width, s.height); });
         }
     }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -74,16 +74,22 @@ double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t widt
     return pixels.empty() ? 0.0 : sum / (3.0 * double(pixels.size()));
 }
 
+image::Image meanImage(const std::vector<PixelStatistics>& pixels, uint32_t width,
+                       uint32_t height) {
+    image::Image image(width, height);
+    for (size_t i = 0; i < pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) image.pixels[i][c] = float(pixels[i].mean[c]);
+    return image;
+}
+
 void takeImage(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height,
                RenderResult& result) {
     result.estimatedRelMse = estimatedRelMse(pixels, width, height);
-    result.image = image::Image(width, height);
+    result.image = meanImage(pixels, width, height);
     result.varianceOfMean = image::Image(width, height);
     for (size_t i = 0; i < pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            result.image.pixels[i][c] = float(pixels[i].mean[c]);
+        for (int c = 0; c < 3; ++c)
             result.varianceOfMean.pixels[i][c] = float(pixels[i].varianceOfMean[c]);
-        }
 }
 
 // The steepest the error falls with the samples n, as n^-b: b = 1 for

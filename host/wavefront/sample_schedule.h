@@ -85,6 +85,9 @@ double estimatedRelMse(const std::vector<PixelStatistics>& pixels, uint32_t widt
 void takeImage(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height,
                RenderResult& result);
 
+// Each pixel's mean, as an image (a preview of the render so far).
+image::Image meanImage(const std::vector<PixelStatistics>& pixels, uint32_t width, uint32_t height);
+
 // Per pixel and channel: b^2 + 0.01 of estimatedRelMse.
 std::vector<glm::dvec3> relMseDenominators(const std::vector<PixelStatistics>& pixels,
                                            uint32_t width, uint32_t height);
