@@ -98,8 +98,8 @@ std::vector<uint8_t> tevCreateImagePacket(const std::string& name, uint32_t widt
     return p.finish();
 }
 
-std::vector<uint8_t> tevUpdateImagePacket(const std::string& name, const Image& image,
-                                          uint32_t y0, uint32_t rows) {
+std::vector<uint8_t> tevUpdateImagePacket(const std::string& name, const Image& image, uint32_t y0,
+                                          uint32_t rows) {
     Packet p(UPDATE_IMAGE_V3);
     p.boolean(false);
     p.string(name);
@@ -109,8 +109,8 @@ std::vector<uint8_t> tevUpdateImagePacket(const std::string& name, const Image& 
     p.number(int32_t(y0));
     p.number(int32_t(image.width));
     p.number(int32_t(rows));
-    for (int64_t c = 0; c < 3; ++c) p.number(c);          // offsets
-    for (int c = 0; c < 3; ++c) p.number(int64_t(3));     // strides: RGB interleaved
+    for (int64_t c = 0; c < 3; ++c) p.number(c);       // offsets
+    for (int c = 0; c < 3; ++c) p.number(int64_t(3));  // strides: RGB interleaved
     for (uint32_t y = y0; y < y0 + rows; ++y)
         for (uint32_t x = 0; x < image.width; ++x)
             for (int c = 0; c < 3; ++c) p.number(image.pixels[size_t(y) * image.width + x][c]);

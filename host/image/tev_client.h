@@ -40,11 +40,10 @@ struct DisplayServer {
 DisplayServer parseDisplayServer(const std::string& text, const std::string& flag);
 
 // The packets, for the client and for tests.
-std::vector<uint8_t> tevCreateImagePacket(const std::string& name, uint32_t width,
-                                          uint32_t height);
+std::vector<uint8_t> tevCreateImagePacket(const std::string& name, uint32_t width, uint32_t height);
 // Rows [y0, y0 + rows) of `image`, as R, G and B channels interleaved.
-std::vector<uint8_t> tevUpdateImagePacket(const std::string& name, const Image& image,
-                                          uint32_t y0, uint32_t rows);
+std::vector<uint8_t> tevUpdateImagePacket(const std::string& name, const Image& image, uint32_t y0,
+                                          uint32_t rows);
 
 class TevClient {
   public:

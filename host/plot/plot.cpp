@@ -1,36 +1,51 @@
 #include "plot/plot.h"
 
+#include <cairo.h>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
+#include <cstring>
 #include <glm/glm.hpp>
 #include <limits>
-
-#include "plot/font.h"
+#include <memory>
+#include <stdexcept>
 
 namespace vkpath::plot {
 namespace {
 
-constexpr int FONT_SCALE = 2;
-constexpr int LINE_HEIGHT = (GLYPH_HEIGHT + GLYPH_DESCENT) * FONT_SCALE + 4;
+// Text: DejaVu Sans through fontconfig (Debian's fonts-dejavu-core), at this
+// size in pixels; rows of text are LINE_HEIGHT apart.
+constexpr const char* FONT = "DejaVu Sans";
+constexpr double FONT_SIZE = 15;
+constexpr int LINE_HEIGHT = 22;
 constexpr int PANEL_WIDTH = 300;
 
+// An sRGB colour, 0..255 per channel: what Cairo draws with and the PNG holds.
+struct Srgb {
+    int r, g, b;
+};
+
 // The palette and the chart's greys are sRGB values; the image is linear.
-glm::vec3 srgb(int r, int g, int b) {
-    auto linear = [](int v) {
-        const double c = v / 255.0;
-        return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+glm::vec3 linear(Srgb c) {
+    auto channel = [](int v) {
+        const double x = v / 255.0;
+        return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
     };
-    return {linear(r), linear(g), linear(b)};
+    return {channel(c.r), channel(c.g), channel(c.b)};
 }
 
-const glm::vec3 BLACK = srgb(0, 0, 0);
-const glm::vec3 TEXT = srgb(30, 30, 30);
-const glm::vec3 DECADE_GRID = srgb(200, 200, 200);
-const glm::vec3 MINOR_GRID = srgb(235, 235, 235);
+constexpr Srgb BLACK{0, 0, 0};
+constexpr Srgb TEXT{30, 30, 30};
+constexpr Srgb DECADE_GRID{200, 200, 200};
+constexpr Srgb MINOR_GRID{235, 235, 235};
+
+// Blue, vermillion, bluish green, reddish purple, orange, sky blue, black,
+// yellow: the order puts the most distinct first; yellow, faint on white, last.
+constexpr std::array<Srgb, 8> PALETTE = {Srgb{0, 114, 178}, {213, 94, 0},  {0, 158, 115},
+                                         {204, 121, 167},   {230, 159, 0}, {86, 180, 233},
+                                         {0, 0, 0},         {240, 228, 66}};
 
 bool usable(double v) {
     return std::isfinite(v) && v > 0;
@@ -45,75 +60,113 @@ std::string compactNumber(double v) {
     return fmt::format("{:.3g}e{}", v / std::pow(10.0, exponent), exponent);
 }
 
+// A Cairo image surface on white, drawn on in pixel coordinates.
 class Canvas {
   public:
-    explicit Canvas(uint32_t width, uint32_t height) : m_image(width, height) {
-        std::fill(m_image.pixels.begin(), m_image.pixels.end(), glm::vec3(1.0f));
+    Canvas(uint32_t width, uint32_t height)
+        : m_surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(width), int(height)),
+                    &cairo_surface_destroy),
+          m_cairo(cairo_create(m_surface.get()), &cairo_destroy) {
+        if (cairo_surface_status(m_surface.get()) != CAIRO_STATUS_SUCCESS)
+            throw std::runtime_error(fmt::format("cannot make a {}x{} chart", width, height));
+        cairo_set_source_rgb(m_cairo.get(), 1, 1, 1);
+        cairo_paint(m_cairo.get());
+        cairo_select_font_face(m_cairo.get(), FONT, CAIRO_FONT_SLANT_NORMAL,
+                               CAIRO_FONT_WEIGHT_NORMAL);
+        cairo_set_font_size(m_cairo.get(), FONT_SIZE);
     }
 
-    void blend(int x, int y, glm::vec3 color, float alpha) {
-        if (x < 0 || y < 0 || x >= int(m_image.width) || y >= int(m_image.height) || alpha <= 0)
-            return;
-        glm::vec3& p = m_image.at(uint32_t(x), uint32_t(y));
-        p = glm::mix(p, color, std::min(alpha, 1.0f));
+    void color(Srgb c) {
+        cairo_set_source_rgb(m_cairo.get(), c.r / 255.0, c.g / 255.0, c.b / 255.0);
     }
 
-    void fillRect(int x0, int y0, int x1, int y1, glm::vec3 color) {
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) blend(x, y, color, 1.0f);
+    void fillRect(double x0, double y0, double x1, double y1, Srgb c) {
+        color(c);
+        cairo_rectangle(m_cairo.get(), x0, y0, x1 - x0, y1 - y0);
+        cairo_fill(m_cairo.get());
     }
 
-    // A segment `width` pixels wide, anti-aliased by each pixel's distance to it.
-    void line(glm::dvec2 a, glm::dvec2 b, double width, glm::vec3 color) {
-        const double reach = width / 2 + 1;
-        const int x0 = int(std::floor(std::min(a.x, b.x) - reach)),
-                  x1 = int(std::ceil(std::max(a.x, b.x) + reach));
-        const int y0 = int(std::floor(std::min(a.y, b.y) - reach)),
-                  y1 = int(std::ceil(std::max(a.y, b.y) + reach));
-        const glm::dvec2 ab = b - a;
-        const double length2 = glm::dot(ab, ab);
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                const glm::dvec2 p(x + 0.5, y + 0.5);
-                const double t =
-                    length2 > 0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
-                const double d = glm::length(p - (a + t * ab));
-                blend(x, y, color, float(std::clamp(width / 2 + 0.5 - d, 0.0, 1.0)));
-            }
-    }
-
-    // A filled shape given by an inside test around (cx, cy), 4x4 samples per pixel.
-    void shape(double cx, double cy, double radius, glm::vec3 color,
-               const std::function<bool(double, double)>& inside) {
-        for (int y = int(cy - radius) - 1; y <= int(cy + radius) + 1; ++y)
-            for (int x = int(cx - radius) - 1; x <= int(cx + radius) + 1; ++x) {
-                int hits = 0;
-                for (int sy = 0; sy < 4; ++sy)
-                    for (int sx = 0; sx < 4; ++sx)
-                        hits += inside((x + (sx + 0.5) / 4 - cx) / radius,
-                                       (y + (sy + 0.5) / 4 - cy) / radius);
-                blend(x, y, color, hits / 16.0f);
-            }
+    void line(glm::dvec2 a, glm::dvec2 b, double width, Srgb c) {
+        color(c);
+        cairo_set_line_width(m_cairo.get(), width);
+        cairo_move_to(m_cairo.get(), a.x, a.y);
+        cairo_line_to(m_cairo.get(), b.x, b.y);
+        cairo_stroke(m_cairo.get());
     }
 
     // Circle, square, triangle, diamond, in turn per series.
-    void marker(size_t kind, double cx, double cy, glm::vec3 color) {
-        static const std::array<std::function<bool(double, double)>, 4> shapes = {
-            [](double u, double v) { return u * u + v * v <= 1; },
-            [](double u, double v) { return std::abs(u) <= 0.8 && std::abs(v) <= 0.8; },
-            [](double u, double v) { return v <= 0.7 && v >= -1 + 2 * std::abs(u) * 0.97; },
-            [](double u, double v) { return std::abs(u) + std::abs(v) <= 1.1; }};
-        shape(cx, cy, 5.5, color, shapes[kind % shapes.size()]);
+    void marker(size_t kind, double cx, double cy, Srgb c) {
+        constexpr double R = 5.5;
+        cairo_t* cr = m_cairo.get();
+        color(c);
+        switch (kind % 4) {
+            case 0:
+                cairo_arc(cr, cx, cy, R, 0, 2 * M_PI);
+                break;
+            case 1:
+                cairo_rectangle(cr, cx - 0.8 * R, cy - 0.8 * R, 1.6 * R, 1.6 * R);
+                break;
+            case 2:
+                cairo_move_to(cr, cx, cy - R);
+                cairo_line_to(cr, cx + R, cy + 0.7 * R);
+                cairo_line_to(cr, cx - R, cy + 0.7 * R);
+                cairo_close_path(cr);
+                break;
+            default:
+                cairo_move_to(cr, cx, cy - 1.1 * R);
+                cairo_line_to(cr, cx + 1.1 * R, cy);
+                cairo_line_to(cr, cx, cy + 1.1 * R);
+                cairo_line_to(cr, cx - 1.1 * R, cy);
+                cairo_close_path(cr);
+        }
+        cairo_fill(cr);
     }
 
-    void text(int x, int y, const std::string& s, glm::vec3 color = TEXT) {
-        drawText(m_image, x, y, s, color, FONT_SCALE);
+    double textWidth(const std::string& s) {
+        cairo_text_extents_t e;
+        cairo_text_extents(m_cairo.get(), s.c_str(), &e);
+        return e.x_advance;
     }
 
-    image::Image take() { return std::move(m_image); }
+    // `s` with its top-left corner at (x, y): the line's ascent below y.
+    void text(double x, double y, const std::string& s, Srgb c = TEXT) {
+        cairo_font_extents_t font;
+        cairo_font_extents(m_cairo.get(), &font);
+        color(c);
+        cairo_move_to(m_cairo.get(), x, y + font.ascent);
+        cairo_show_text(m_cairo.get(), s.c_str());
+    }
+    // The same turned a quarter anticlockwise, reading upwards, its top-left
+    // corner (the start of the text) at (x, y).
+    void verticalText(double x, double y, const std::string& s, Srgb c = TEXT) {
+        cairo_save(m_cairo.get());
+        cairo_translate(m_cairo.get(), x, y);
+        cairo_rotate(m_cairo.get(), -M_PI / 2);
+        text(0, 0, s, c);
+        cairo_restore(m_cairo.get());
+    }
+
+    // The picture as linear RGB (Cairo's pixels are the sRGB values drawn).
+    image::Image take() {
+        cairo_surface_flush(m_surface.get());
+        const int width = cairo_image_surface_get_width(m_surface.get());
+        const int height = cairo_image_surface_get_height(m_surface.get());
+        const int stride = cairo_image_surface_get_stride(m_surface.get());
+        const unsigned char* data = cairo_image_surface_get_data(m_surface.get());
+        image::Image picture{uint32_t(width), uint32_t(height)};
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                uint32_t p;  // CAIRO_FORMAT_RGB24: 0x00RRGGBB in a native-endian word
+                std::memcpy(&p, data + size_t(y) * stride + size_t(x) * 4, 4);
+                picture.at(uint32_t(x), uint32_t(y)) =
+                    linear({int(p >> 16 & 255), int(p >> 8 & 255), int(p & 255)});
+            }
+        return picture;
+    }
 
   private:
-    image::Image m_image;
+    std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> m_surface;
+    std::unique_ptr<cairo_t, decltype(&cairo_destroy)> m_cairo;
 };
 
 }  // namespace
@@ -144,12 +197,7 @@ std::vector<double> LogAxis::minorTicks() const {
 }
 
 glm::vec3 seriesColor(size_t i) {
-    // Blue, vermillion, bluish green, reddish purple, orange, sky blue, black,
-    // yellow: the order puts the most distinct first; yellow, faint on white, last.
-    static const std::array<glm::vec3, 8> palette = {
-        srgb(0, 114, 178), srgb(213, 94, 0),   srgb(0, 158, 115), srgb(204, 121, 167),
-        srgb(230, 159, 0), srgb(86, 180, 233), srgb(0, 0, 0),     srgb(240, 228, 66)};
-    return palette[i % palette.size()];
+    return linear(PALETTE[i % PALETTE.size()]);
 }
 
 image::Image renderChart(const Chart& chart) {
@@ -165,12 +213,13 @@ image::Image renderChart(const Chart& chart) {
             }
     if (xMax == 0) xMin = xMax = yMin = yMax = 1;  // nothing to draw: empty axes from 1 to 10
 
-    // ---- layout: title on top, the legend panel on the right --------------------------
-    const int left = 20 + textWidth("1e-10", FONT_SCALE) + 10, top = 30 + 2 * LINE_HEIGHT;
-    const int right = int(chart.width) - PANEL_WIDTH - 20,
-              bottom = int(chart.height) - 2 * LINE_HEIGHT - 20;
-    const LogAxis x{decadeRange(xMin, xMax), double(left), double(right)};
-    const LogAxis y{decadeRange(yMin, yMax), double(bottom), double(top)};
+    // ---- layout: title on top, the y label up the left, the legend panel on the right ----
+    const double left = 20 + LINE_HEIGHT + canvas.textWidth("1e-10") + 10,
+                 top = 20 + 2 * LINE_HEIGHT;
+    const double right = double(chart.width) - PANEL_WIDTH - 20,
+                 bottom = double(chart.height) - 2 * LINE_HEIGHT - 20;
+    const LogAxis x{decadeRange(xMin, xMax), left, right};
+    const LogAxis y{decadeRange(yMin, yMax), bottom, top};
 
     // ---- grid, ticks and their labels ----------------------------------------------------
     for (double v : x.minorTicks())
@@ -182,45 +231,45 @@ image::Image renderChart(const Chart& chart) {
         canvas.line({px, top}, {px, bottom}, 1, DECADE_GRID);
         canvas.line({px, bottom}, {px, bottom + 6.0}, 1.5, BLACK);
         const std::string label = decadeLabel(e);
-        canvas.text(int(px) - textWidth(label, FONT_SCALE) / 2, bottom + 12, label);
+        canvas.text(px - canvas.textWidth(label) / 2, bottom + 10, label);
     }
     for (int e = y.range.lo; e <= y.range.hi; ++e) {
         const double py = y.toPixel(std::pow(10.0, e));
         canvas.line({left, py}, {right, py}, 1, DECADE_GRID);
         canvas.line({left - 6.0, py}, {left, py}, 1.5, BLACK);
         const std::string label = decadeLabel(e);
-        canvas.text(left - 10 - textWidth(label, FONT_SCALE), int(py) - textHeight(FONT_SCALE) / 2,
-                    label);
+        canvas.text(left - 10 - canvas.textWidth(label), py - LINE_HEIGHT / 2.0, label);
     }
     canvas.line({left, top}, {left, bottom}, 1.5, BLACK);
     canvas.line({left, bottom}, {right, bottom}, 1.5, BLACK);
 
     canvas.text(left, 12, chart.title);
-    canvas.text(left - textWidth("1e-10", FONT_SCALE) / 2, top - LINE_HEIGHT - 8, chart.yLabel);
-    canvas.text((left + right - textWidth(chart.xLabel, FONT_SCALE)) / 2, bottom + 14 + LINE_HEIGHT,
+    canvas.verticalText(16, (top + bottom + canvas.textWidth(chart.yLabel)) / 2, chart.yLabel);
+    canvas.text((left + right - canvas.textWidth(chart.xLabel)) / 2, bottom + 14 + LINE_HEIGHT,
                 chart.xLabel);
 
     // ---- the series: lines first, markers over them ------------------------------------
     for (size_t k = 0; k < chart.series.size(); ++k) {
         const Series& s = chart.series[k];
+        const Srgb colour = PALETTE[k % PALETTE.size()];
         bool connected = false;  // a line from the previous point: not across a point left out
         glm::dvec2 previous(0.0);
         for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
             connected = connected && usable(s.x[i]) && usable(s.y[i]);
             if (!usable(s.x[i]) || !usable(s.y[i])) continue;
             const glm::dvec2 p(x.toPixel(s.x[i]), y.toPixel(s.y[i]));
-            if (connected) canvas.line(previous, p, 2.5, seriesColor(k));
+            if (connected) canvas.line(previous, p, 2.5, colour);
             previous = p;
             connected = true;
         }
         for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
             if (usable(s.x[i]) && usable(s.y[i]))
-                canvas.marker(k, x.toPixel(s.x[i]), y.toPixel(s.y[i]), seriesColor(k));
+                canvas.marker(k, x.toPixel(s.x[i]), y.toPixel(s.y[i]), colour);
     }
 
     // ---- the legend: swatch and label, then the score as a bar --------------------------
-    const int panel = int(chart.width) - PANEL_WIDTH;
-    int row = top;
+    const double panel = double(chart.width) - PANEL_WIDTH;
+    double row = top;
     const bool scored = !chart.scores.empty() && chart.scores.size() == chart.series.size();
     double best = 0;
     if (scored) {
@@ -228,17 +277,18 @@ image::Image renderChart(const Chart& chart) {
         canvas.text(panel, row - LINE_HEIGHT - 8, chart.scoreLabel);
     }
     for (size_t k = 0; k < chart.series.size(); ++k) {
-        const double cy = row + textHeight(FONT_SCALE) / 2.0;
-        canvas.line({panel, cy}, {panel + 30.0, cy}, 2.5, seriesColor(k));
-        canvas.marker(k, panel + 15.0, cy, seriesColor(k));
+        const Srgb colour = PALETTE[k % PALETTE.size()];
+        const double cy = row + LINE_HEIGHT / 2.0;
+        canvas.line({panel, cy}, {panel + 30.0, cy}, 2.5, colour);
+        canvas.marker(k, panel + 15.0, cy, colour);
         canvas.text(panel + 40, row, chart.series[k].label);
         row += LINE_HEIGHT;
         if (scored) {
             const double v = std::isfinite(chart.scores[k]) ? chart.scores[k] : 0.0;
-            constexpr int BAR = 90;
-            const int length = best > 0 ? int(std::lround(BAR * v / best)) : 0;
-            canvas.fillRect(panel + 40, row, panel + 40 + std::max(length, 1),
-                            row + textHeight(FONT_SCALE), seriesColor(k));
+            constexpr double BAR = 90;
+            const double length = best > 0 ? std::round(BAR * v / best) : 0;
+            canvas.fillRect(panel + 40, row + 3, panel + 40 + std::max(length, 1.0),
+                            row + LINE_HEIGHT - 5, colour);
             const bool mark = chart.series.size() > 1 && best > 0 && v == best;
             canvas.text(panel + 40 + BAR + 8, row, compactNumber(v) + (mark ? " best" : ""));
             row += LINE_HEIGHT;

@@ -1,7 +1,8 @@
 // Log-log line charts rendered into an image::Image, for convergence plots
 // (error against time): decade ticks with labels, faint grid lines at 2..9 x
 // 10^k, one coloured line with markers per series, and a legend panel that
-// can carry one score per series as a bar (the best one marked).
+// can carry one score per series as a bar (the best one marked). Drawn by
+// Cairo, anti-aliased, with its text in DejaVu Sans.
 #pragma once
 
 #include <cstdint>

@@ -163,17 +163,17 @@ class FakeTev {
                 for (int32_t c = 0; c < channels; ++c) strides.push_back(p.number<int64_t>());
                 size_t floats = 0;
                 for (int32_t c = 0; c < channels; ++c)
-                    floats = std::max<size_t>(floats, size_t(offsets[c] + (int64_t(w) * h - 1) *
-                                                                              strides[c] + 1));
+                    floats = std::max<size_t>(
+                        floats, size_t(offsets[c] + (int64_t(w) * h - 1) * strides[c] + 1));
                 std::vector<float> data(floats);
                 for (float& v : data) v = p.number<float>();
                 if (!p.done()) throw std::runtime_error("UpdateImage: bytes left over");
                 if (x < 0 || y < 0 || x + w > image.width || y + h > image.height)
                     throw std::runtime_error("UpdateImage outside the image");
                 for (int32_t c = 0; c < channels; ++c) {
-                    const size_t channel = size_t(std::find(image.channels.begin(),
-                                                            image.channels.end(), names[c]) -
-                                                  image.channels.begin());
+                    const size_t channel =
+                        size_t(std::find(image.channels.begin(), image.channels.end(), names[c]) -
+                               image.channels.begin());
                     if (channel >= 3) throw std::runtime_error("an unknown channel " + names[c]);
                     for (int32_t py = 0; py < h; ++py)
                         for (int32_t px = 0; px < w; ++px)
@@ -225,12 +225,10 @@ TEST(DisplayServer, TheViewerEndsWithTheExrsPixels) {
         SCOPED_TRACE(device);
         FakeTev tev;
         const auto exr = dir / (std::string(device) + ".exr");
-        const std::string waves =
-            std::string(device) == "gpu" ? " --paths-in-flight 20000" : "";
-        const auto r = test::runVkpath("render " + box() + " --device " + device +
-                                       " -d 640x120 --time-budget 1.5" + waves +
-                                       " --display-server " + tev.address() + " -o " +
-                                       exr.string());
+        const std::string waves = std::string(device) == "gpu" ? " --paths-in-flight 20000" : "";
+        const auto r = test::runVkpath(
+            "render " + box() + " --device " + device + " -d 640x120 --time-budget 1.5" + waves +
+            " --display-server " + tev.address() + " -o " + exr.string());
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(tev.error(), "");
         EXPECT_EQ(tev.connections(), 1);
@@ -258,8 +256,7 @@ TEST(DisplayServer, AViewerThatGoesAwayIsReconnectedTo) {
     EXPECT_EQ(tev.error(), "");
     EXPECT_EQ(tev.connections(), 2);
     EXPECT_EQ(tev.creates(), 2);
-    EXPECT_NE(r.err.find("vkpath: warning: --display-server " + tev.address()),
-              std::string::npos)
+    EXPECT_NE(r.err.find("vkpath: warning: --display-server " + tev.address()), std::string::npos)
         << r.err;
     expectTheExr(tev.image("box.exr"), exr);
 }
@@ -274,8 +271,9 @@ TEST(DisplayServer, NoViewerIsAWarningAndABadAddressIsOneLine) {
         FakeTev closed;  // a port that was listening and is not any more
         unused = std::stoi(closed.address().substr(closed.address().rfind(':') + 1));
     }
-    const auto r = test::runVkpath("render " + box() + " -d 16x12 -s 4 --display-server 127.0.0.1:" +
-                                   std::to_string(unused) + " -o " + exr.string());
+    const auto r = test::runVkpath(
+        "render " + box() + " -d 16x12 -s 4 --display-server 127.0.0.1:" + std::to_string(unused) +
+        " -o " + exr.string());
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(std::filesystem::exists(exr));
     size_t warnings = 0;
@@ -283,8 +281,8 @@ TEST(DisplayServer, NoViewerIsAWarningAndABadAddressIsOneLine) {
          at = r.err.find("--display-server", at + 1))
         ++warnings;
     EXPECT_EQ(warnings, 1u) << r.err;
-    for (const char* bad : {"localhost", ":14158", "localhost:0", "localhost:65536",
-                            "localhost:port"}) {
+    for (const char* bad :
+         {"localhost", ":14158", "localhost:0", "localhost:65536", "localhost:port"}) {
         SCOPED_TRACE(bad);
         const auto b = test::runVkpath("render " + box() + " -d 16x12 -s 4 --display-server '" +
                                        std::string(bad) + "' -o " + (dir / "bad.exr").string());
@@ -301,9 +299,9 @@ TEST(DisplayServer, PacketsAreTevsLayout) {
     uint32_t size = 0;
     std::memcpy(&size, create.data(), 4);
     EXPECT_EQ(size, create.size());
-    const std::vector<uint8_t> expected = {
-        0, 0, 0, 0, 4, 0, 'a', '.', 'e', 'x', 'r', 0, 3, 0, 0, 0, 2, 0, 0, 0, 3, 0, 0, 0,
-        'R', 0, 'G', 0, 'B', 0};
+    const std::vector<uint8_t> expected = {0,   0, 0, 0, 4,   0, 'a', '.', 'e', 'x',
+                                           'r', 0, 3, 0, 0,   0, 2,   0,   0,   0,
+                                           3,   0, 0, 0, 'R', 0, 'G', 0,   'B', 0};
     EXPECT_EQ(std::vector<uint8_t>(create.begin() + 4, create.end()),
               std::vector<uint8_t>(expected.begin() + 4, expected.end()));
     image::Image picture(3, 2);

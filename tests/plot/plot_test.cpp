@@ -1,15 +1,12 @@
-// The log-log chart's axis logic, its font and what a rendered chart holds.
+// The log-log chart's axis logic and what a rendered chart holds.
 #include "plot/plot.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <glm/glm.hpp>
-#include <set>
 #include <string>
 #include <vector>
-
-#include "plot/font.h"
 
 namespace {
 
@@ -55,22 +52,6 @@ TEST(PlotAxis, DecadesAreEvenlySpacedAndMinorTicksFallBetween) {
     }
 }
 
-TEST(PlotFont, EveryLabelCharacterHasItsOwnGlyph) {
-    const std::string characters =
-        "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ-+.,:=()[]/_*%<> ";
-    std::set<std::vector<uint8_t>> seen;
-    for (char c : characters) {
-        const uint8_t* rows = plot::glyph(c);
-        ASSERT_NE(rows, nullptr) << c;
-        std::vector<uint8_t> bitmap(rows, rows + plot::GLYPH_HEIGHT);
-        for (uint8_t row : bitmap) EXPECT_LT(row, 1u << plot::GLYPH_WIDTH) << c;
-        // Two characters drawn alike would make a label ambiguous.
-        EXPECT_TRUE(seen.insert(bitmap).second) << "glyph of '" << c << "' repeats another";
-    }
-    EXPECT_EQ(plot::glyph('\t'), nullptr);
-    EXPECT_EQ(plot::textWidth("1e-3", 2), (4 * plot::GLYPH_ADVANCE - 1) * 2);
-}
-
 int countColor(const image::Image& image, glm::vec3 color) {
     int n = 0;
     for (const glm::vec3& p : image.pixels)
@@ -94,6 +75,32 @@ TEST(PlotChart, DrawsEachSeriesInItsColourAtTheRequestedSize) {
     EXPECT_GT(countColor(image, plot::seriesColor(0)), 200);
     EXPECT_GT(countColor(image, plot::seriesColor(1)), 200);
     EXPECT_EQ(countColor(image, plot::seriesColor(2)), 0);
+}
+
+// Dark pixels (text, axes, ticks) in the rectangle [x0, x1) x [y0, y1).
+int darkPixels(const image::Image& image, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {
+    int n = 0;
+    for (uint32_t y = y0; y < y1; ++y)
+        for (uint32_t x = x0; x < x1; ++x) n += image.at(x, y).y < 0.2f;
+    return n;
+}
+
+// The title is text in a real font: drawn where it belongs, and a longer
+// title covers more of the row than a shorter one.
+TEST(PlotChart, TextIsDrawnWhereItBelongs) {
+    plot::Chart chart;
+    chart.series = {{"a", {0.1, 1}, {1, 0.1}}};
+    chart.title = "";
+    const image::Image untitled = plot::renderChart(chart);
+    chart.title = "relMSE against wall time";
+    const image::Image titled = plot::renderChart(chart);
+    chart.title += ", and more words after it";
+    const image::Image longer = plot::renderChart(chart);
+    const uint32_t right = chart.width - 320;  // left of the legend panel
+    EXPECT_EQ(darkPixels(untitled, 0, 0, right, 32), 0);
+    const int ink = darkPixels(titled, 0, 0, right, 32);
+    EXPECT_GT(ink, 150);
+    EXPECT_GT(darkPixels(longer, 0, 0, right, 32), ink * 3 / 2);
 }
 
 TEST(PlotChart, PointsThatCannotGoOnLogAxesAreLeftOut) {
