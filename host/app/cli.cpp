@@ -56,6 +56,7 @@ int runCli(int argc, char** argv) {
     addSceneInfoCommand(app, global, commands);
     addExportMitsubaCommand(app, global, commands);
     addMergeCommand(app, global, commands);
+    addDenoiseCommand(app, global, commands);
 
     try {
         app.parse(argc, argv);

@@ -36,5 +36,6 @@ void addCompareCommand(CLI::App& app, const GlobalOptions& global, Commands& com
 void addSceneInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addExportMitsubaCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addMergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+void addDenoiseCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 
 }  // namespace vkpath::app

@@ -25,6 +25,7 @@
 #include "app/render_options.h"
 #include "app/stop_signal.h"
 #include "app/validators.h"
+#include "image/denoiser.h"
 #include "image/image.h"
 #include "image/statistics.h"
 #include "image/tev_client.h"
@@ -53,6 +54,7 @@ struct RenderCommandOptions : RenderOptions {
     std::string checkpoint;  // --checkpoint FILE
     double checkpointEvery = 300;
     std::string displayServer;  // --display-server HOST:PORT (tev)
+    bool denoise = false;       // --denoise: also OUT.denoised.exr (image/denoiser.h)
     std::string resume;         // --resume FILE
     bool autoSettings = false;  // --auto: the knobs chosen by pilot renders (app/auto_search.h)
     // The knobs given as flags, which --auto keeps and does not search.
@@ -236,6 +238,18 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     if (!o.png.empty()) {
         image::writePng(o.png, result.image, o.exposure);
         std::printf("%s\n", o.png.c_str());
+    }
+    if (o.denoise) {
+        // The raw image stays in -o; the denoised one beside it says what it is.
+        const image::DenoiseInputs inputs{&result.image};
+        const image::Denoised denoised = image::denoise(inputs);
+        image::Metadata marked = full;
+        marked.emplace_back("vkpath:denoised", image::denoisedMetadata(inputs));
+        const auto path = image::aovPath(output, "denoised");
+        image::writeExr(path, denoised.image, marked);
+        std::fprintf(stderr, "denoised in %.3f s (%s)\n", denoised.seconds,
+                     denoised.library.c_str());
+        std::printf("%s\n", path.string().c_str());
     }
 }
 
@@ -447,6 +461,10 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
     for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
     if (!o.png.empty()) checkWritable("--png", o.png);
     if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
+    if (o.denoise) {
+        checkWritable("--denoise", image::aovPath(o.output, "denoised"));
+        image::loadDenoiser();  // a missing library is one line before any rendering
+    }
     std::unique_ptr<image::TevClient> display;
     if (!o.displayServer.empty())
         display = std::make_unique<image::TevClient>(
@@ -617,6 +635,10 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
         ->check(realAtLeast<double>(0))
         ->capture_default_str()
         ->needs(checkpoint);
+    cmd->add_flag("--denoise", o->denoise,
+                  "Also write OUT.denoised.exr, denoised by Intel Open Image Denoise 2 (pip "
+                  "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2); -o "
+                  "keeps the raw render");
     cmd->add_option("--display-server", o->displayServer,
                     "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
                     "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "
