@@ -39,8 +39,7 @@ struct Api {
     void (*releaseBuffer)(OIDNBuffer);
     OIDNFilter (*newFilter)(OIDNDevice, const char* type);
     void (*setFilterImage)(OIDNFilter, const char* name, OIDNBuffer, int format, size_t width,
-                           size_t height, size_t byteOffset, size_t pixelStride,
-                           size_t rowStride);
+                           size_t height, size_t byteOffset, size_t pixelStride, size_t rowStride);
     void (*setFilterBool)(OIDNFilter, const char* name, bool value);
     void (*commitFilter)(OIDNFilter);
     void (*executeFilter)(OIDNFilter);
@@ -71,7 +70,8 @@ const Api& api() {
             candidates = {"libOpenImageDenoise.so.2", pyoidnLibrary()};
         Api a;
         for (const std::string& candidate : candidates)
-            if (!candidate.empty() && (a.library = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL))) {
+            if (!candidate.empty() &&
+                (a.library = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL))) {
                 a.path = candidate;
                 break;
             }
@@ -83,7 +83,8 @@ const Api& api() {
             function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(
                 dlsym(a.library, name));
             if (!function)
-                throw InputError(fmt::format("{}: no {}: not Open Image Denoise 2.x", a.path, name));
+                throw InputError(
+                    fmt::format("{}: no {}: not Open Image Denoise 2.x", a.path, name));
         };
         symbol(a.newDevice, "oidnNewDevice");
         symbol(a.commitDevice, "oidnCommitDevice");
@@ -112,7 +113,9 @@ const std::string& loadDenoiser() {
 
 std::string denoisedMetadata(const DenoiseInputs& in) {
     return fmt::format("Intel Open Image Denoise 2, RT filter, hdr, guides: {}",
-                       in.normal ? "albedo, normal" : in.albedo ? "albedo" : "none");
+                       in.normal   ? "albedo, normal"
+                       : in.albedo ? "albedo"
+                                   : "none");
 }
 
 Denoised denoise(const DenoiseInputs& in) {
@@ -129,8 +132,8 @@ Denoised denoise(const DenoiseInputs& in) {
     auto check = [&](const char* what) {
         const char* message = nullptr;
         if (oidn.getDeviceError(device, &message) != OIDN_ERROR_NONE)
-            throw std::runtime_error(fmt::format("Open Image Denoise ({}): {}: {}", oidn.path,
-                                                 what, message ? message : "failed"));
+            throw std::runtime_error(fmt::format("Open Image Denoise ({}): {}: {}", oidn.path, what,
+                                                 message ? message : "failed"));
     };
     if (!device) throw std::runtime_error("Open Image Denoise: no device");
     oidn.commitDevice(device);
@@ -147,8 +150,8 @@ Denoised denoise(const DenoiseInputs& in) {
     std::unique_ptr<OIDNFilterImpl, void (*)(OIDNFilter)> filterOwner(filter, oidn.releaseFilter);
     check("the RT filter");
     auto image = [&](const char* name, OIDNBuffer buffer) {
-        oidn.setFilterImage(filter, name, buffer, OIDN_FORMAT_FLOAT3, color.width, color.height,
-                            0, sizeof(glm::vec3), sizeof(glm::vec3) * color.width);
+        oidn.setFilterImage(filter, name, buffer, OIDN_FORMAT_FLOAT3, color.width, color.height, 0,
+                            sizeof(glm::vec3), sizeof(glm::vec3) * color.width);
     };
     image("color", upload(color));
     if (in.albedo) image("albedo", upload(*in.albedo));

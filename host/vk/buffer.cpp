@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "environment_bytes.h"
 #include "format_bytes.h"
 #include "input_error.h"
 #include "vk/check.h"
@@ -182,14 +182,8 @@ BufferLimits bufferLimits(const DeviceInfo& device) {
                                                 uint64_t(device.maxTexelBufferElements) * 16);
     BufferLimits limits{binding, std::min(device.maxBufferSize, device.maxMemoryAllocationSize),
                         binding};
-    if (const char* text = std::getenv("VKPATH_MAX_BINDING_BYTES"); text && *text) {
-        char* end = nullptr;
-        const unsigned long long value = std::strtoull(text, &end, 10);
-        if (*end != '\0' || value == 0)
-            throw InputError(fmt::format(
-                "VKPATH_MAX_BINDING_BYTES: '{}' is not a positive number of bytes", text));
-        limits.binding = std::min<uint64_t>(limits.binding, value);
-    }
+    if (const std::optional<uint64_t> set = environmentBytes("VKPATH_MAX_BINDING_BYTES"))
+        limits.binding = std::min<uint64_t>(limits.binding, *set);
     return limits;
 }
 

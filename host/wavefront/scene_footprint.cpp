@@ -4,11 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "environment_bytes.h"
 #include "format_bytes.h"
 #include "input_error.h"
 #include "shared/bvh.h"
@@ -80,14 +80,8 @@ SceneFootprint estimateFootprint(const scene::GeometryCounts& c, bool cpuReferen
 }
 
 uint64_t availableHostMemory() {
-    if (const char* text = std::getenv("VKPATH_HOST_MEMORY_BYTES"); text && *text) {
-        char* end = nullptr;
-        const unsigned long long value = std::strtoull(text, &end, 10);
-        if (*end != '\0' || value == 0)
-            throw InputError(fmt::format(
-                "VKPATH_HOST_MEMORY_BYTES: '{}' is not a positive number of bytes", text));
-        return value;
-    }
+    if (const std::optional<uint64_t> set = environmentBytes("VKPATH_HOST_MEMORY_BYTES"))
+        return *set;
     std::ifstream meminfo("/proc/meminfo");
     std::string line;
     while (std::getline(meminfo, line)) {

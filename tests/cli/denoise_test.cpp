@@ -36,15 +36,17 @@ std::string oidnLibrary() {
 // VKPATH_OIDN_LIBRARY for the command lines a test runs.
 class OidnLibrary {
   public:
-    explicit OidnLibrary(const std::string& path) { setenv("VKPATH_OIDN_LIBRARY", path.c_str(), 1); }
+    explicit OidnLibrary(const std::string& path) {
+        setenv("VKPATH_OIDN_LIBRARY", path.c_str(), 1);
+    }
     ~OidnLibrary() { unsetenv("VKPATH_OIDN_LIBRARY"); }
     OidnLibrary(const OidnLibrary&) = delete;
     OidnLibrary& operator=(const OidnLibrary&) = delete;
 };
 
-#define VKPATH_SKIP_WITHOUT_OIDN(path)                                                         \
-    const std::string path = oidnLibrary();                                                   \
-    if (path.empty())                                                                         \
+#define VKPATH_SKIP_WITHOUT_OIDN(path)                                                       \
+    const std::string path = oidnLibrary();                                                  \
+    if (path.empty())                                                                        \
         GTEST_SKIP() << "no Open Image Denoise: run tools/oidn-venv (PyPI's pyoidn) or set " \
                         "VKPATH_OIDN_LIBRARY";
 
@@ -98,20 +100,20 @@ TEST(Denoise, NoLibraryOrMismatchedGuidesAreOneLine) {
     const fs::path exr = dir / "box.exr";
     {
         const OidnLibrary missing((dir / "libOpenImageDenoise.so.2").string());
-        const auto r =
-            test::runVkpath("render " + diffuseBox() + " -d 16x12 -s 2 --denoise -o " + exr.string());
+        const auto r = test::runVkpath("render " + diffuseBox() + " -d 16x12 -s 2 --denoise -o " +
+                                       exr.string());
         EXPECT_EQ(r.exitCode, 2) << r.err;
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_NE(r.err.find("pip install pyoidn"), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(exr));
     }
-    ASSERT_EQ(test::runVkpath("render " + diffuseBox() + " -d 16x12 -s 2 -o " + exr.string())
-                  .exitCode,
-              0);
+    ASSERT_EQ(
+        test::runVkpath("render " + diffuseBox() + " -d 16x12 -s 2 -o " + exr.string()).exitCode,
+        0);
     const fs::path small = dir / "small.exr";
-    ASSERT_EQ(test::runVkpath("render " + diffuseBox() + " -d 8x6 -s 2 -o " + small.string())
-                  .exitCode,
-              0);
+    ASSERT_EQ(
+        test::runVkpath("render " + diffuseBox() + " -d 8x6 -s 2 -o " + small.string()).exitCode,
+        0);
     const auto normalAlone = test::runVkpath("denoise " + exr.string() + " --normal " +
                                              exr.string() + " -o " + (dir / "x.exr").string());
     EXPECT_EQ(normalAlone.exitCode, 2) << normalAlone.err;
