@@ -20,8 +20,7 @@ inline std::optional<uint64_t> environmentBytes(const char* variable) {
     char* end = nullptr;
     const unsigned long long value = std::strtoull(text, &end, 10);
     if (*end != '\0' || value == 0)
-        throw InputError(
-            fmt::format("{}: '{}' is not a positive number of bytes", variable, text));
+        throw InputError(fmt::format("{}: '{}' is not a positive number of bytes", variable, text));
     return value;
 }
 

@@ -19,6 +19,7 @@
 #include "app/convergence.h"
 #include "app/render_options.h"
 #include "app/validators.h"
+#include "image/denoiser.h"
 #include "image/image.h"
 #include "image/metrics.h"
 #include "input_error.h"
@@ -42,6 +43,7 @@ struct ConvergeOptions : RenderOptions {
     std::string plot = "out/converge.png";
     std::string sweep;
     std::string metric = "relmse";  // what the tables and the plot use: relmse or trimmed-relmse
+    bool denoise = false;           // each checkpoint's image denoised (image/denoiser.h)
 };
 
 // The relMSE levels of the time-to-error table.
@@ -134,12 +136,13 @@ class Progressive {
 // not counted (it only measures the first). `gpu`: record device times, and
 // warm up before the first configuration. With `targetError` the curve ends
 // at the first checkpoint from wavefront::FIRST_ERROR_CHECK spp on whose own
-// estimate reaches it.
+// estimate reaches it. With `denoise` each checkpoint's image is denoised
+// before it is measured, and the denoiser's time is added to its own.
 template <typename Renderer, typename Make>
 std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
                                 const std::vector<uint32_t>& spp,
                                 const std::optional<image::Image>& reference, bool gpu, bool first,
-                                std::optional<double> targetError) {
+                                std::optional<double> targetError, bool denoise) {
     const uint32_t pixels = config.settings.width * config.settings.height;
     Progressive<Renderer> a(make(config.settings), pixels);
     if (gpu && first) a.warmUp();
@@ -157,7 +160,12 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
         c.wallSeconds = a.wallSeconds();
         if (gpu) c.deviceSeconds = a.deviceSeconds();
         image::ChannelMetrics error;
-        if (reference) {
+        if (denoise) {  // converge checks that there is a reference
+            const image::Image mean = a.mean();
+            const image::Denoised denoised = image::denoise({&mean});
+            c.wallSeconds += denoised.seconds;
+            error = image::compareImages(denoised.image, *reference).overall;
+        } else if (reference) {
             error = image::compareImages(a.mean(), *reference).overall;
         } else {
             b->advanceTo(n);
@@ -265,6 +273,13 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
             configs.push_back(c);
         }
     }
+    if (o.denoise) {
+        if (o.reference.empty())
+            throw InputError(
+                "converge --denoise needs --reference: the two-seed estimate measures noise, "
+                "not the error a denoiser trades it for");
+        image::loadDenoiser();
+    }
     std::optional<image::Image> reference;
     if (!o.reference.empty()) {
         reference = image::readImage(o.reference);
@@ -283,8 +298,9 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         const std::vector<Configuration> shown = tabulated(configs, trimmed);
         plot::Chart chart;
         chart.title = fmt::format(
-            "{} {}x{} on {}, error against {}", std::filesystem::path(o.scene).filename().string(),
-            base.width, base.height, o.device,
+            "{} {}x{} on {}{}, error against {}",
+            std::filesystem::path(o.scene).filename().string(), base.width, base.height, o.device,
+            o.denoise ? ", denoised" : "",
             reference ? std::filesystem::path(o.reference).filename().string() : "a second seed");
         chart.xLabel = "wall time (s)";
         chart.yLabel = metric;
@@ -310,8 +326,8 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
             return std::make_unique<reference::ReferenceRenderer>(scene, s);
         };
         return run([&](const Configuration& c) {
-            return measure<reference::ReferenceRenderer>(make, c, spp, reference, false,
-                                                         &c == &configs.front(), o.targetError);
+            return measure<reference::ReferenceRenderer>(
+                make, c, spp, reference, false, &c == &configs.front(), o.targetError, o.denoise);
         });
     }
     return withContext(global, [&](vk::Context& context) {
@@ -321,8 +337,8 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
             return std::make_unique<wavefront::GpuRenderer>(context, scene, s);
         };
         return run([&](const Configuration& c) {
-            return measure<wavefront::GpuRenderer>(make, c, spp, reference, true,
-                                                   &c == &configs.front(), o.targetError);
+            return measure<wavefront::GpuRenderer>(
+                make, c, spp, reference, true, &c == &configs.front(), o.targetError, o.denoise);
         });
     });
 }
@@ -341,6 +357,9 @@ void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& co
                     "Reference image (EXR) of the same size; without one the error is estimated "
                     "from a second seed")
         ->check(CLI::ExistingFile);
+    cmd->add_flag("--denoise", o->denoise,
+                  "Denoise each checkpoint's image (Intel Open Image Denoise 2, as render "
+                  "--denoise) before measuring it, its time counted; needs --reference");
     std::string knobNames;
     for (const Knob& k : knobs())
         knobNames += (knobNames.empty() ? "" : ", ") + std::string(k.name);

@@ -5,7 +5,10 @@
 #include <stdlib.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "image/metrics.h"
@@ -90,6 +93,45 @@ TEST(Denoise, RenderKeepsTheRawImageAndWritesADenoisedOneCloserToTheTruth) {
     const auto d = test::runVkpath("denoise " + raw.string() + " -o " + again.string());
     ASSERT_EQ(d.exitCode, 0) << d.err;
     EXPECT_EQ(image::readImage(again).pixels, image::readImage(denoised).pixels);
+}
+
+// converge --denoise: the same checkpoints, each denoised before it is
+// measured against the reference (the CSV's relMSE is the denoised image's),
+// the denoiser's time in its wall time; without a reference one line, since
+// the two-seed estimate cannot see what a denoiser does to the image.
+TEST(Denoise, ConvergeMeasuresTheDenoisedImage) {
+    VKPATH_SKIP_WITHOUT_OIDN(library);
+    const OidnLibrary use(library);
+    const test::TempDir dir;
+    const fs::path reference = dir / "reference.exr";
+    ASSERT_EQ(test::runVkpath("render " + diffuseBox() + " -d 160x120 -s 256 --seed 99 -o " +
+                              reference.string())
+                  .exitCode,
+              0);
+    auto relMseAt16 = [&](const std::string& flags) {
+        const fs::path csv = dir / "c.csv";
+        const auto r =
+            test::runVkpath("converge " + diffuseBox() + " -d 160x120 --spp 4,16 --reference " +
+                            reference.string() + " --csv " + csv.string() + " --plot " +
+                            (dir / "c.png").string() + flags);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        std::ifstream in(csv);
+        std::string line, last;
+        while (std::getline(in, line)) last = line;
+        // knob,value,spp,wall_seconds,device_seconds,relmse,...
+        std::vector<std::string> fields;
+        std::stringstream row(last);
+        for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+        EXPECT_EQ(fields.at(2), "16");
+        return std::stod(fields.at(5));
+    };
+    const double raw = relMseAt16(""), denoised = relMseAt16(" --denoise");
+    EXPECT_LT(denoised * 3, raw) << raw << " raw, " << denoised << " denoised";
+    const auto alone =
+        test::runVkpath("converge " + diffuseBox() + " -d 16x12 --spp 1,2 --denoise --csv " +
+                        (dir / "x.csv").string());
+    EXPECT_EQ(alone.exitCode, 2) << alone.err;
+    EXPECT_EQ(test::lineCount(alone.err), 1) << alone.err;
 }
 
 // Without the library: one line saying how to install it, exit code 2,
