@@ -575,6 +575,11 @@ Scene ColladaLoader::load(std::vector<std::string>* warningLines) {
     // from them below) excluded, as SOURCE.md's framing rule says.
     const auto [lo, hi] = m_scene.geometryBounds();
     frameScotty3dCamera(readCamera(), lo, hi, m_scene.camera);
+    const Camera& framed = m_scene.camera;
+    for (const glm::vec3& v : {framed.position, framed.target})
+        if (!allFinite(v))
+            fail(fmt::format("the geometry's bounds {} to {} are too large to frame the camera",
+                             vecString(lo), vecString(hi)));
     reconcileScotty3dLights(m_lights, (lo + hi) * 0.5f, m_scene, m_warnings);
     m_warnings.report(warningLines);
     return std::move(m_scene);

@@ -475,16 +475,21 @@ class Importer {
     // A camera on the +Z side (glTF's "front") of the scene's bounding sphere,
     // looking at its centre, 40 degrees wide on both axes (aspect 1: a film of
     // any shape widens its narrower axis, so the sphere is never cropped).
+    // In double: the box's diagonal of geometry far apart (1e22 m) squares
+    // past a float's range. A camera that still leaves it is refused.
     Camera frameBoundingBox() const {
         const auto [lo, hi] = m_scene.geometryBounds();
-        const glm::vec3 centre = 0.5f * (lo + hi);
-        const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
-        const float distance =
-            radius / std::sin(glm::radians(float(DEFAULT_CAMERA_FOV_DEGREES)) / 2.0f);
+        const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
+        const double radius = std::max(0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo)), 1e-3);
+        const double distance = radius / std::sin(glm::radians(DEFAULT_CAMERA_FOV_DEGREES) / 2.0);
+        const glm::dvec3 position = centre + glm::dvec3(0.0, 0.0, distance);
+        if (!(std::abs(position.z) <= double(std::numeric_limits<float>::max())))
+            fail("no camera, and the geometry's bounds ({:g} m across) are too large to frame one",
+                 2.0 * radius);
         Camera camera;
         camera.name = "default";
-        camera.position = centre + glm::vec3(0.0f, 0.0f, distance);
-        camera.target = centre;
+        camera.position = glm::vec3(position);
+        camera.target = glm::vec3(centre);
         camera.up = {0.0f, 1.0f, 0.0f};
         camera.xfovDegrees = float(DEFAULT_CAMERA_FOV_DEGREES);
         camera.aspect = 1.0f;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -305,6 +306,31 @@ TEST(GltfFuzzRegression, NumbersBeyondAFloatAreBadInput) {
                              R"({"scale": [1e20, 1e20, 1e20], "children": [1]},)"
                              R"({"scale": [1e20, 1e20, 1e20]}]})")
                   .find("node 1: its world transform is not finite as 32-bit floats"),
+              std::string::npos);
+}
+
+// gltf_fuzz (make fuzz, an hour): the bundled normal-maps GLB with its
+// camera node's key misspelled and a position moved 7e22 m away. The default
+// camera framed the box in floats, whose diagonal squared past a float's
+// range: an infinite camera. It is framed in double now; bounds that leave
+// even that far past the range refuse the file.
+TEST(GltfFuzzRegression, FarGeometryGetsAFiniteDefaultCamera) {
+    const TempDir dir;
+    auto triangle = [&](const std::string& far) {
+        return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+            "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0, 0, )" +
+               far + R"(]}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "type": "VEC3", "count": 3,
+                           "min": [0, 0, 0], "max": [1, 1, 0]}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})";
+    };
+    const scene::Scene s = scene::loadScene(dir.write("far.gltf", triangle("7e22")));
+    for (const glm::vec3& v : {s.camera.position, s.camera.target})
+        EXPECT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
+    EXPECT_GT(s.camera.position.z, 7e22f);
+    EXPECT_NE(refusal(dir, "farther.gltf", triangle("3e38")).find("too large to frame one"),
               std::string::npos);
 }
 
