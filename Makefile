@@ -25,10 +25,12 @@ demo: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target vkpath
 	@$(VKPATH) render assets/cornell_box.gltf -d 400x300 -s 256 -m 8 -o out/cornell_box.exr --png out/cornell_box.png
 
-# Open Image Denoise for the denoiser's tests (PyPI's pyoidn in $(BUILD)/oidn-venv):
-# where PyPI cannot be reached, those tests skip and say why.
+# Open Image Denoise for the denoiser's tests (PyPI's pyoidn in $(BUILD)/oidn-venv)
+# and the Python package in $(BUILD)/py-venv (tools/python-package, exit 3 where
+# PyPI cannot be reached): without PyPI, their tests skip and say why.
 test: build
 	@tools/oidn-venv $(BUILD)/oidn-venv >/dev/null || echo "make test: no Open Image Denoise (PyPI's pyoidn); the denoiser's tests skip" >&2
+	@tools/python-package $(BUILD) >/dev/null || { [ $$? = 3 ] && echo "make test: the Python package's dependencies are not on reach (PyPI); its tests skip" >&2; }
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
 	@tools/fuzz-smoke
 

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <optional>
+#include <string>
 
 namespace CLI {
 class App;
@@ -13,6 +14,10 @@ namespace vkpath::vk {
 struct ContextOptions;
 class Context;
 }  // namespace vkpath::vk
+
+namespace vkpath::scene {
+struct Scene;
+}
 
 namespace vkpath::app {
 
@@ -37,5 +42,8 @@ void addSceneInfoCommand(CLI::App& app, const GlobalOptions& global, Commands& c
 void addExportMitsubaCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addMergeCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
 void addDenoiseCommand(CLI::App& app, const GlobalOptions& global, Commands& commands);
+
+// What `vkpath scene-info FILE --json` prints for `scene`, loaded from `file`.
+std::string sceneInfoJson(const std::string& file, const scene::Scene& scene);
 
 }  // namespace vkpath::app

@@ -1,5 +1,7 @@
 // `vkpath render SCENE`: the wavefront path tracer (or, with --device cpu, the
 // CPU reference running the same math), start to EXR.
+#include "app/render_command.h"
+
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -15,6 +17,7 @@
 #include <ctime>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "app/auto_choice.h"
@@ -39,28 +42,6 @@
 
 namespace vkpath::app {
 namespace {
-
-// The shared flags (render_options.h) and what render does with its one image.
-struct RenderCommandOptions : RenderOptions {
-    std::string output = "out/render.exr";
-    std::string png;
-    // unset: 16, or with --time-budget or --target-error as many as they allow
-    std::optional<uint32_t> spp;
-    std::string samples;  // --samples FIRST:COUNT (instead of -s): that range of sample indices
-    std::optional<double> timeBudget;
-    float exposure = 0.0f;
-    std::vector<std::string> aovs;
-    bool timings = false;
-    std::string checkpoint;  // --checkpoint FILE
-    double checkpointEvery = 300;
-    std::string displayServer;  // --display-server HOST:PORT (tev)
-    bool denoise = false;       // --denoise: also OUT.denoised.exr (image/denoiser.h)
-    std::string resume;         // --resume FILE
-    bool autoSettings = false;  // --auto: the knobs chosen by pilot renders (app/auto_search.h)
-    // The knobs given as flags, which --auto keeps and does not search.
-    bool givenRouletteDepth = false, givenLightSamples = false, givenSampler = false,
-         givenGuideSpheres = false, givenKernel = false, givenPathsInFlight = false;
-};
 
 // Before any rendering: `path`'s folder exists (made if need be) and a file
 // can be created in it; throws InputError naming the flag otherwise.
@@ -108,19 +89,19 @@ void printProgress(const wavefront::RenderProgress& p, std::optional<double> tim
                  error.c_str(), eta);
 }
 
-// Either renderer, with a progress bar when stderr is a terminal. Also
-// measures the CPU time the whole process spent rendering (every thread,
-// lavapipe's included), which on a shared machine varies far less than the
-// wall clock.
+// Either renderer, with a progress bar when stderr is a terminal (or
+// `progress` instead, when given). Also measures the CPU time the whole
+// process spent rendering (every thread, lavapipe's included), which on a
+// shared machine varies far less than the wall clock.
 template <typename Renderer>
-wavefront::RenderResult renderWithProgress(Renderer& renderer,
-                                           const wavefront::SampleRange& samples,
-                                           std::optional<double> timeBudget,
-                                           std::optional<double> targetError,
-                                           wavefront::RenderControl control, double& cpuSeconds) {
-    const bool terminal = isatty(STDERR_FILENO);
+wavefront::RenderResult renderWithProgress(
+    Renderer& renderer, const wavefront::SampleRange& samples, std::optional<double> timeBudget,
+    std::optional<double> targetError, wavefront::RenderControl control,
+    const std::function<void(const wavefront::RenderProgress&)>& progress, double& cpuSeconds) {
+    const bool terminal = !progress && isatty(STDERR_FILENO);
     const std::clock_t start = std::clock();
     control.progress = [&](const wavefront::RenderProgress& p) {
+        if (progress) progress(p);
         if (terminal) printProgress(p, timeBudget, targetError);
     };
     wavefront::RenderResult result;
@@ -350,6 +331,19 @@ void applyChoice(const AutoChoice& choice, RenderCommandOptions& o) {
     std::fprintf(stderr, "%s\n", describeAutoChoice(choice).c_str());
 }
 
+// A settings record (RenderIdentity::settings) whose "camera" is `camera`'s
+// placement: renders from other cameras are other images.
+std::string withCamera(const std::string& settings, const scene::Camera& camera) {
+    nlohmann::ordered_json record = nlohmann::ordered_json::parse(settings);
+    auto vec = [](glm::vec3 v) { return nlohmann::ordered_json{v.x, v.y, v.z}; };
+    record["camera"] = {{"position", vec(camera.position)},
+                        {"target", vec(camera.target)},
+                        {"up", vec(camera.up)},
+                        {"fov", camera.xfovDegrees},
+                        {"aspect", camera.aspect}};
+    return record.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
@@ -411,13 +405,13 @@ int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity,
                  const wavefront::SampleRange& samples, const FilmSize& film,
                  const wavefront::RenderResult& result, std::optional<double> deviceMs,
                  double cpuSeconds, const std::string& device,
-                 const std::optional<AutoChoice>& choice) {
+                 const std::optional<AutoChoice>& choice, bool writeFiles) {
     const int signal = result.stopped ? StopOnSignal::requested() : 0;
     if (result.samplesPerPixel == 0) {
         std::fprintf(stderr, "vkpath: stopped before the first whole sample; no image written\n");
         return 128 + signal;
     }
-    writeOutputs(o, identity, samples, result, device, choice);
+    if (writeFiles) writeOutputs(o, identity, samples, result, device, choice);
     printSummary(film, result, deviceMs, cpuSeconds, device, o.clamp > 0);
     if (result.estimatedRelMse)
         std::fprintf(stderr, "estimated relMSE %.3g%s\n", *result.estimatedRelMse,
@@ -436,7 +430,10 @@ int finishRender(const RenderCommandOptions& o, const RenderIdentity& identity,
     return 0;
 }
 
-int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
+}  // namespace
+
+int runRender(const GlobalOptions& global, const RenderCommandOptions& flags,
+              const RenderHooks& hooks) {
     RenderCommandOptions o = flags;  // --auto puts its choice in place of the knobs' values
     // The flags' values were checked as they were parsed (addRenderCommand).
     const FilmSize film = parseFilmSize(o.size);
@@ -457,14 +454,14 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
             "knobs it printed");
     renderSettings(o, samples.count);  // the flags that do not go together, before any work
     // Every output can be written before any time goes into rendering.
-    checkWritable("-o", o.output);
-    for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
-    if (!o.png.empty()) checkWritable("--png", o.png);
-    if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
-    if (o.denoise) {
-        checkWritable("--denoise", image::aovPath(o.output, "denoised"));
-        image::loadDenoiser();  // a missing library is one line before any rendering
+    if (hooks.writeFiles) {
+        checkWritable("-o", o.output);
+        for (const std::string& aov : o.aovs) checkWritable("--aov", image::aovPath(o.output, aov));
+        if (!o.png.empty()) checkWritable("--png", o.png);
+        if (o.denoise) checkWritable("--denoise", image::aovPath(o.output, "denoised"));
     }
+    if (!o.checkpoint.empty()) checkWritable("--checkpoint", o.checkpoint);
+    if (o.denoise) image::loadDenoiser();  // a missing library is one line before any rendering
     std::unique_ptr<image::TevClient> display;
     if (!o.displayServer.empty())
         display = std::make_unique<image::TevClient>(
@@ -476,7 +473,9 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         display->show(result.image);
         display->finish(DISPLAY_FINISH_SECONDS);
     };
-    const scene::Scene scene = loadRenderScene(o);
+    std::optional<scene::Scene> loaded;
+    if (!hooks.scene) loaded = loadRenderScene(o);
+    const scene::Scene& scene = hooks.scene ? *hooks.scene : *loaded;
     std::optional<Checkpoint> resume;
     if (!o.resume.empty()) resume = readCheckpoint(o.resume);
     std::optional<AutoChoice> choice = resumedChoice(o, resume);
@@ -484,18 +483,27 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
     // --auto: the scene's tables, built once for the pilots and the render
     // (for the GPU, once the device has admitted the scene).
     std::optional<wavefront::SceneTables> tables;
-    if (o.autoSettings && o.device == "cpu") tables = wavefront::buildSceneTables(scene);
+    if (hooks.tables) tables = *hooks.tables;
+    if (!tables && (hooks.camera || (o.autoSettings && o.device == "cpu")))
+        tables = wavefront::buildSceneTables(scene);
+    if (hooks.camera) wavefront::placeCamera(*tables, *hooks.camera);
 
     // Once the knobs are settled: the identity, the resume and the controls.
     std::optional<SavedCheckpoint> saved;
     auto prepare = [&](RenderIdentity& identity, wavefront::RenderSettings& settings) {
         settings = renderSettings(o, samples.count);
         settings.timeBudgetSeconds = o.timeBudget;
-        identity = renderIdentity(o, scene);
+        identity =
+            hooks.sceneHash.empty() ? renderIdentity(o, scene) : renderIdentity(o, hooks.sceneHash);
+        if (hooks.camera) identity.settings = withCamera(identity.settings, *hooks.camera);
         if (resume) checkResume(o, *resume, identity, samples, film);
-        return renderControl(o, identity, samples, resume, choice, saved, display.get());
+        wavefront::RenderControl control =
+            renderControl(o, identity, samples, resume, choice, saved, display.get());
+        if (hooks.stopRequested) control.stopRequested = hooks.stopRequested;
+        return control;
     };
-    const StopOnSignal stopOnSignal;
+    std::optional<StopOnSignal> stopOnSignal;
+    if (hooks.handleSignals) stopOnSignal.emplace();
     if (o.device == "cpu") {
         if (o.autoSettings && !choice) {
             choice = searchSettings(
@@ -522,16 +530,17 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         const std::string device = fmt::format("CPU reference ({} threads)", renderer.threads());
         double cpuSeconds = 0;
-        const auto result =
-            renderWithProgress(renderer, samples, o.timeBudget, o.targetError, control, cpuSeconds);
+        const auto result = renderWithProgress(renderer, samples, o.timeBudget, o.targetError,
+                                               control, hooks.progress, cpuSeconds);
+        if (hooks.result) *hooks.result = result;
         showFinal(result);
         return finishRender(o, identity, samples, film, result, std::nullopt, cpuSeconds, device,
-                            choice);
+                            choice, hooks.writeFiles);
     }
-    return withContext(global, [&](vk::Context& context) {
+    auto renderOnDevice = [&](vk::Context& context) {
         wavefront::admitOnDevice(
             o.scene, wavefront::estimateFootprint(scene.countGeometry(), false), context.info());
-        if (o.autoSettings) tables = wavefront::buildSceneTables(scene);
+        if (o.autoSettings && !tables) tables = wavefront::buildSceneTables(scene);
         if (o.autoSettings && !choice) {
             const bool cpuDevice = context.info().type == "cpu";
             choice = searchSettings(
@@ -568,7 +577,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         const auto result = [&] {
             try {
                 return renderWithProgress(renderer, samples, o.timeBudget, o.targetError, control,
-                                          cpuSeconds);
+                                          hooks.progress, cpuSeconds);
             } catch (const vk::VulkanError& e) {
                 if (!saved) throw;
                 throw withLastCheckpoint(e, saved->path, saved->samplesDone);
@@ -582,89 +591,98 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         showFinal(result);
         double deviceMs = 0;
         for (const auto& [stage, ms] : result.stageMilliseconds) deviceMs += ms;
+        if (hooks.result) *hooks.result = result;
         const int code = finishRender(o, identity, samples, film, result, deviceMs, cpuSeconds,
-                                      context.info().name, choice);
+                                      context.info().name, choice, hooks.writeFiles);
         if (o.timings) {
             for (const auto& [stage, ms] : result.stageMilliseconds)
                 std::fprintf(stderr, "  %-15s %10.3f ms  %5.1f%%\n", stage.c_str(), ms,
                              deviceMs > 0 ? 100 * ms / deviceMs : 0.0);
         }
         return code;
-    });
+    };
+    if (hooks.context) return renderOnDevice(*hooks.context);
+    return withContext(global, renderOnDevice);
 }
 
-}  // namespace
-
-void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
-    auto o = std::make_shared<RenderCommandOptions>();
-    auto* cmd = app.add_subcommand(
-        "render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
-    addRenderOptions(*cmd, *o);
-    cmd->add_option("-o,-w,--output", o->output, "Output EXR (linear RGB float)")
+void addRenderFlags(CLI::App& cmd, RenderCommandOptions& o) {
+    addRenderOptions(cmd, o);
+    cmd.add_option("-o,-w,--output", o.output, "Output EXR (linear RGB float)")
         ->capture_default_str();
     auto* spp =
-        cmd->add_option("-s,--spp", o->spp,
-                        "Samples per pixel (default 16; with --time-budget, as many as it allows)")
+        cmd.add_option("-s,--spp", o.spp,
+                       "Samples per pixel (default 16; with --time-budget, as many as it allows)")
             ->check(CLI::Range(1u, UINT32_MAX));
-    cmd->add_option("--samples", o->samples,
-                    "FIRST:COUNT: render sample indices FIRST to FIRST + COUNT - 1 of every pixel "
-                    "(instead of -s), a "
-                    "part for `vkpath merge`")
+    cmd.add_option("--samples", o.samples,
+                   "FIRST:COUNT: render sample indices FIRST to FIRST + COUNT - 1 of every pixel "
+                   "(instead of -s), a "
+                   "part for `vkpath merge`")
         ->check(parsedBy("FIRST:COUNT", [](const std::string& text) { parseSampleRange(text); }))
         ->excludes(spp);
-    cmd->add_option("--png", o->png, "Also write an sRGB PNG preview");
-    cmd->add_option("--exposure", o->exposure, "PNG exposure in stops")
+    cmd.add_option("--png", o.png, "Also write an sRGB PNG preview");
+    cmd.add_option("--exposure", o.exposure, "PNG exposure in stops")
         ->check(finiteReal<float>())
         ->capture_default_str();
-    cmd->add_option("--time-budget", o->timeBudget,
-                    "Render whole waves until this many seconds are spent (up to -s samples if "
-                    "given); the EXR and "
-                    "the summary give the spp reached")
+    cmd.add_option("--time-budget", o.timeBudget,
+                   "Render whole waves until this many seconds are spent (up to -s samples if "
+                   "given); the EXR and "
+                   "the summary give the spp reached")
         ->check(realAbove<double>(0, false));
-    cmd->add_option("--aov", o->aovs,
-                    "Extra outputs beside the EXR: variance (of each pixel's mean), spp (each "
-                    "pixel's samples)")
+    cmd.add_option("--aov", o.aovs,
+                   "Extra outputs beside the EXR: variance (of each pixel's mean), spp (each "
+                   "pixel's samples)")
         ->check(CLI::IsMember({"variance", "spp"}));
-    cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
-    auto* checkpoint = cmd->add_option(
-        "--checkpoint", o->checkpoint,
+    cmd.add_flag("--timings", o.timings, "Print the device time of each stage");
+    auto* checkpoint = cmd.add_option(
+        "--checkpoint", o.checkpoint,
         "Keep the running film in this file (written atomically at whole samples, every "
         "--checkpoint-every seconds, on a stop and at the end), for --resume");
-    cmd->add_option("--checkpoint-every", o->checkpointEvery,
-                    "Seconds of rendering between checkpoints (0: after every whole sample)")
+    cmd.add_option("--checkpoint-every", o.checkpointEvery,
+                   "Seconds of rendering between checkpoints (0: after every whole sample)")
         ->check(realAtLeast<double>(0))
         ->capture_default_str()
         ->needs(checkpoint);
-    cmd->add_flag("--denoise", o->denoise,
-                  "Also write OUT.denoised.exr, denoised by Intel Open Image Denoise 2 (pip "
-                  "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2); -o "
-                  "keeps the raw render");
-    cmd->add_option("--display-server", o->displayServer,
-                    "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
-                    "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "
-                    "render goes on if the viewer cannot be reached")
+    cmd.add_flag("--denoise", o.denoise,
+                 "Also write OUT.denoised.exr, denoised by Intel Open Image Denoise 2 (pip "
+                 "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2); -o "
+                 "keeps the raw render");
+    cmd.add_option("--display-server", o.displayServer,
+                   "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
+                   "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "
+                   "render goes on if the viewer cannot be reached")
         ->type_name("HOST:PORT");
-    cmd->add_option(
-           "--resume", o->resume,
+    cmd.add_option(
+           "--resume", o.resume,
            "Go on from this checkpoint (same scene, settings and first sample; -s may be larger): "
            "the image equals the uninterrupted render's bit for bit")
         ->check(CLI::ExistingFile);
-    cmd->add_flag(
-        "--auto", o->autoSettings,
+    cmd.add_flag(
+        "--auto", o.autoSettings,
         "Choose --rr-depth, -l, --sampler, --guide-spheres, --kernel and --paths-in-flight for "
         "this scene and device by short pilot renders (at most 5% of the render's budget: -s's "
         "time at the defaults, --time-budget or what --target-error implies); these knobs change "
         "the time to an error, never what the image converges to. Knobs given as flags are kept "
         "and not searched. The choice is printed and stored in the EXR (vkpath:auto) and the "
         "checkpoint, which --resume goes on with");
+}
+
+void noteGivenFlags(const CLI::App& cmd, RenderCommandOptions& o) {
+    auto given = [&cmd](const char* name) { return cmd.get_option(name)->count() > 0; };
+    o.givenRouletteDepth = given("--rr-depth");
+    o.givenLightSamples = given("--light-samples");
+    o.givenSampler = given("--sampler");
+    o.givenGuideSpheres = given("--guide-spheres");
+    o.givenKernel = given("--kernel");
+    o.givenPathsInFlight = given("--paths-in-flight");
+}
+
+void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {
+    auto o = std::make_shared<RenderCommandOptions>();
+    auto* cmd = app.add_subcommand(
+        "render", "Render a scene with the GPU wavefront path tracer (or the CPU reference)");
+    addRenderFlags(*cmd, *o);
     cmd->callback([&global, &commands, o, cmd] {
-        auto given = [cmd](const char* name) { return cmd->get_option(name)->count() > 0; };
-        o->givenRouletteDepth = given("--rr-depth");
-        o->givenLightSamples = given("--light-samples");
-        o->givenSampler = given("--sampler");
-        o->givenGuideSpheres = given("--guide-spheres");
-        o->givenKernel = given("--kernel");
-        o->givenPathsInFlight = given("--paths-in-flight");
+        noteGivenFlags(*cmd, *o);
         commands.run = [&global, o] { return runRender(global, *o); };
     });
 }

@@ -167,11 +167,19 @@ std::string keyValue(const std::string& key, const nlohmann::ordered_json& value
 
 }  // namespace
 
-RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
+std::string sceneFilesHash(const RenderOptions& o, const scene::Scene& scene) {
     uint64_t hash = hashFile(o.scene, FNV1A_OFFSET);
     for (const std::filesystem::path& file : scene.referencedFiles)
         hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
+    return fmt::format("{:016x}", hash);
+}
+
+RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene) {
+    return renderIdentity(o, sceneFilesHash(o, scene));
+}
+
+RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHash) {
     auto optional = [](const std::optional<float>& v) {
         return v ? nlohmann::ordered_json(shortest(*v)) : nlohmann::ordered_json("scene");
     };
@@ -203,8 +211,7 @@ RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene)
     settings["adaptive"] = o.adaptive ? nlohmann::ordered_json{{"warmup", o.adaptiveWarmup}}
                                       : nlohmann::ordered_json("off");
     settings["estimator"] = VKP_ESTIMATOR_VERSION;
-    return {fmt::format("{:016x}", hash),
-            settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
+    return {sceneHash, settings.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
 }
 
 bool isSettingsRecord(const std::string& settings) {

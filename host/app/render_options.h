@@ -76,6 +76,10 @@ struct RenderIdentity {
     std::string settings;
 };
 RenderIdentity renderIdentity(const RenderOptions& o, const scene::Scene& scene);
+// The same from the scene files' hash, sceneFilesHash's (a program that keeps
+// a loaded scene computes it once: the files may be gone since).
+RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHash);
+std::string sceneFilesHash(const RenderOptions& o, const scene::Scene& scene);
 
 // Whether `settings` is a settings record of this format (a JSON object);
 // builds before it wrote "key=value" words, which are not.

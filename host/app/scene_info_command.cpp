@@ -199,7 +199,22 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
         (unsigned long long)k.megakernelPathBytes, sizeof(shared::FilmPixel));
 }
 
+// The scene as scene-info reads it: refused before its memory is spent
+// where it would not fit in the host's (wavefront/scene_footprint.h).
+scene::Scene loadSceneForInfo(const std::string& file) {
+    scene::LoadOptions load;
+    load.admit = [](const std::string& name, const scene::GeometryCounts& counts) {
+        wavefront::admitOnHost(name, counts, wavefront::estimateFootprint(counts, false),
+                               wavefront::availableHostMemory());
+    };
+    return scene::loadScene(file, load);
+}
+
 }  // namespace
+
+std::string sceneInfoJson(const std::string& file, const scene::Scene& scene) {
+    return sceneJson(file, scene, countScene(scene), planKernels(scene)).dump(2);
+}
 
 void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands) {
     struct Options {
@@ -216,18 +231,11 @@ void addSceneInfoCommand(CLI::App& app, const GlobalOptions&, Commands& commands
         commands.run = [o] {
             // Bad input throws InputError: runCli prints it as one line, exit 2.
             // It builds the tables the GPU renderer would (planKernels).
-            scene::LoadOptions load;
-            load.admit = [](const std::string& file, const scene::GeometryCounts& counts) {
-                wavefront::admitOnHost(file, counts, wavefront::estimateFootprint(counts, false),
-                                       wavefront::availableHostMemory());
-            };
-            const scene::Scene s = scene::loadScene(o->file, load);
-            const SceneCounts counts = countScene(s);
-            const KernelPlan plan = planKernels(s);
+            const scene::Scene s = loadSceneForInfo(o->file);
             if (o->json)
-                std::printf("%s\n", sceneJson(o->file, s, counts, plan).dump(2).c_str());
+                std::printf("%s\n", sceneInfoJson(o->file, s).c_str());
             else
-                printScene(o->file, s, counts, plan);
+                printScene(o->file, s, countScene(s), planKernels(s));
             return 0;
         };
     });

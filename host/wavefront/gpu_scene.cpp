@@ -197,6 +197,12 @@ std::vector<glm::vec4> guideSpheres(const std::vector<shared::BvhPrimitive>& pri
 
 }  // namespace
 
+void placeCamera(SceneTables& tables, const scene::Camera& world) {
+    tables.camera = world;
+    tables.camera.position = glm::vec3(glm::dvec3(world.position) - tables.worldOrigin);
+    tables.camera.target = glm::vec3(glm::dvec3(world.target) - tables.worldOrigin);
+}
+
 SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& bvhOptions) {
     SceneTables t;
     t.worldOrigin = boundingSphere(world).first;

@@ -65,6 +65,10 @@ struct SceneTables {
 // geometry.
 SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions = {});
 
+// Puts `world` (a camera in world space) in place of the tables' camera,
+// moved into render space as buildSceneTables moves the scene's.
+void placeCamera(SceneTables& tables, const scene::Camera& world);
+
 struct GpuScene {
     bvh::GpuBvh bvh;
     // One buffer per row of shaders/shared/scene_arrays.h (materials, lights,

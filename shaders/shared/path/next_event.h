@@ -28,25 +28,17 @@ struct ShadowRequest {
     bool rejected;
 };
 
-// Light sample `index` (of lightSamples) at a diffuse vertex whose guide
-// spheres (guideSpheresAt) are `guide`.
-VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
-                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key,
-                                       uint bounce, uint index) VKP_SCENE_CONST {
-    ShadowRequest request;
-    request.valid = false;
-    request.rejected = false;
-    request.contribution = vec3(0.0f);
-    request.ray.origin = surface.position;
-    request.ray.direction = vec3(0.0f, 0.0f, 1.0f);
-    request.ray.tMax = 0.0f;
-    request.ray.pixel = key.pixel;
-    SceneInfo info = sceneInfo();
-    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material))
-        return request;
+// A light chosen in proportion to its power and a direction toward it from
+// `p` (a point on it, or the environment's direction), from the sampler's
+// dimensions dim to dim + 3 of `key`. The scene has at least one light.
+struct SceneLightSample {
+    LightSample lightSample;  // pdf: of the direction given this light
+    uint lightIndex;          // its index in the light array
+    float choice;             // the probability of choosing it
+};
 
-    uint dim =
-        bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
+VKP_FN SceneLightSample sampleSceneLight(vec3 p, RngKey key, uint dim) VKP_SCENE_CONST {
+    SceneInfo info = sceneInfo();
     // One pair picks the light and the point on it: its first word chooses
     // the light and, rescaled, is the point's first coordinate
     // (aliasSampleReusing), so the pair's stratification carries over to the
@@ -55,9 +47,10 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     uint bucket = aliasBucket(pointBits.x, info.lightCount);
     AliasChoice lightChoice = aliasSampleReusing(sceneLightAlias(bucket), bucket,
                                                  aliasBucketFraction(pointBits.x, info.lightCount));
-    uint lightIndex = lightChoice.element;
-    float choice = sceneLightAlias(lightIndex).probability;
-    Light light = sceneLight(lightIndex);
+    SceneLightSample chosen;
+    chosen.lightIndex = lightChoice.element;
+    chosen.choice = sceneLightAlias(chosen.lightIndex).probability;
+    Light light = sceneLight(chosen.lightIndex);
     // A light of tiny probability gets its first coordinate from the
     // independent sampler at the same dimension (its stratification is moot:
     // it is chosen once in 2^16 samples or less often).
@@ -84,8 +77,34 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
         ls.distance = VKP_FLOAT_MAX;
         ls.radiance = environmentRadiance(ls.direction);
     } else {
-        ls = sampleLight(light, surface.position, u);
+        ls = sampleLight(light, p, u);
     }
+    chosen.lightSample = ls;
+    return chosen;
+}
+
+// Light sample `index` (of lightSamples) at a diffuse vertex whose guide
+// spheres (guideSpheresAt) are `guide`.
+VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
+                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key,
+                                       uint bounce, uint index) VKP_SCENE_CONST {
+    ShadowRequest request;
+    request.valid = false;
+    request.rejected = false;
+    request.contribution = vec3(0.0f);
+    request.ray.origin = surface.position;
+    request.ray.direction = vec3(0.0f, 0.0f, 1.0f);
+    request.ray.tMax = 0.0f;
+    request.ray.pixel = key.pixel;
+    SceneInfo info = sceneInfo();
+    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material))
+        return request;
+
+    uint dim =
+        bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
+    SceneLightSample chosen = sampleSceneLight(surface.position, key, dim);
+    LightSample ls = chosen.lightSample;
+    float choice = chosen.choice;
     if (!(ls.pdf > 0.0f)) {
         request.rejected = true;
         return request;
