@@ -642,6 +642,10 @@ NB_MODULE(_vkpath, m) {
         }
     });
     m.attr("__version__") = VKPATH_VERSION;
+    std::vector<std::string> kinds;  // the material registry's keys (shared/material_kinds.h)
+    for (const vkpath::scene::MaterialKindInfo& info : vkpath::scene::MATERIAL_KINDS)
+        kinds.emplace_back(info.key);
+    m.attr("MATERIAL_KINDS") = kinds;
 
     nb::class_<Scene>(m, "Scene")
         .def(nb::init<std::vector<std::string>, const std::string&>(), "scene_args"_a, "device"_a)

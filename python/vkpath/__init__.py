@@ -21,6 +21,8 @@ import numpy as np
 from . import _vkpath
 
 __version__ = _vkpath.__version__
+# The material kinds' keys, from the registry (shaders/shared/material_kinds.h).
+MATERIAL_KINDS: tuple = tuple(_vkpath.MATERIAL_KINDS)
 
 __all__ = [
     "Scene",
@@ -35,6 +37,7 @@ __all__ = [
     "bsdf_pdf",
     "sampler_values",
     "MATERIAL_FIELDS",
+    "MATERIAL_KINDS",
 ]
 
 # The keywords that change the scene itself (its environment, its camera):
@@ -46,8 +49,7 @@ _LOAD_KEYWORDS = SCENE_KEYWORDS + ("device",)
 
 # The fields of a material for the BSDF routines (scene::Material's, in
 # host/scene/scene.h, which says what each means); `kind` is a key of the
-# material registry (shaders/shared/material_kinds.h): diffuse, mirror, glass,
-# conductor, ...
+# material registry, MATERIAL_KINDS.
 MATERIAL_FIELDS = (
     "kind",
     "reflectance",

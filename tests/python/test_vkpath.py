@@ -252,16 +252,24 @@ def test_a_rough_conductor_chi_square_from_python(device):
     assert p_value > 0.01, p_value
 
 
-def test_the_routines_agree_between_gpu_and_cpu():
+@pytest.mark.parametrize("kind", vkpath.MATERIAL_KINDS)
+def test_every_kinds_routines_agree_between_gpu_and_cpu(kind):
     rng = np.random.default_rng(3)
     wo = sphere_directions(1000, rng)
     wo[:, 2] = np.abs(wo[:, 2])
     wi = sphere_directions(1000, rng)
-    for material in (dict(kind="diffuse"), dict(kind="glass", ior=1.5),
-                     dict(kind="metallicRoughness", roughness=0.4, metallic=0.5)):
-        gpu = vkpath.bsdf_eval(material, wo, wi, device="gpu")
-        cpu = vkpath.bsdf_eval(material, wo, wi, device="cpu")
-        np.testing.assert_allclose(gpu, cpu, rtol=1e-4, atol=1e-6)
+    u = rng.random((1000, 3), np.float32)
+    material = dict(kind=kind, roughness=0.4, metallic=0.5, ior=1.5)
+    gpu = vkpath.bsdf_sample(material, wo, u, device="gpu")
+    cpu = vkpath.bsdf_sample(material, wo, u, device="cpu")
+    assert np.array_equal(gpu["valid"], cpu["valid"]) and np.array_equal(gpu["delta"], cpu["delta"])
+    for key in ("direction", "weight", "pdf", "eval", "eval_pdf"):
+        np.testing.assert_allclose(gpu[key], cpu[key], rtol=2e-4, atol=1e-5, err_msg=key)
+    np.testing.assert_allclose(vkpath.bsdf_eval(material, wo, wi, device="gpu"),
+                               vkpath.bsdf_eval(material, wo, wi, device="cpu"), rtol=2e-4, atol=1e-6)
+
+
+def test_the_samplers_agree_between_gpu_and_cpu():
     gpu = vkpath.sampler_values("sobol", samples=64, dimensions=4, pixels=3, seed=5, device="gpu")
     cpu = vkpath.sampler_values("sobol", samples=64, dimensions=4, pixels=3, seed=5, device="cpu")
     assert gpu.shape == (64, 4, 3) and np.array_equal(gpu, cpu)
