@@ -63,7 +63,7 @@ bench: build
 # render the same, then plots error against time (PEER_ARGS=--size 800x600 etc.;
 # docs/TRADEOFFS.md), then races both on the scene suite (bench-suite), then races
 # render --auto against converge's fixed settings on the suite (AUTO_ARGS=--scenes a,b etc.;
-# docs/BENCHMARKS.md, "Settings chosen by measurement").
+# docs/TRADEOFFS.md, "Settings chosen by measurement").
 PEER_ARGS ?=
 AUTO_ARGS ?=
 bench-peer: build
@@ -74,7 +74,7 @@ bench-peer: build
 # The scene suite (tools/bench/suite/suite.json): per scene, vkpath's time to a relMSE on
 # lavapipe and --device cpu and Mitsuba 3's, their ratio and the geometric mean; references
 # cached in build/suite-refs/. SUITE_ARGS=--quick, --scenes a,b, --size 640 etc.; figures and
-# commands: docs/BENCHMARKS.md, "The suite".
+# commands: docs/SUITE.md.
 SUITE_ARGS ?=
 bench-suite: build
 	@tools/bench/suite-race --vkpath $(VKPATH) $(SUITE_ARGS)
