@@ -231,7 +231,11 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     std::printf("%s\n", output.string().c_str());
     for (const std::string& aov : o.aovs) {
         const auto path = image::aovPath(output, aov);
-        image::writeExr(path, aov == "spp" ? sampleCountImage(result) : result.varianceOfMean,
+        image::writeExr(path,
+                        aov == "spp"      ? sampleCountImage(result)
+                        : aov == "albedo" ? result.albedo
+                        : aov == "normal" ? result.normal
+                                          : result.varianceOfMean,
                         full);
         std::printf("%s\n", path.string().c_str());
     }
@@ -491,6 +495,9 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
     auto prepare = [&](RenderIdentity& identity, wavefront::RenderSettings& settings) {
         settings = renderSettings(o, samples.count);
         settings.timeBudgetSeconds = o.timeBudget;
+        settings.surfaceAovs =
+            std::any_of(o.aovs.begin(), o.aovs.end(),
+                        [](const std::string& aov) { return aov == "albedo" || aov == "normal"; });
         identity = renderIdentity(o, scene);
         if (resume) checkResume(o, *resume, identity, samples, film);
         return renderControl(o, identity, samples, resume, choice, saved, display.get());
@@ -622,9 +629,13 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
                     "the summary give the spp reached")
         ->check(realAbove<double>(0, false));
     cmd->add_option("--aov", o->aovs,
-                    "Extra outputs beside the EXR: variance (of each pixel's mean), spp (each "
-                    "pixel's samples)")
-        ->check(CLI::IsMember({"variance", "spp"}));
+                    "Extra outputs beside the EXR (OUT.NAME.exr): variance (of each pixel's "
+                    "mean), spp (each pixel's samples), albedo and normal (each pixel's mean "
+                    "albedo and world-space shading normal of its first hit that is no mirror "
+                    "or smooth glass, as Open Image Denoise defines them; 0 where the path left "
+                    "the scene)")
+        ->check(CLI::IsMember({"variance", "spp", "albedo", "normal"}))
+        ->delimiter(',');
     cmd->add_flag("--timings", o->timings, "Print the device time of each stage");
     auto* checkpoint = cmd->add_option(
         "--checkpoint", o->checkpoint,
