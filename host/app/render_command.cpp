@@ -245,7 +245,9 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     }
     if (o.denoise) {
         // The raw image stays in -o; the denoised one beside it says what it is.
-        const image::DenoiseInputs inputs{&result.image};
+        // Its guides are the albedo and normal AOVs, which --denoise renders
+        // whether or not --aov writes them (as Cycles' denoising data).
+        const image::DenoiseInputs inputs{&result.image, &result.albedo, &result.normal};
         const image::Denoised denoised = image::denoise(inputs);
         image::Metadata marked = full;
         marked.emplace_back("vkpath:denoised", image::denoisedMetadata(inputs));
@@ -496,8 +498,9 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags) {
         settings = renderSettings(o, samples.count);
         settings.timeBudgetSeconds = o.timeBudget;
         settings.surfaceAovs =
-            std::any_of(o.aovs.begin(), o.aovs.end(),
-                        [](const std::string& aov) { return aov == "albedo" || aov == "normal"; });
+            o.denoise || std::any_of(o.aovs.begin(), o.aovs.end(), [](const std::string& aov) {
+                return aov == "albedo" || aov == "normal";
+            });
         identity = renderIdentity(o, scene);
         if (resume) checkResume(o, *resume, identity, samples, film);
         return renderControl(o, identity, samples, resume, choice, saved, display.get());
@@ -648,8 +651,9 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
         ->needs(checkpoint);
     cmd->add_flag("--denoise", o->denoise,
                   "Also write OUT.denoised.exr, denoised by Intel Open Image Denoise 2 (pip "
-                  "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2); -o "
-                  "keeps the raw render");
+                  "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2), "
+                  "guided by the albedo and normal AOVs (rendered for it); -o keeps the raw "
+                  "render");
     cmd->add_option("--display-server", o->displayServer,
                     "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
                     "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "
