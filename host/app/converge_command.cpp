@@ -181,7 +181,7 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
         image::ChannelMetrics error;
         if (denoise) {  // converge checks that there is a reference
             const image::Image mean = a.mean(), albedo = a.albedo(), normal = a.normal();
-            const image::Denoised denoised = image::denoise({&mean, &albedo, &normal});
+            const image::Denoised denoised = image::denoise({&mean, &albedo, &normal, true});
             c.wallSeconds += denoised.seconds;
             error = image::compareImages(denoised.image, *reference).overall;
         } else if (reference) {

@@ -23,6 +23,7 @@ struct DenoiseOptions {
     std::string normal;
     std::string output;
     std::string png;  // --png: also an sRGB preview of the denoised image
+    bool prefilter = false;
 };
 
 int runDenoise(const DenoiseOptions& o) {
@@ -40,7 +41,7 @@ int runDenoise(const DenoiseOptions& o) {
     if (!o.albedo.empty()) albedo = guide(o.albedo, "albedo");
     if (!o.normal.empty()) normal = guide(o.normal, "normal");
     const image::DenoiseInputs inputs{&color, albedo ? &*albedo : nullptr,
-                                      normal ? &*normal : nullptr};
+                                      normal ? &*normal : nullptr, o.prefilter};
     const image::Denoised denoised = image::denoise(inputs);
     image::Metadata metadata;
     for (const auto& [key, value] : image::readVkpathMetadata(o.input))
@@ -72,6 +73,9 @@ void addDenoiseCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
         ->check(CLI::ExistingFile)
         ->needs(albedo);
     cmd->add_option("-o,--output", o->output, "The denoised EXR")->required();
+    cmd->add_flag("--prefilter", o->prefilter,
+                  "Denoise the guides first and declare them clean (OIDN's cleanAux)")
+        ->needs(albedo);
     cmd->add_option("--png", o->png, "Also write an sRGB PNG preview of the denoised image");
     cmd->callback([&commands, o] { commands.run = [o] { return runDenoise(*o); }; });
 }

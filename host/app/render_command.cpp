@@ -246,8 +246,10 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     if (o.denoise) {
         // The raw image stays in -o; the denoised one beside it says what it is.
         // Its guides are the albedo and normal AOVs, which --denoise renders
-        // whether or not --aov writes them (as Cycles' denoising data).
-        const image::DenoiseInputs inputs{&result.image, &result.albedo, &result.normal};
+        // whether or not --aov writes them (as Cycles' denoising data),
+        // prefiltered: as good as or better than the guides as they are, or
+        // none, on the suite (docs/TRADEOFFS.md, "Denoising").
+        const image::DenoiseInputs inputs{&result.image, &result.albedo, &result.normal, true};
         const image::Denoised denoised = image::denoise(inputs);
         image::Metadata marked = full;
         marked.emplace_back("vkpath:denoised", image::denoisedMetadata(inputs));
@@ -652,8 +654,8 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& comm
     cmd->add_flag("--denoise", o->denoise,
                   "Also write OUT.denoised.exr, denoised by Intel Open Image Denoise 2 (pip "
                   "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2), "
-                  "guided by the albedo and normal AOVs (rendered for it); -o keeps the raw "
-                  "render");
+                  "guided by the albedo and normal AOVs (rendered for it, prefiltered); -o keeps "
+                  "the raw render");
     cmd->add_option("--display-server", o->displayServer,
                     "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
                     "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "
