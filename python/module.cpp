@@ -255,6 +255,10 @@ class Scene {
         for (size_t i = 0; i < result.pixelSamples.size(); ++i)
             spp[i] = float(result.pixelSamples[i]);
         out["spp"] = ownedArray(std::move(spp), {result.image.height, result.image.width});
+        if (!result.albedo.pixels.empty()) {  // --aov albedo or normal, or --denoise
+            out["albedo"] = imageArray(result.albedo);
+            out["normal"] = imageArray(result.normal);
+        }
         out["spp_reached"] = result.samplesPerPixel;
         out["seconds"] = result.seconds;
         out["paths"] = result.paths;
@@ -268,7 +272,9 @@ class Scene {
             image::Denoised denoised;
             {
                 nb::gil_scoped_release release;
-                denoised = image::denoise(image::DenoiseInputs{&result.image});
+                // Guided and prefiltered as render --denoise is (render_command.cpp).
+                denoised = image::denoise(
+                    image::DenoiseInputs{&result.image, &result.albedo, &result.normal, true});
             }
             out["denoised"] = imageArray(denoised.image);
         }

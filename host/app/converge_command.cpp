@@ -97,17 +97,24 @@ class Progressive {
             m_sum[i] += m * n;
             m_sumSquares[i] += n * (v * (n - 1) + m * m);
         }
+        // The AOVs (the denoiser's guides), weighted alike.
+        if (!result.albedo.pixels.empty()) {
+            m_albedoSum.resize(m_sum.size(), glm::dvec3(0.0));
+            m_normalSum.resize(m_sum.size(), glm::dvec3(0.0));
+            for (size_t i = 0; i < m_sum.size(); ++i) {
+                m_albedoSum[i] += glm::dvec3(result.albedo.pixels[i]) * n;
+                m_normalSum[i] += glm::dvec3(result.normal.pixels[i]) * n;
+            }
+        }
         m_samples += result.samplesPerPixel;
         m_width = result.image.width;
         m_height = result.image.height;
     }
 
-    image::Image mean() const {
-        image::Image image(m_width, m_height);
-        for (size_t i = 0; i < m_sum.size(); ++i)
-            image.pixels[i] = glm::vec3(m_sum[i] / double(m_samples));
-        return image;
-    }
+    image::Image mean() const { return meanOf(m_sum); }
+    // The mean albedo and normal AOVs (renders with RenderSettings::surfaceAovs).
+    image::Image albedo() const { return meanOf(m_albedoSum); }
+    image::Image normal() const { return meanOf(m_normalSum); }
     // The error the render estimates from its own variance.
     double estimatedRelMse() const {
         std::vector<wavefront::PixelStatistics> stats(m_sum.size());
@@ -124,8 +131,16 @@ class Progressive {
     double deviceSeconds() const { return m_deviceSeconds; }
 
   private:
+    image::Image meanOf(const std::vector<glm::dvec3>& sums) const {
+        image::Image image(m_width, m_height);
+        for (size_t i = 0; i < sums.size(); ++i)
+            image.pixels[i] = glm::vec3(sums[i] / double(m_samples));
+        return image;
+    }
+
     std::unique_ptr<Renderer> m_renderer;
     std::vector<glm::dvec3> m_sum, m_sumSquares;
+    std::vector<glm::dvec3> m_albedoSum, m_normalSum;
     uint32_t m_samples = 0;
     uint32_t m_width = 0, m_height = 0;
     double m_wallSeconds = 0, m_deviceSeconds = 0;
@@ -136,15 +151,19 @@ class Progressive {
 // not counted (it only measures the first). `gpu`: record device times, and
 // warm up before the first configuration. With `targetError` the curve ends
 // at the first checkpoint from wavefront::FIRST_ERROR_CHECK spp on whose own
-// estimate reaches it. With `denoise` each checkpoint's image is denoised
-// before it is measured, and the denoiser's time is added to its own.
+// estimate reaches it. With `denoise` each checkpoint's image is denoised,
+// guided by the albedo and normal AOVs rendered with it (as render
+// --denoise), before it is measured, and the denoiser's time is added to its
+// own.
 template <typename Renderer, typename Make>
 std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
                                 const std::vector<uint32_t>& spp,
                                 const std::optional<image::Image>& reference, bool gpu, bool first,
                                 std::optional<double> targetError, bool denoise) {
     const uint32_t pixels = config.settings.width * config.settings.height;
-    Progressive<Renderer> a(make(config.settings), pixels);
+    wavefront::RenderSettings settings = config.settings;
+    settings.surfaceAovs = denoise;
+    Progressive<Renderer> a(make(settings), pixels);
     if (gpu && first) a.warmUp();
     std::optional<Progressive<Renderer>> b;
     if (!reference) {
@@ -161,8 +180,8 @@ std::vector<Checkpoint> measure(const Make& make, const Configuration& config,
         if (gpu) c.deviceSeconds = a.deviceSeconds();
         image::ChannelMetrics error;
         if (denoise) {  // converge checks that there is a reference
-            const image::Image mean = a.mean();
-            const image::Denoised denoised = image::denoise({&mean});
+            const image::Image mean = a.mean(), albedo = a.albedo(), normal = a.normal();
+            const image::Denoised denoised = image::denoise({&mean, &albedo, &normal, true});
             c.wallSeconds += denoised.seconds;
             error = image::compareImages(denoised.image, *reference).overall;
         } else if (reference) {
@@ -359,7 +378,8 @@ void addConvergeCommand(CLI::App& app, const GlobalOptions& global, Commands& co
         ->check(CLI::ExistingFile);
     cmd->add_flag("--denoise", o->denoise,
                   "Denoise each checkpoint's image (Intel Open Image Denoise 2, as render "
-                  "--denoise) before measuring it, its time counted; needs --reference");
+                  "--denoise: guided by the albedo and normal AOVs) before measuring it, its "
+                  "time counted; needs --reference");
     std::string knobNames;
     for (const Knob& k : knobs())
         knobNames += (knobNames.empty() ? "" : ", ") + std::string(k.name);

@@ -1,4 +1,4 @@
-// `vkpath denoise IN.exr [--albedo A.exr [--normal N.exr]] -o OUT.exr`: Intel
+// `vkpath denoise IN.exr [--albedo A.exr [--normal N.exr]] -o OUT.exr [--png P.png]`: Intel
 // Open Image Denoise on a render (image/denoiser.h); the output keeps the
 // input's vkpath metadata and says it is denoised.
 #include <fmt/format.h>
@@ -22,6 +22,8 @@ struct DenoiseOptions {
     std::string albedo;
     std::string normal;
     std::string output;
+    std::string png;  // --png: also an sRGB preview of the denoised image
+    bool prefilter = false;
 };
 
 int runDenoise(const DenoiseOptions& o) {
@@ -39,7 +41,7 @@ int runDenoise(const DenoiseOptions& o) {
     if (!o.albedo.empty()) albedo = guide(o.albedo, "albedo");
     if (!o.normal.empty()) normal = guide(o.normal, "normal");
     const image::DenoiseInputs inputs{&color, albedo ? &*albedo : nullptr,
-                                      normal ? &*normal : nullptr};
+                                      normal ? &*normal : nullptr, o.prefilter};
     const image::Denoised denoised = image::denoise(inputs);
     image::Metadata metadata;
     for (const auto& [key, value] : image::readVkpathMetadata(o.input))
@@ -49,6 +51,10 @@ int runDenoise(const DenoiseOptions& o) {
     std::fprintf(stderr, "denoised %s in %.3f s (%s)\n", o.input.c_str(), denoised.seconds,
                  denoised.library.c_str());
     std::printf("%s\n", o.output.c_str());
+    if (!o.png.empty()) {
+        image::writePng(o.png, denoised.image);
+        std::printf("%s\n", o.png.c_str());
+    }
     return 0;
 }
 
@@ -67,6 +73,10 @@ void addDenoiseCommand(CLI::App& app, const GlobalOptions&, Commands& commands) 
         ->check(CLI::ExistingFile)
         ->needs(albedo);
     cmd->add_option("-o,--output", o->output, "The denoised EXR")->required();
+    cmd->add_flag("--prefilter", o->prefilter,
+                  "Denoise the guides first and declare them clean (OIDN's cleanAux)")
+        ->needs(albedo);
+    cmd->add_option("--png", o->png, "Also write an sRGB PNG preview of the denoised image");
     cmd->callback([&commands, o] { commands.run = [o] { return runDenoise(*o); }; });
 }
 

@@ -212,7 +212,11 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     std::printf("%s\n", output.string().c_str());
     for (const std::string& aov : o.aovs) {
         const auto path = image::aovPath(output, aov);
-        image::writeExr(path, aov == "spp" ? sampleCountImage(result) : result.varianceOfMean,
+        image::writeExr(path,
+                        aov == "spp"      ? sampleCountImage(result)
+                        : aov == "albedo" ? result.albedo
+                        : aov == "normal" ? result.normal
+                                          : result.varianceOfMean,
                         full);
         std::printf("%s\n", path.string().c_str());
     }
@@ -222,7 +226,11 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
     }
     if (o.denoise) {
         // The raw image stays in -o; the denoised one beside it says what it is.
-        const image::DenoiseInputs inputs{&result.image};
+        // Its guides are the albedo and normal AOVs, which --denoise renders
+        // whether or not --aov writes them (as Cycles' denoising data),
+        // prefiltered: as good as or better than the guides as they are, or
+        // none, on the suite (docs/TRADEOFFS.md, "Denoising").
+        const image::DenoiseInputs inputs{&result.image, &result.albedo, &result.normal, true};
         const image::Denoised denoised = image::denoise(inputs);
         image::Metadata marked = full;
         marked.emplace_back("vkpath:denoised", image::denoisedMetadata(inputs));
@@ -493,6 +501,10 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags,
     auto prepare = [&](RenderIdentity& identity, wavefront::RenderSettings& settings) {
         settings = renderSettings(o, samples.count);
         settings.timeBudgetSeconds = o.timeBudget;
+        settings.surfaceAovs =
+            o.denoise || std::any_of(o.aovs.begin(), o.aovs.end(), [](const std::string& aov) {
+                return aov == "albedo" || aov == "normal";
+            });
         identity =
             hooks.sceneHash.empty() ? renderIdentity(o, scene) : renderIdentity(o, hooks.sceneHash);
         if (hooks.camera) identity.settings = withCamera(identity.settings, *hooks.camera);
@@ -629,9 +641,13 @@ void addRenderFlags(CLI::App& cmd, RenderCommandOptions& o) {
                    "the summary give the spp reached")
         ->check(realAbove<double>(0, false));
     cmd.add_option("--aov", o.aovs,
-                   "Extra outputs beside the EXR: variance (of each pixel's mean), spp (each "
-                   "pixel's samples)")
-        ->check(CLI::IsMember({"variance", "spp"}));
+                   "Extra outputs beside the EXR (OUT.NAME.exr): variance (of each pixel's "
+                   "mean), spp (each pixel's samples), albedo and normal (each pixel's mean "
+                   "albedo and world-space shading normal of its first hit that is no mirror "
+                   "or smooth glass, as Open Image Denoise defines them; 0 where the path left "
+                   "the scene)")
+        ->check(CLI::IsMember({"variance", "spp", "albedo", "normal"}))
+        ->delimiter(',');
     cmd.add_flag("--timings", o.timings, "Print the device time of each stage");
     auto* checkpoint = cmd.add_option(
         "--checkpoint", o.checkpoint,
@@ -644,8 +660,9 @@ void addRenderFlags(CLI::App& cmd, RenderCommandOptions& o) {
         ->needs(checkpoint);
     cmd.add_flag("--denoise", o.denoise,
                  "Also write OUT.denoised.exr, denoised by Intel Open Image Denoise 2 (pip "
-                 "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2); -o "
-                 "keeps the raw render");
+                 "install pyoidn; or VKPATH_OIDN_LIBRARY=path/to/libOpenImageDenoise.so.2), "
+                 "guided by the albedo and normal AOVs (rendered for it, prefiltered); -o keeps "
+                 "the raw render");
     cmd.add_option("--display-server", o.displayServer,
                    "HOST:PORT: show the render as it goes in the tev image viewer (start tev "
                    "first; it listens on 127.0.0.1:14158), updated at most every 0.25 s; the "

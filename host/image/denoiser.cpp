@@ -112,10 +112,11 @@ const std::string& loadDenoiser() {
 }
 
 std::string denoisedMetadata(const DenoiseInputs& in) {
-    return fmt::format("Intel Open Image Denoise 2, RT filter, hdr, guides: {}",
+    return fmt::format("Intel Open Image Denoise 2, RT filter, hdr, guides: {}{}",
                        in.normal   ? "albedo, normal"
                        : in.albedo ? "albedo"
-                                   : "none");
+                                   : "none",
+                       in.albedo && in.prefilterGuides ? " (prefiltered, cleanAux)" : "");
 }
 
 Denoised denoise(const DenoiseInputs& in) {
@@ -146,23 +147,47 @@ Denoised denoise(const DenoiseInputs& in) {
         oidn.writeBuffer(buffers.back().get(), 0, bytes, image.pixels.data());
         return buffers.back().get();
     };
-    const OIDNFilter filter = oidn.newFilter(device, "RT");
-    std::unique_ptr<OIDNFilterImpl, void (*)(OIDNFilter)> filterOwner(filter, oidn.releaseFilter);
-    check("the RT filter");
-    auto image = [&](const char* name, OIDNBuffer buffer) {
+    auto image = [&](OIDNFilter filter, const char* name, OIDNBuffer buffer) {
         oidn.setFilterImage(filter, name, buffer, OIDN_FORMAT_FLOAT3, color.width, color.height, 0,
                             sizeof(glm::vec3), sizeof(glm::vec3) * color.width);
     };
-    image("color", upload(color));
-    if (in.albedo) image("albedo", upload(*in.albedo));
-    if (in.normal) image("normal", upload(*in.normal));
+    using FilterOwner = std::unique_ptr<OIDNFilterImpl, void (*)(OIDNFilter)>;
+    auto newFilter = [&] {
+        FilterOwner filter(oidn.newFilter(device, "RT"), oidn.releaseFilter);
+        check("the RT filter");
+        return filter;
+    };
+    const OIDNBuffer albedo = in.albedo ? upload(*in.albedo) : nullptr;
+    const OIDNBuffer normal = in.normal ? upload(*in.normal) : nullptr;
+    // The guides denoised first, in place, and then declared clean: OIDN's
+    // recommendation for final frames with noisy guides (doc/api.md, "RT":
+    // "the auxiliary images should be first denoised in a prefiltering step").
+    std::vector<FilterOwner> prefilters;
+    for (const auto& [name, guide] : {std::pair{"albedo", albedo}, std::pair{"normal", normal}}) {
+        if (!guide || !in.prefilterGuides) continue;
+        prefilters.push_back(newFilter());
+        image(prefilters.back().get(), name, guide);
+        image(prefilters.back().get(), "output", guide);
+        oidn.commitFilter(prefilters.back().get());
+        check("the prefilter's settings");
+    }
+    const FilterOwner filterOwner = newFilter();
+    const OIDNFilter filter = filterOwner.get();
+    image(filter, "color", upload(color));
+    if (albedo) image(filter, "albedo", albedo);
+    if (normal) image(filter, "normal", normal);
     buffers.emplace_back(oidn.newBuffer(device, bytes), oidn.releaseBuffer);
     OIDNBuffer output = buffers.back().get();
-    image("output", output);
+    image(filter, "output", output);
     oidn.setFilterBool(filter, "hdr", true);
+    if (!prefilters.empty()) oidn.setFilterBool(filter, "cleanAux", true);
     oidn.commitFilter(filter);
     check("the filter's settings");
     const auto start = std::chrono::steady_clock::now();
+    for (const FilterOwner& prefilter : prefilters) {
+        oidn.executeFilter(prefilter.get());
+        check("prefiltering a guide");
+    }
     oidn.executeFilter(filter);
     check("denoising");
     Denoised result;

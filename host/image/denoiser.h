@@ -18,12 +18,14 @@ struct DenoiseInputs {
     const Image* color = nullptr;   // linear HDR radiance
     const Image* albedo = nullptr;  // optional guide: the first non-delta hit's albedo, [0, 1]
     const Image* normal = nullptr;  // optional guide (with albedo): its shading normal, [-1, 1]
+    // The guides denoised first and then declared noise-free (OIDN's cleanAux).
+    bool prefilterGuides = false;
 };
 
 struct Denoised {
     Image image;
     std::string library;  // the file the library was loaded from
-    double seconds = 0;   // the filter's execution
+    double seconds = 0;   // the filters' execution (the guides' prefilters included)
 };
 
 // Loads the library (once): the file it came from. Throws InputError, one

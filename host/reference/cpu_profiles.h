@@ -39,4 +39,9 @@
      VKP_FEATURE_ROULETTE | VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_DEEP_BVH |                   \
      VKP_FEATURE_SPHERE_GUIDING)
 
+// The same with the albedo and normal AOVs (--aov albedo,normal, and
+// --denoise's guides): a render without them keeps the profile above, whose
+// code has none of theirs.
+#define VKP_CPU_PROFILE_SMOOTH_AOVS (VKP_CPU_PROFILE_SMOOTH | VKP_FEATURE_AOVS)
+
 #endif  // VKPATH_REFERENCE_CPU_PROFILES_H

@@ -10,11 +10,14 @@ namespace vkpath::reference {
 // Defined in the profiles' translation units.
 std::unique_ptr<PathSampler> makeSmoothPathSampler(const char*, const wavefront::SceneTables&,
                                                    const shared::SceneInfo&);
+std::unique_ptr<PathSampler> makeSmoothAovsPathSampler(const char*, const wavefront::SceneTables&,
+                                                       const shared::SceneInfo&);
 
 namespace {
 
-const std::array<CpuProfile, 1> PROFILES = {{
+const std::array<CpuProfile, 2> PROFILES = {{
     {"smooth", VKP_CPU_PROFILE_SMOOTH, makeSmoothPathSampler},
+    {"smooth-aovs", VKP_CPU_PROFILE_SMOOTH_AOVS, makeSmoothAovsPathSampler},
 }};
 
 }  // namespace

@@ -32,9 +32,10 @@ class PathSampler {
     // "general" or the profile's name.
     virtual const char* name() const = 0;
     // The radiance of path `sampleIndex` of `pixel` (y * width + x of the
-    // camera's image); adds its rays to `tally`.
+    // camera's image) and its AOVs in `aov` (set only in renders with
+    // SceneInfo::aovs); adds its rays to `tally`.
     virtual glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel, uint32_t sampleIndex,
-                                shared::PathTally& tally) const = 0;
+                                shared::PathTally& tally, shared::PathAov& aov) const = 0;
 };
 
 // A profile's build, named `name` (CpuProfile::name).

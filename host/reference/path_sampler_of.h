@@ -25,10 +25,13 @@ class PathSamplerOf final : public PathSampler {
     // left as calls passing structs through memory (docs/BENCHMARKS.md,
     // "What each part of its design buys").
     __attribute__((flatten)) glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel,
-                                                 uint32_t sampleIndex,
-                                                 shared::PathTally& tally) const override {
+                                                 uint32_t sampleIndex, shared::PathTally& tally,
+                                                 shared::PathAov& aov) const override {
         const shared::RngKey key = shared::pathRngKey(m_view.sceneInfo(), pixel, sampleIndex);
-        return m_view.tracePath(shared::startPath(camera, pixel, key), key, tally);
+        shared::PathState path = shared::startPath(camera, pixel, key);
+        m_view.tracePath(path, key, tally);
+        aov = path.aov;
+        return path.radiance;
     }
 
   private:

@@ -118,9 +118,16 @@ std::string ReferenceRenderer::describe() const {
 glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex,
                                        wavefront::RayCounts& rays,
                                        uint64_t& rejectedLightSamples) const {
+    shared::PathAov aov;
+    return tracePath(pixel, sampleIndex, rays, rejectedLightSamples, aov);
+}
+
+glm::vec3 ReferenceRenderer::tracePath(uint32_t pixel, uint32_t sampleIndex,
+                                       wavefront::RayCounts& rays, uint64_t& rejectedLightSamples,
+                                       shared::PathAov& aov) const {
     // The loop the GPU runs (shared/integrator.h), one path at a time.
     shared::PathTally tally{};
-    const glm::vec3 radiance = m_sampler->tracePath(m_camera, pixel, sampleIndex, tally);
+    const glm::vec3 radiance = m_sampler->tracePath(m_camera, pixel, sampleIndex, tally, aov);
     rays.closest += tally.closestRays;
     rays.shadow += tally.shadowRays;
     rejectedLightSamples += tally.rejectedLightSamples;
@@ -152,6 +159,8 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
     // With two sample streams the film's state is followed by each pixel's
     // odd-stream sum.
     std::vector<glm::dvec3> oddSums(info.sampleStreams == 2 ? pixels : 0, glm::dvec3(0.0));
+    // The AOVs' sums (not part of the state: a resumed render's are its own samples').
+    std::vector<shared::FilmAovPixel> aovSums(info.aovs != 0 ? pixels : 0, shared::FilmAovPixel{});
     const size_t filmBytes = film.size() * sizeof(PixelSums);
     const size_t oddBytes = oddSums.size() * sizeof(glm::dvec3);
     const wavefront::RenderState before = wavefront::resumedState(
@@ -216,10 +225,19 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
                         const uint32_t pixel = pass->pixels.empty() ? uint32_t(e) : pass->pixels[e];
                         // 64-bit: the range may end at 2^32 itself.
                         const uint64_t first = uint64_t(samples.first) + schedule.samplesOf(pixel);
-                        for (uint64_t sample = first; sample < first + chunk; ++sample)
-                            accumulate(film[pixel], oddSums.empty() ? nullptr : &oddSums[pixel],
-                                       tracePath(pixel, uint32_t(sample), rays, rejected), info,
-                                       counts, sample);
+                        for (uint64_t sample = first; sample < first + chunk; ++sample) {
+                            shared::PathAov aov;
+                            const glm::vec3 l =
+                                tracePath(pixel, uint32_t(sample), rays, rejected, aov);
+                            if (!aovSums.empty()) {  // accumulate.comp's order and floats
+                                shared::FilmAovPixel& a = aovSums[pixel];
+                                a.albedo += aov.albedo;
+                                a.normal += aov.normal;
+                                a.samples += 1;
+                            }
+                            accumulate(film[pixel], oddSums.empty() ? nullptr : &oddSums[pixel], l,
+                                       info, counts, sample);
+                        }
                     }
                 rejectedLightSamples += rejected;
                 nonFinite += counts.dropped;
@@ -263,6 +281,7 @@ wavefront::RenderResult ReferenceRenderer::render(const wavefront::SampleRange& 
     if (control.checkpoint) control.checkpoint(end);
 
     wavefront::takeImage(statistics(), s.width, s.height, result);
+    if (!aovSums.empty()) wavefront::takeAovs(aovSums, s.width, s.height, result);
     return result;
 }
 

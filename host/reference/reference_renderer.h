@@ -13,7 +13,9 @@
 // (the unoccluded ones summed, then added), and the BSDF sample with Russian
 // roulette. Each path sample then meets accumulate.comp's rules: NaN,
 // infinite or float-overflowing samples are dropped and counted, fireflies
-// counted (and clamped if asked); pixel sums are kept in double.
+// counted (and clamped if asked); pixel sums are kept in double. The AOVs'
+// sums (RenderSettings::surfaceAovs) are floats added in sample order, as
+// accumulate.comp adds them.
 //
 // Threads take rows of the image; a pixel's samples are always added in
 // sample order, so the image is the same bit for bit for any thread count.
@@ -62,6 +64,10 @@ class ReferenceRenderer {
     // `rejectedLightSamples`.
     glm::vec3 tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
                         uint64_t& rejectedLightSamples) const;
+    // The same, with the path's AOVs in `aov` (set in renders with
+    // RenderSettings::surfaceAovs).
+    glm::vec3 tracePath(uint32_t pixel, uint32_t sampleIndex, wavefront::RayCounts& rays,
+                        uint64_t& rejectedLightSamples, shared::PathAov& aov) const;
 
     const wavefront::SceneTables& tables() const { return m_tables; }
     // Worker threads render() uses.

@@ -43,6 +43,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_ABSORPTION, "absorption"},
     {VKP_FEATURE_DEEP_BVH, "deep-bvh"},
     {VKP_FEATURE_SPHERE_GUIDING, "sphere-guiding"},
+    {VKP_FEATURE_AOVS, "aovs"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -109,6 +110,7 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     // smooth glass a rough one, so their kernels must hold those kinds too.
     // A kind's registry row names the kind it becomes; the kinds it changes
     // (or roughens: the microfacet kinds) make the feature.
+    if (info.aovs != 0) f |= VKP_FEATURE_AOVS;
     if (info.regularizeAlpha > 0.0f) {
         uint32_t regularized = 0, roughened = 0;
         for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS) {

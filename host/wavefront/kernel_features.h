@@ -19,7 +19,7 @@ namespace vkpath::wavefront {
 uint32_t sceneFeatures(const SceneTables& tables);
 
 // sceneFeatures plus the render's settings in `info` (renderSceneInfo): the
-// sampler, how many light samples, whether roulette can end a path.
+// sampler, how many light samples, whether roulette can end a path, the AOVs.
 uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info);
 
 // Shadow rays per path vertex that a kernel with these features can queue

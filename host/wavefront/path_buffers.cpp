@@ -21,7 +21,8 @@ PathBuffers allocatePathBuffers(vk::Context& context, const RenderSettings& sett
     for (;;) {
         try {
             for (const PathBufferRow& row : pathBufferRows()) {
-                const uint64_t bytes = bytesPerPath(row, form, shadowSamples) * w;
+                const uint64_t bytes =
+                    bytesPerPath(row, form, shadowSamples, settings.surfaceAovs) * w;
                 if (bytes == 0) continue;
                 paths.buffers.emplace(
                     row.binding, vk::Buffer(context, bytes, vk::MemoryKind::DeviceLocal, row.name));

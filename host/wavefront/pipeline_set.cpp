@@ -19,7 +19,8 @@ std::span<const std::byte> bytes(const shared::WavePush& p) {
 PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
                          std::map<uint32_t, const vk::Buffer*> bindings,
                          const std::vector<vk::Buffer>& film,
-                         const std::vector<vk::Buffer>& filmOdd, vk::Buffer& counters)
+                         const std::vector<vk::Buffer>& filmOdd,
+                         const std::vector<vk::Buffer>& filmAov, vk::Buffer& counters)
     : m_setup(setup) {
     const vk::KernelOptions options{.workgroupSize = setup.workgroupSize};
     vk::KernelOptions sceneOptions = options;
@@ -38,6 +39,7 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
     for (size_t i = 0; i < film.size(); ++i) {
         bindings[VKP_WF_FILM] = &film[i];
         if (!filmOdd.empty()) bindings[VKP_WF_FILM_ODD] = &filmOdd[i];
+        if (!filmAov.empty()) bindings[VKP_WF_FILM_AOV] = &filmAov[i];
         m_accumulateSets.push_back(m_accumulate->bindDeclared(bindings));
     }
     bindings = whole;

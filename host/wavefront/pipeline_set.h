@@ -39,10 +39,12 @@ class PipelineSet {
     // its first dispatch (lavapipe from Mesa 25 does, for seconds), and that
     // time belongs here, not to the first wave. `counters` is cleared
     // before (with no paths every kernel returns at once).
-    // `filmOdd`: the odd stream's windows with two sample streams, else empty.
+    // `filmOdd`: the odd stream's windows with two sample streams, else empty;
+    // `filmAov`: the AOVs' windows when the render keeps them, else empty.
     PipelineSet(vk::Context& context, const PipelineSetup& setup,
                 std::map<uint32_t, const vk::Buffer*> bindings, const std::vector<vk::Buffer>& film,
-                const std::vector<vk::Buffer>& filmOdd, vk::Buffer& counters);
+                const std::vector<vk::Buffer>& filmOdd, const std::vector<vk::Buffer>& filmAov,
+                vk::Buffer& counters);
     ~PipelineSet();
 
     uint32_t count() const { return uint32_t(m_built.size()); }

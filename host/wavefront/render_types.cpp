@@ -44,7 +44,20 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     // A firefly: one sample that alone adds more than 1 (display white) to its pixel's mean.
     info.fireflyThreshold = float(settings.samplesPerPixel);
     info.sampleStreams = sampleStreams(settings);
+    info.aovs = settings.surfaceAovs ? 1u : 0u;
     return info;
+}
+
+void takeAovs(std::span<const shared::FilmAovPixel> sums, uint32_t width, uint32_t height,
+              RenderResult& result) {
+    result.albedo = image::Image(width, height);
+    result.normal = image::Image(width, height);
+    for (size_t i = 0; i < sums.size(); ++i) {
+        const shared::FilmAovPixel& p = sums[i];
+        const float weight = p.samples > 0 ? 1.0f / float(p.samples) : 0.0f;
+        result.albedo.pixels[i] = p.albedo * weight;
+        result.normal.pixels[i] = p.normal * weight;
+    }
 }
 
 void checkResumable(const RenderState& state, const char* format, uint32_t width, uint32_t height,

@@ -9,12 +9,14 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "image/image.h"
 #include "shared/rng.h"
 #include "shared/scene_data.h"
+#include "shared/wavefront.h"
 #include "wavefront/gpu_scene.h"
 
 namespace vkpath::wavefront {
@@ -98,6 +100,11 @@ struct RenderSettings {
     // test windows on small films.
     uint32_t filmWindowPixels = 0;
     uint32_t threads = 0;  // CPU reference: worker threads, 0 = every hardware thread
+    // The albedo and normal AOVs (--aov albedo,normal; --denoise's guides):
+    // each pixel's mean over its samples of what the path's first non-delta
+    // hit shows (shared/integrator.h recordAov). Off: no AOV code in the
+    // kernels, no AOV memory.
+    bool surfaceAovs = false;
 };
 // The sample streams of a render (shared::SceneInfo::sampleStreams): 2 for a
 // target error with the Sobol' sampler, whose error only two independent
@@ -237,6 +244,11 @@ class WholeSampleGate {
 struct RenderResult {
     image::Image image;           // mean radiance per pixel
     image::Image varianceOfMean;  // per channel: sample variance / samples (the variance AOV)
+    // RenderSettings::surfaceAovs: each pixel's mean albedo ([0, 1]) and
+    // world-space normal over the samples of this run (a resumed state's
+    // samples are not in them); empty otherwise.
+    image::Image albedo;
+    image::Image normal;
     uint32_t samplesPerPixel =
         0;                 // reached (less than asked when the time budget ran out or a stop came)
     bool stopped = false;  // RenderControl::stopRequested ended it early
@@ -276,6 +288,12 @@ struct RenderResult {
 // depth, seed, sampler, film size); lightSamples is 0 when the scene has no light to
 // sample, so emission then counts fully.
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings);
+
+// The albedo and normal images from per-pixel AOV sums (both renderers keep
+// them as shared::FilmAovPixel, added in sample order): each sum over its
+// pixel's count, 0 where a pixel has none.
+void takeAovs(std::span<const shared::FilmAovPixel> sums, uint32_t width, uint32_t height,
+              RenderResult& result);
 
 // One pixel channel from `samples` path samples (NaN/Inf ones dropped count
 // as zero): their mean and the variance of that mean (unbiased sample

@@ -53,6 +53,12 @@ struct GpuRenderer::Resources {
     // shares no buffer with a binding read elsewhere).
     std::vector<vk::Buffer> filmOdd;
     vk::Buffer oddPlaceholder;
+    // With the AOVs (RenderSettings::surfaceAovs): their sums, in the same
+    // windows; else aovPlaceholder is bound (as oddPlaceholder, written by
+    // accumulate). Not part of the film's state: a resumed render's AOVs are
+    // its own samples'.
+    std::vector<vk::Buffer> filmAov;
+    vk::Buffer aovPlaceholder;
     PathBuffers paths;
     std::unique_ptr<PipelineSet> pipelines;
 
@@ -67,6 +73,11 @@ struct GpuRenderer::Resources {
     uint64_t filmBytes() {
         uint64_t bytes = 0;
         for (const vk::Buffer* buffer : filmState()) bytes += buffer->size();
+        return bytes;
+    }
+    uint64_t aovBytes() const {
+        uint64_t bytes = 0;
+        for (const vk::Buffer& window : filmAov) bytes += window.size();
         return bytes;
     }
 };
@@ -124,18 +135,25 @@ void GpuRenderer::setUp() {
         if (info.sampleStreams == 2)
             r->filmOdd.emplace_back(context, windowPixels * sizeof(shared::FilmStreamPixel),
                                     vk::MemoryKind::DeviceLocal, "filmOdd");
+        if (settings.surfaceAovs)
+            r->filmAov.emplace_back(context, windowPixels * sizeof(shared::FilmAovPixel),
+                                    vk::MemoryKind::DeviceLocal, "filmAov");
     }
     r->placeholder = vk::Buffer(context, 4, vk::MemoryKind::DeviceLocal, "placeholder");
     if (r->filmOdd.empty())
         r->oddPlaceholder = vk::Buffer(context, sizeof(shared::FilmStreamPixel),
                                        vk::MemoryKind::DeviceLocal, "film odd placeholder");
+    if (r->filmAov.empty())
+        r->aovPlaceholder = vk::Buffer(context, sizeof(shared::FilmAovPixel),
+                                       vk::MemoryKind::DeviceLocal, "film AOV placeholder");
     if (settings.adaptive)
         r->pixelList = vk::Buffer(context, pixels * sizeof(glm::uvec2), vk::MemoryKind::DeviceLocal,
                                   "pixelList");
     r->paths = allocatePathBuffers(context, settings, m_form, shadowSamples, budget);
-    m_memory = {{"scene", m_scene.bytes()},
-                {"path state", r->paths.bytes},
-                {"film", r->filmBytes() + (settings.adaptive ? r->pixelList.size() : 0)}};
+    m_memory = {
+        {"scene", m_scene.bytes()},
+        {"path state", r->paths.bytes},
+        {"film", r->filmBytes() + r->aovBytes() + (settings.adaptive ? r->pixelList.size() : 0)}};
 
     std::map<uint32_t, const vk::Buffer*> bindings = {
         {VKP_WF_SCENE_INFO, &r->sceneInfo},
@@ -144,6 +162,7 @@ void GpuRenderer::setUp() {
         {VKP_WF_FILM, &r->film.front()},
         {VKP_WF_PIXEL_LIST, settings.adaptive ? &r->pixelList : &r->placeholder},
         {VKP_WF_FILM_ODD, r->filmOdd.empty() ? &r->oddPlaceholder : &r->filmOdd.front()},
+        {VKP_WF_FILM_AOV, r->filmAov.empty() ? &r->aovPlaceholder : &r->filmAov.front()},
     };
     for (const auto& [binding, buffer] : m_scene.bindings()) bindings[binding] = buffer;
     bindPathBuffers(r->paths, r->placeholder, bindings);
@@ -155,8 +174,8 @@ void GpuRenderer::setUp() {
                         .sceneSpecialization = {bvh::sceneAccessConstant(m_scene.byAddress),
                                                 {VKP_SPEC_FEATURES, m_features}},
                         .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation};
-    r->pipelines =
-        std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->filmOdd, r->counters);
+    r->pipelines = std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->filmOdd,
+                                                 r->filmAov, r->counters);
     m_pipelines = r->pipelines->count();
     m_pipelineMilliseconds =
         std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -224,6 +243,7 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     } else {
         for (vk::Buffer* buffer : r.filmState()) buffer->clear();
     }
+    for (vk::Buffer& window : r.filmAov) window.clear();
     r.counters.clear();
     result.priorSeconds = before.seconds;
 
@@ -383,6 +403,15 @@ RenderResult GpuRenderer::render(const SampleRange& samples, const RenderControl
     result.reachedTarget = schedule.reachedTarget();
     if (control.checkpoint) control.checkpoint(end);
     takeImage(statistics(), s.width, s.height, result);
+    if (!r.filmAov.empty()) {
+        std::vector<shared::FilmAovPixel> sums;
+        sums.reserve(pixels);
+        for (const vk::Buffer& window : r.filmAov) {
+            const std::vector<shared::FilmAovPixel> part = window.download<shared::FilmAovPixel>();
+            sums.insert(sums.end(), part.begin(), part.end());
+        }
+        takeAovs(sums, s.width, s.height, result);
+    }
     return result;
 }
 

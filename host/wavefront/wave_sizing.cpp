@@ -6,6 +6,7 @@
 
 #include "input_error.h"
 #include "shared/bvh.h"
+#include "shared/path_state.h"
 #include "shared/ray.h"
 #include "shared/wavefront.h"
 #include "vk/context.h"
@@ -14,14 +15,15 @@ namespace vkpath::wavefront {
 namespace {
 
 constexpr PathBufferRow PATH_BUFFERS[] = {
-    {VKP_WF_RAYS, "rays", sizeof(shared::Ray), false, false},
-    {VKP_WF_HITS, "hits", sizeof(shared::Hit), false, false},
-    {VKP_WF_THROUGHPUT, "throughput", sizeof(glm::vec3), false, false},
-    {VKP_WF_RADIANCE, "radiance", sizeof(glm::vec3), false, true},
-    {VKP_WF_VERTEX, "vertices", sizeof(shared::PathVertex), false, false},
-    {VKP_WF_QUEUES, "queues", 3 * sizeof(uint32_t), false, false},  // stages/lib/queues.glsl
-    {VKP_WF_SHADOW_RAYS, "shadowRays", sizeof(shared::Ray), true, false},
-    {VKP_WF_SHADOW_RADIANCE, "shadowRadiance", sizeof(glm::vec3), true, false},
+    {VKP_WF_RAYS, "rays", sizeof(shared::Ray), false, false, false},
+    {VKP_WF_HITS, "hits", sizeof(shared::Hit), false, false, false},
+    {VKP_WF_THROUGHPUT, "throughput", sizeof(glm::vec3), false, false, false},
+    {VKP_WF_RADIANCE, "radiance", sizeof(glm::vec3), false, true, false},
+    {VKP_WF_VERTEX, "vertices", sizeof(shared::PathVertex), false, false, false},
+    {VKP_WF_QUEUES, "queues", 3 * sizeof(uint32_t), false, false, false},  // stages/lib/queues.glsl
+    {VKP_WF_SHADOW_RAYS, "shadowRays", sizeof(shared::Ray), true, false, false},
+    {VKP_WF_SHADOW_RADIANCE, "shadowRadiance", sizeof(glm::vec3), true, false, false},
+    {VKP_WF_PATH_AOV, "aovs", sizeof(shared::PathAov), false, true, true},
 };
 
 }  // namespace
@@ -30,15 +32,17 @@ std::span<const PathBufferRow> pathBufferRows() {
     return PATH_BUFFERS;
 }
 
-uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples) {
+uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples,
+                      bool aovs) {
     if (form == KernelForm::Megakernel && !row.megakernel) return 0;
+    if (row.aovs && !aovs) return 0;
     return row.perLightSample ? row.bytes * shadowSamples : row.bytes;
 }
 
-uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex) {
+uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, bool aovs) {
     uint64_t total = 0;
     for (const PathBufferRow& row : PATH_BUFFERS)
-        total += bytesPerPath(row, form, shadowRaysPerVertex);
+        total += bytesPerPath(row, form, shadowRaysPerVertex, aovs);
     return total;
 }
 
@@ -61,10 +65,11 @@ uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelFor
     const uint64_t pixels = uint64_t(s.width) * s.height;
     const uint64_t taken =
         sceneBytes + pixels * (sizeof(shared::FilmPixel) + (s.adaptive ? sizeof(glm::uvec2) : 0) +
-                               (sampleStreams(s) == 2 ? sizeof(shared::FilmStreamPixel) : 0));
+                               (sampleStreams(s) == 2 ? sizeof(shared::FilmStreamPixel) : 0) +
+                               (s.surfaceAovs ? sizeof(shared::FilmAovPixel) : 0));
     const uint64_t left = *s.maxDeviceMemoryBytes - std::min(taken, *s.maxDeviceMemoryBytes);
     const uint64_t fewest = std::min<uint64_t>(s.workgroupSize, pixels * s.samplesPerPixel);
-    if (left / pathStateBytes(form, shadowSamples) < fewest)
+    if (left / pathStateBytes(form, shadowSamples, s.surfaceAovs) < fewest)
         throw InputError(fmt::format(
             "--max-device-memory {:.3g} MiB: the scene and the film take {:.3g} MiB, leaving room "
             "for "
@@ -75,10 +80,10 @@ uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelFor
 
 uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowSamples,
                       const vk::DeviceInfo& device, uint64_t pixels, uint64_t pathStateBudget) {
-    const uint64_t total = pathStateBytes(form, shadowSamples);
+    const uint64_t total = pathStateBytes(form, shadowSamples, s.surfaceAovs);
     uint64_t largest = 1;
     for (const PathBufferRow& row : PATH_BUFFERS)
-        largest = std::max(largest, bytesPerPath(row, form, shadowSamples));
+        largest = std::max(largest, bytesPerPath(row, form, shadowSamples, s.surfaceAovs));
     uint64_t limit = s.maxPathsInFlight.value_or(defaultPathsInFlight(device));
     limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / total);
     limit = std::min<uint64_t>(limit, pathStateBudget / total);

@@ -23,20 +23,21 @@ struct PathBufferRow {
     uint64_t bytes;       // per path, or per light sample of a path
     bool perLightSample;  // holds one element per traced light sample
     bool megakernel;      // the megakernel uses it too (else only the wavefront stages)
+    bool aovs;            // only renders with the AOVs use it (RenderSettings::surfaceAovs)
 };
 
 // Every per-path buffer, one row each.
 std::span<const PathBufferRow> pathBufferRows();
 
 // Bytes per path of `row` in a render of this form that traces `shadowSamples`
-// light samples per vertex; 0 when the render does not use it (a
-// placeholder is bound to it).
-uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples);
+// light samples per vertex (and keeps the AOVs, `aovs`); 0 when the render
+// does not use it (a placeholder is bound to it).
+uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples, bool aovs);
 
 // Device bytes one path in flight takes in the per-path buffers of a kernel
 // form whose kernels queue `shadowRaysPerVertex` shadow rays per vertex
-// (kernel_features.h).
-uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex);
+// (kernel_features.h), with or without the AOVs.
+uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, bool aovs = false);
 
 // The kernel form a device gets without --kernel (measured:
 // docs/BENCHMARKS.md, "Kernel forms and specialisation").

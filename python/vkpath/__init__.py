@@ -101,7 +101,9 @@ def _flags(keywords: Mapping[str, Any]) -> list[str]:
 class Render:
     """What a render made: `image` (H, W, 3) float32 linear RGB, `variance`
     (each pixel's variance of its mean), `spp` (each pixel's samples), and
-    `aovs` (the AOVs asked for with aov=[...]); `denoised` with denoise=True.
+    `aovs` (the AOVs asked for with aov=[...]: variance, spp, albedo,
+    normal); `denoised` with denoise=True (guided by the albedo and normal
+    AOVs, as render --denoise is).
     `spp_reached`, `seconds`, `paths`, `estimated_rel_mse`, `reached_target`,
     `stopped` and `interrupted` (Ctrl-C) say how it went."""
 
@@ -203,7 +205,7 @@ class Scene:
             keywords["device"] = self._device
         aovs = keywords.get("aov") or ()
         if isinstance(aovs, str):
-            aovs = (aovs,)
+            aovs = tuple(aovs.split(","))
             keywords["aov"] = aovs
         write_files = keywords.get("output") is not None
         result = self._scene.render(_flags(keywords), write_files, progress)
@@ -245,7 +247,7 @@ def render(
 ) -> Union[np.ndarray, tuple]:
     """Renders `scene` (a path or a Scene) and returns the image, (H, W, 3)
     float32; with aov=[...] or denoise=True, (image, {name: array}) where the
-    variance AOV is (H, W, 3), spp (H, W) and denoised (H, W, 3). Keywords as Scene.render's; a path also
+    variance, albedo, normal and denoised images are (H, W, 3) and spp (H, W). Keywords as Scene.render's; a path also
     takes the scene's (env, camera, ...)."""
     if not isinstance(scene, Scene):
         scene_keywords = {k: keywords.pop(k) for k in SCENE_KEYWORDS if k in keywords}

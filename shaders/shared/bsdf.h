@@ -98,6 +98,8 @@ VKP_FN Material regularizeMicrofacetMaterial(Material material, float roughness)
 //                                                           density of wi (0 for delta lobes)
 //   bool nonDeltaTypeMaterial(material)                     whether it has a non-delta lobe
 //   Material regularizeTypeMaterial(material, roughness)    widened by path regularisation
+//   vec3 albedoTypeMaterial(material)                       the albedo AOV, in [0, 1]
+//                                                           (materialAlbedo below)
 //
 // ns is the shading normal (world space, unit, oriented like the geometric
 // normal), wo and wi point away from the surface; u is uniform in [0, 1)^2,
@@ -122,6 +124,9 @@ VKP_FN bool nonDeltaDiffuseMaterial(VKP_IN(Material) /*material*/) {
 VKP_FN Material regularizeDiffuseMaterial(Material material, float /*roughness*/) {
     return material;
 }
+VKP_FN vec3 albedoDiffuseMaterial(VKP_IN(Material) material) {
+    return material.reflectance;
+}
 
 // Mirror: one delta lobe (lobes.h).
 VKP_FN BsdfSample sampleMirrorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 /*u*/,
@@ -144,6 +149,11 @@ VKP_FN Material regularizeMirrorMaterial(Material material, float roughness) {
     material.roughness = roughness;
     return material;
 }
+// The reflected albedo (seen only where a path ends on the mirror: the AOV
+// follows a delta bounce to the next hit).
+VKP_FN vec3 albedoMirrorMaterial(VKP_IN(Material) material) {
+    return material.reflectance;
+}
 
 // Smooth glass: delta reflection and refraction (lobes.h).
 VKP_FN BsdfSample sampleDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
@@ -165,6 +175,12 @@ VKP_FN Material regularizeDielectricMaterial(Material material, float roughness)
     material.kind = VKP_MATERIAL_ROUGH_DIELECTRIC;
     material.roughness = roughness;
     return material;
+}
+// OIDN's 1 for a dielectric (seen only where a path ends on the glass: the
+// AOV follows a delta bounce to the next hit, which over a pixel's samples
+// makes the Fresnel blend of the reflected and transmitted albedos).
+VKP_FN vec3 albedoDielectricMaterial(VKP_IN(Material)) {
+    return vec3(1.0f);
 }
 
 // Rough conductor (microfacet.h); alpha = roughness^2 (glTF 2.0 Appendix B,
@@ -207,6 +223,14 @@ VKP_FN bool nonDeltaConductorMaterial(VKP_IN(Material) material) {
 VKP_FN Material regularizeConductorMaterial(Material material, float roughness) {
     return regularizeMicrofacetMaterial(material, roughness);
 }
+// The reflectivity at normal incidence (OIDN's first choice for metals):
+// Schlick's F0, or the exact Fresnel of the complex index at cos 1.
+VKP_FN vec3 albedoConductorMaterial(VKP_IN(Material) material) {
+    if ((material.flags & VKP_MATERIAL_COMPLEX_FRESNEL) == 0u) return material.reflectance;
+    return vec3(fresnelComplex(1.0f, material.reflectance.x, material.transmittance.x),
+                fresnelComplex(1.0f, material.reflectance.y, material.transmittance.y),
+                fresnelComplex(1.0f, material.reflectance.z, material.transmittance.z));
+}
 
 // Rough glass (microfacet.h).
 VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
@@ -239,6 +263,10 @@ VKP_FN bool nonDeltaRoughDielectricMaterial(VKP_IN(Material) material) {
 }
 VKP_FN Material regularizeRoughDielectricMaterial(Material material, float roughness) {
     return regularizeMicrofacetMaterial(material, roughness);
+}
+// OIDN's 1 for a dielectric that is not a delta.
+VKP_FN vec3 albedoRoughDielectricMaterial(VKP_IN(Material)) {
+    return vec3(1.0f);
 }
 
 // glTF's metallic-roughness material (metallic_roughness.h).
@@ -273,6 +301,14 @@ VKP_FN bool nonDeltaMetallicRoughnessMaterial(VKP_IN(Material) material) {
 }
 VKP_FN Material regularizeMetallicRoughnessMaterial(Material material, float roughness) {
     return regularizeMicrofacetMaterial(material, roughness);
+}
+// The base colour: glTF's metal reflects it at normal incidence (OIDN's
+// choice for metals) and its dielectric's diffuse lobe has it as albedo, so
+// the mix of the two by `metallic` is the base colour itself; the dielectric
+// layer's specular reflection is left out, as OIDN allows for a clear coat
+// that does not absorb.
+VKP_FN vec3 albedoMetallicRoughnessMaterial(VKP_IN(Material) material) {
+    return material.reflectance;
 }
 
 // ---- a material's BSDF: one dispatch over the kinds --------------------------------
@@ -362,6 +398,26 @@ VKP_FN bool hasNonDeltaLobe(VKP_IN(Material) material) {
         default:
             return false;
     }
+}
+
+// The albedo AOV of `material` (--aov albedo, the denoiser's guide): "the
+// approximate color of the surfaces independent of illumination and viewing
+// angle", in [0, 1], as Intel Open Image Denoise's documentation defines it
+// (doc/api.md, section "RT", subsection "Albedos"; each kind's choice at its
+// albedoTypeMaterial above).
+VKP_FN vec3 materialAlbedo(VKP_IN(Material) material) {
+    vec3 albedo = vec3(0.0f);
+    switch (materialKind(material)) {
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id:                                                                   \
+        if (materialMayBe(id)) albedo = albedo##Type##Material(material);      \
+        break;
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
+        default:
+            break;
+    }
+    return clamp(albedo, vec3(0.0f), vec3(1.0f));
 }
 
 // `material` widened by path regularisation to GGX alpha `alpha` (see above);

@@ -53,7 +53,10 @@
     (1u << 26)  // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
 #define VKP_FEATURE_SPHERE_GUIDING \
     (1u << 27)  // diffuse samples guided toward smooth specular spheres
-#define VKP_FEATURE_COUNT 28u
+// --aov albedo,normal (SceneInfo::aovs): each path keeps the albedo and
+// shading normal of its first non-delta hit (shared/integrator.h recordAov)
+#define VKP_FEATURE_AOVS (1u << 28)
+#define VKP_FEATURE_COUNT 29u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.

@@ -30,6 +30,47 @@ struct Shading {
         guide;  // the spheres its BSDF samples may be drawn toward (guideSpheresAt), found once
 };
 
+// ---- the albedo and normal AOVs (--aov albedo,normal) -----------------------------------
+// Intel Open Image Denoise's definitions (github.com/RenderKit/oidn,
+// doc/api.md, section "RT", subsections "Albedos" and "Normals"), with the
+// choices that document leaves open:
+// - the features of the first hit whose material has a non-delta lobe: a path
+//   follows perfect specular (delta) bounces, mirror and smooth glass, to the
+//   next hit, as that section recommends. Smooth glass picks reflection or
+//   refraction by its Fresnel term, so a pixel's mean is the Fresnel blend of
+//   the reflected and transmitted features that OIDN describes. A delta hit's
+//   own features stand where the path ends there (depth, roulette).
+// - albedo: shared/bsdf.h materialAlbedo (the kinds' choices there), not
+//   multiplied by the specular tints on the way ("the reflected albedo in
+//   itself can be used for mirror-like surfaces").
+// - normal: the shading normal (interpolated, normal-mapped, as "Normals"
+//   recommends) in world space, turned toward the ray that found it so that
+//   a surface reads the same whatever its winding.
+// - a path that leaves the scene before such a hit: albedo 0 and normal 0.
+//   OIDN's documentation names no value for the background; 0 is inside its
+//   ranges, and a null normal says that no surface is there.
+VKP_FN bool aovsWanted() VKP_SCENE_CONST {
+    return hasFeature(VKP_FEATURE_AOVS) && sceneInfo().aovs != 0u;
+}
+
+// The hit `shading` (the ray arriving along -wo) into the path's AOVs, unless
+// a non-delta hit or the background set them before.
+VKP_FN void recordAov(VKP_INOUT(PathAov) aov, VKP_IN(Shading) shading) VKP_SCENE_CONST {
+    if (aov.found != 0u) return;
+    aov.albedo = materialAlbedo(shading.material);
+    vec3 n = shading.surface.shadingNormal;
+    aov.normal = dot(n, shading.wo) < 0.0f ? -n : n;
+    aov.found = hasNonDeltaLobe(shading.material) ? 1u : 0u;
+}
+
+// A ray that left the scene, into the path's AOVs unless set before.
+VKP_FN void recordEscapeAov(VKP_INOUT(PathAov) aov) VKP_SCENE_CONST {
+    if (aov.found != 0u) return;
+    aov.albedo = vec3(0.0f);
+    aov.normal = vec3(0.0f);
+    aov.found = 1u;
+}
+
 // Stage "shade", first part: adds what the ray of bounce `bounce` sees at
 // `hit` (emission with its MIS weight, or the environment on a miss).
 // Returns whether the path scatters there (it hit something and is below
@@ -37,6 +78,7 @@ struct Shading {
 VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
                      VKP_OUT(Shading) shading) VKP_SCENE_CONST {
     if (hit.primitive == VKP_NO_HIT) {
+        if (aovsWanted()) recordEscapeAov(path.aov);
         if (hasFeature(VKP_FEATURES_ENVIRONMENT))
             path.radiance +=
                 path.throughput * escapedRadiance(path.ray.direction, path.specular, path.bsdfPdf);
@@ -52,6 +94,7 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         path.throughput *= mediumTransmittance(shading.material, shading.surface, path.ray, hit);
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
+    if (aovsWanted()) recordAov(path.aov, shading);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
         path.radiance +=
             path.throughput * emittedRadiance(shading.material, primitive, hit.primitive,
@@ -118,9 +161,10 @@ VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce,
     return scatter(path, shading, key, bounce);
 }
 
-// The whole path from `path` (startPath): its radiance estimate.
-VKP_FN vec3 tracePath(PathState path, RngKey key, VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
+// The whole path from `path` (startPath): its radiance estimate ends in
+// path.radiance (and its AOVs in path.aov).
+VKP_FN void tracePath(VKP_INOUT(PathState) path, RngKey key,
+                      VKP_INOUT(PathTally) tally) VKP_SCENE_CONST {
     uint bounce = 0u;
     while (traceBounce(path, key, bounce, tally)) ++bounce;
-    return path.radiance;
 }

@@ -15,8 +15,19 @@
 
 VKP_NAMESPACE_BEGIN
 
+// The albedo and normal AOVs of a path (--aov albedo,normal; the denoiser's
+// guides): what its first non-delta hit shows, following delta bounces
+// (shared/integrator.h recordAov). A pixel's AOV is the mean over its
+// samples (shared/wavefront.h FilmAovPixel).
+struct PathAov {
+    vec3 albedo;  // in [0, 1] (shared/bsdf.h materialAlbedo)
+    vec3 normal;  // world space, unit (0 where the path left the scene)
+    uint found;   // 1 once the values are final: a non-delta hit, or the path left the scene
+};
+
 // What a path carries from one vertex to the next: the wavefront's per-path
-// buffers hold exactly this (rays, throughput, radiance, vertices).
+// buffers hold exactly this (rays, throughput, radiance, vertices; the AOVs
+// only in renders that ask for them).
 struct PathState {
     Ray ray;                // the next ray to trace
     vec3 throughput;        // product of BSDF weights (and roulette) so far
@@ -26,6 +37,7 @@ struct PathState {
     float bsdfPdf;          // density of the direction sampled there (MIS at the next hit)
     bool specular;          // the camera or a delta BSDF produced the ray (no MIS)
     bool afterNonDelta;  // a non-delta lobe scattered the path before (path regularisation applies)
+    PathAov aov;         // read and written only with VKP_FEATURE_AOVS and SceneInfo::aovs
 };
 
 // What a path's rays were, for RenderResult's counters.
@@ -71,6 +83,9 @@ VKP_FN PathState startPath(VKP_IN(Camera) camera, uint pixel, RngKey key) {
     path.bsdfPdf = 0.0f;
     path.specular = true;
     path.afterNonDelta = false;
+    path.aov.albedo = vec3(0.0f);
+    path.aov.normal = vec3(0.0f);
+    path.aov.found = 0u;
     return path;
 }
 

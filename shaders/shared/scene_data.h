@@ -47,12 +47,15 @@ struct SceneInfo {
     // measures a render's error where the sample variance cannot (Sobol'
     // points are not independent); 1: one (wavefront/sample_schedule.h).
     uint sampleStreams;
+    // 1: the render keeps each path's albedo and normal AOVs (--aov albedo,normal;
+    // shared/integrator.h recordAov, with VKP_FEATURE_AOVS); 0: no AOV code runs
+    uint aovs;
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 108);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 112);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -45,6 +45,8 @@
 #define VKP_WF_PIXEL_LIST \
     30  // uvec2[entries]: an adaptive pass's pixels (ascending) and each one's first sample index
 #define VKP_WF_FILM_ODD 31  // FilmStreamPixel[width height]: the odd stream's sums (two streams)
+#define VKP_WF_PATH_AOV 32  // PathAov[W]: each path's AOVs (SceneInfo::aovs)
+#define VKP_WF_FILM_AOV 33  // FilmAovPixel[width height]: the AOVs' sums (SceneInfo::aovs)
 
 VKP_NAMESPACE_BEGIN
 
@@ -96,6 +98,15 @@ struct FilmStreamPixel {
     vec3 sumCompensation;
 };
 
+// With the AOVs (SceneInfo::aovs), each pixel's sums of its paths' PathAov
+// values in sample order (plain float sums: an AOV is a guide, whose mean
+// needs no more than float's 24 bits).
+struct FilmAovPixel {
+    vec3 albedo;
+    vec3 normal;
+    uint samples;  // the samples added (this render's, not a resumed state's)
+};
+
 // A wave is `pathCount` consecutive paths in (sample index, pixel) order,
 // starting at pixel firstPixel of sample firstSample: path slot s is pixel
 // (firstPixel + s) % pixels of sample firstSample + (firstPixel + s) / pixels
@@ -139,6 +150,7 @@ static_assert(sizeof(vkpath::shared::PathVertex) == 20);
 static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
 static_assert(sizeof(vkpath::shared::FilmStreamPixel) == 24);
+static_assert(sizeof(vkpath::shared::FilmAovPixel) == 28);
 static_assert(sizeof(vkpath::shared::WavePush) == 32);
 #endif
 

@@ -6,10 +6,13 @@
 // never added. Samples above the
 // firefly threshold are counted; with --clamp they are scaled down to it
 // (keeping their colour), which is biased and therefore off by default.
+// With the AOVs (SceneInfo::aovs) each path's albedo and normal are added to
+// the pixel's AOV sums too, dropped samples included (their AOVs are finite).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "stages/lib/common.glsl"
+#include "shared/path_state.h"
 #include "shared/scene_data.h"
 
 layout(binding = VKP_WF_SCENE_INFO, scalar) readonly buffer SceneInfoBuffer { SceneInfo info; };
@@ -18,6 +21,9 @@ layout(binding = VKP_WF_COUNTERS, scalar) buffer CounterBuffer { QueueCounters c
 layout(binding = VKP_WF_FILM, scalar) buffer FilmBuffer { FilmPixel film[]; };
 // The window's odd-stream sums (two sample streams), parallel to the film's.
 layout(binding = VKP_WF_FILM_ODD, scalar) buffer FilmOddBuffer { FilmStreamPixel filmOdd[]; };
+// The AOVs: each path's, and the window's sums, parallel to the film's.
+layout(binding = VKP_WF_PATH_AOV, scalar) readonly buffer PathAovBuffer { PathAov pathAovs[]; };
+layout(binding = VKP_WF_FILM_AOV, scalar) buffer FilmAovBuffer { FilmAovPixel filmAov[]; };
 
 // By bit pattern: a compiler may fold isnan()/isinf() away under fast-math
 // assumptions; exponent all ones means NaN or infinity.
@@ -46,12 +52,21 @@ void accumulatePixel(uint slot, uint first, uint stride, uint firstIndex) {
     bool streams = info.sampleStreams == 2u;
     FilmStreamPixel odd;
     if (streams) odd = filmOdd[slot];
+    bool aovs = info.aovs != 0u;
+    FilmAovPixel aov;
+    if (aovs) aov = filmAov[slot];
     uint index = firstIndex;
     FilmPixel f = film[slot];
     uint dropped = 0u;
     uint fireflies = 0u;
     for (uint linear = first; linear < end; linear += stride, ++index) {
         vec3 l = radiance[linear - push.firstPixel];
+        if (aovs) {
+            PathAov a = pathAovs[linear - push.firstPixel];
+            aov.albedo += a.albedo;
+            aov.normal += a.normal;
+            aov.samples += 1u;
+        }
         if (!finiteBits(l)) {
             dropped++;
             continue;
@@ -75,6 +90,7 @@ void accumulatePixel(uint slot, uint first, uint stride, uint firstIndex) {
     }
     film[slot] = f;
     if (streams) filmOdd[slot] = odd;
+    if (aovs) filmAov[slot] = aov;
     if (dropped > 0u) atomicAdd(counters.nonFinite, dropped);
     if (fireflies > 0u) atomicAdd(counters.fireflies, fireflies);
 }

@@ -24,5 +24,6 @@ void main() {
     PathState state = startPath(camera, path.x, pathRngKey(info, path.x, path.y));
     storePathVertex(slot, state);
     radiance[slot] = state.radiance;
+    if (hasFeature(VKP_FEATURE_AOVS) && info.aovs != 0u) pathAovs[slot] = state.aov;
     queues[rayQueueIndex(0u, slot)] = slot;
 }

@@ -6,7 +6,8 @@
 // the same iteration, so the SIMD lanes of a group keep tracing instead of
 // idling until the group's longest path is done. Invocation i takes the
 // wave's paths i, i + N, i + 2N, ... (N invocations in the dispatch). No
-// per-path state but the radiance, no queues: the loop stays in registers.
+// per-path state but the radiance (and the AOVs when asked), no queues: the
+// loop stays in registers.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -15,6 +16,7 @@
 
 layout(binding = VKP_WF_CAMERA, scalar) readonly buffer CameraBuffer { Camera camera; };
 layout(binding = VKP_WF_RADIANCE, scalar) writeonly buffer RadianceBuffer { vec3 radiance[]; };
+layout(binding = VKP_WF_PATH_AOV, scalar) writeonly buffer PathAovBuffer { PathAov pathAovs[]; };
 layout(binding = VKP_WF_COUNTERS, scalar) buffer CounterBuffer { QueueCounters counters; };
 
 uint pixels() { return camera.width * camera.height; }
@@ -41,6 +43,7 @@ void main() {
             continue;
         }
         radiance[slot] = state.radiance;
+        if (aovsWanted()) pathAovs[slot] = state.aov;
         slot += stride;
         if (slot >= push.pathCount) break;
         key = keyOf(slot);

@@ -24,11 +24,13 @@ void main() {
     uvec2 path = wavePath(slot, info.width * info.height);
     RngKey key = pathRngKey(info, path.x, path.y);
     PathState state = loadPath(slot);
+    if (aovsWanted()) state.aov = pathAovs[slot];
 
     // ---- what the ray sees ------------------------------------------------------
     Shading shading;
     bool scatters = shadeHit(state, hits[slot], push.bounce, shading);
     radiance[slot] = state.radiance;
+    if (aovsWanted()) pathAovs[slot] = state.aov;
     if (!scatters) return;
 
     // ---- next-event estimation ------------------------------------------------------

@@ -46,7 +46,9 @@ Accumulated accumulate(const std::vector<glm::vec3>& waveRadiance, uint32_t wave
                                          {VKP_WF_COUNTERS, &counters},
                                          {VKP_WF_FILM, &film},
                                          {VKP_WF_PIXEL_LIST, &noPixelList},
-                                         {VKP_WF_FILM_ODD, &noPixelList}});
+                                         {VKP_WF_FILM_ODD, &noPixelList},
+                                         {VKP_WF_PATH_AOV, &noPixelList},
+                                         {VKP_WF_FILM_AOV, &noPixelList}});
     // Every wave in one command buffer, in order, as the renderer records them.
     context.submit([&](VkCommandBuffer cmd) {
         for (uint32_t w = 0; w < waves; ++w) {

@@ -9,6 +9,7 @@
 
 #include "shared/camera.h"
 #include "shared/dimensions.h"
+#include "shared/path_state.h"
 #include "shared/rng.h"
 #include "shared/scene_data.h"
 #include "shared/wavefront.h"
@@ -46,6 +47,7 @@ TEST(CameraStage, GpuRaysMatchCpu) {
         queues(context, 3 * count * sizeof(uint32_t));
     vk::Buffer counters(context, sizeof(shared::QueueCounters));
     vk::Buffer noPixelList(context, sizeof(glm::uvec2));  // a uniform wave reads no list
+    vk::Buffer noAovs(context, sizeof(shared::PathAov));  // SceneInfo::aovs is 0
     vk::Kernel generate(context, "generate");
     generate.dispatch(count,
                       {{VKP_WF_SCENE_INFO, &infoBuffer},
@@ -56,7 +58,8 @@ TEST(CameraStage, GpuRaysMatchCpu) {
                        {VKP_WF_VERTEX, &vertices},
                        {VKP_WF_QUEUES, &queues},
                        {VKP_WF_COUNTERS, &counters},
-                       {VKP_WF_PIXEL_LIST, &noPixelList}},
+                       {VKP_WF_PIXEL_LIST, &noPixelList},
+                       {VKP_WF_PATH_AOV, &noAovs}},
                       shared::WavePush{sampleIndex, 0, count, 0, 0});
     const auto gpu = rays.download<shared::Ray>();
     // Every path starts alive in ray queue 0 with throughput 1.

@@ -12,6 +12,7 @@
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
+#include "shared/path_state.h"
 #include "shared/ray.h"
 #include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
@@ -42,6 +43,8 @@ PROBE(TriangleVertices, 17)
 PROBE(TextureInfo, 18)
 PROBE(TextureSlot, 19)
 PROBE(MaterialAlpha, 20)
+PROBE(PathAov, 21)
+PROBE(FilmAovPixel, 22)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
@@ -66,4 +69,6 @@ void main() {
     items18[0] = items18[1];
     items19[0] = items19[1];
     items20[0] = items20[1];
+    items21[0] = items21[1];
+    items22[0] = items22[1];
 }

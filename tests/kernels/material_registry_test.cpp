@@ -154,6 +154,22 @@ TEST(MaterialRegistry, EveryKindSamplesEvaluatesAndGivesItsDensity) {
     }
 }
 
+// Every kind's albedo AOV (shared/bsdf.h materialAlbedo) is in [0, 1], and
+// the example's (0.7, 0.5, 0.3) shows in it where the kind's albedo is its
+// colour: every kind but the two dielectrics, whose albedo is 1.
+TEST(MaterialRegistry, EveryKindHasAnAlbedoInTheUnitRange) {
+    for (const scene::MaterialKindInfo& row : scene::MATERIAL_KINDS) {
+        SCOPED_TRACE(row.label);
+        const glm::vec3 albedo = shared::materialAlbedo(gpuMaterial(exampleMaterial(row.kind)));
+        const bool dielectric = (row.flags & VKP_KIND_TRANSMITS) != 0;
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GE(albedo[c], 0.0f);
+            EXPECT_LE(albedo[c], 1.0f);
+        }
+        EXPECT_EQ(albedo, dielectric ? glm::vec3(1.0f) : glm::vec3(0.7f, 0.5f, 0.3f));
+    }
+}
+
 TEST(MaterialRegistry, RegularizationMakesTheKindItsRowNames) {
     for (const scene::MaterialKindInfo& row : scene::MATERIAL_KINDS) {
         SCOPED_TRACE(row.label);

@@ -130,12 +130,45 @@ def test_a_checkpoint_resumed_from_python_equals_the_whole_render(tmp_path):
     assert np.array_equal(resumed.image, whole.image)
 
 
-def test_aovs_shapes_and_types():
-    image, aovs = vkpath.render(BOX, spp=4, device="cpu", aov=["variance", "spp"], **SMALL)
+@pytest.mark.parametrize("device", ["cpu", "gpu"])
+def test_aovs_shapes_types_and_the_command_lines_bits(tmp_path, device):
+    image, aovs = vkpath.render(BOX, spp=4, device=device,
+                                aov=["variance", "spp", "albedo", "normal"], **SMALL)
     assert image.shape == (32, 48, 3)
-    assert aovs["variance"].shape == (32, 48, 3) and aovs["variance"].dtype == np.float32
+    for name in ("variance", "albedo", "normal"):
+        assert aovs[name].shape == (32, 48, 3) and aovs[name].dtype == np.float32, name
     assert aovs["spp"].shape == (32, 48) and np.all(aovs["spp"] == 4)
     assert np.all(aovs["variance"] >= 0)
+    assert np.all((aovs["albedo"] >= 0) & (aovs["albedo"] <= 1))
+    assert np.all(np.linalg.norm(aovs["normal"], axis=-1) <= 1 + 1e-5)
+    cli_render(tmp_path, "-d", "48x32", "-m", "4", "-s", "4", "--device", device,
+               "--aov", "albedo,normal")
+    for name in ("albedo", "normal"):
+        assert np.array_equal(aovs[name], vkpath.read_exr(tmp_path / f"cli.{name}.exr")), name
+
+
+def oidn_library():
+    """The library tools/oidn-venv installs beside the vkpath under test, or
+    VKPATH_OIDN_LIBRARY's; None when neither is there."""
+    if os.environ.get("VKPATH_OIDN_LIBRARY"):
+        return os.environ["VKPATH_OIDN_LIBRARY"]
+    found = sorted(BINARY.parent.glob("oidn-venv/lib/python*/site-packages/pyoidn/oidn/lib/"
+                                      "libOpenImageDenoise.so.2"))
+    return str(found[0]) if found else None
+
+
+def test_denoise_returns_the_guided_denoised_image(monkeypatch):
+    library = oidn_library()
+    if library is None:
+        pytest.skip("no Open Image Denoise (tools/oidn-venv could not install PyPI's pyoidn)")
+    monkeypatch.setenv("VKPATH_OIDN_LIBRARY", library)
+    scene = vkpath.Scene(BOX)
+    made = scene.render(spp=16, device="cpu", denoise=True, **SMALL)
+    assert made.denoised.shape == made.image.shape and np.all(np.isfinite(made.denoised))
+    assert made.aovs == {}  # the guides were rendered for the denoiser, not asked for
+    reference = scene.render(spp=1024, seed=7, device="cpu", **SMALL).image
+    assert (vkpath.compare(made.denoised, reference)["rel_mse"]
+            < vkpath.compare(made.image, reference)["rel_mse"])
 
 
 def test_files_are_written_only_where_output_is_given(tmp_path):

@@ -13,6 +13,7 @@
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
+#include "shared/path_state.h"
 #include "shared/ray.h"
 #include "shared/scene_addresses.h"
 #include "shared/scene_data.h"
@@ -116,7 +117,8 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(SceneInfo, unsampledEmitters),
           VKP_O(SceneInfo, guideSphereCount),
           VKP_O(SceneInfo, guideFraction),
-          VKP_O(SceneInfo, sampleStreams)}},
+          VKP_O(SceneInfo, sampleStreams),
+          VKP_O(SceneInfo, aovs)}},
         {"MaterialAlpha",
          sizeof(MaterialAlpha),
          {VKP_O(MaterialAlpha, mode), VKP_O(MaterialAlpha, cutoff), VKP_O(MaterialAlpha, alpha),
@@ -138,6 +140,12 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(QueueCounters, shadowDispatch), VKP_O(QueueCounters, shadowRayCount),
           VKP_O(QueueCounters, closestRayCount), VKP_O(QueueCounters, closestRays),
           VKP_O(QueueCounters, shadowRays), VKP_O(QueueCounters, rejectedLightSamples)}},
+        {"PathAov",
+         sizeof(PathAov),
+         {VKP_O(PathAov, albedo), VKP_O(PathAov, normal), VKP_O(PathAov, found)}},
+        {"FilmAovPixel",
+         sizeof(FilmAovPixel),
+         {VKP_O(FilmAovPixel, albedo), VKP_O(FilmAovPixel, normal), VKP_O(FilmAovPixel, samples)}},
         {"FilmPixel",
          sizeof(FilmPixel),
          {VKP_O(FilmPixel, sum), VKP_O(FilmPixel, sumCompensation), VKP_O(FilmPixel, sumSquares),

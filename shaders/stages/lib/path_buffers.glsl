@@ -32,3 +32,8 @@ void storePathVertex(uint slot, PathState path) {
     v.specularEtaScale = path.specular ? -path.etaScale : path.etaScale;
     vertices[slot] = v;
 }
+
+// The AOVs (SceneInfo::aovs, with VKP_FEATURE_AOVS): set by generate, carried
+// and updated by shade (stored whether or not the path goes on: accumulate
+// reads the last), left by the megakernel at each path's end.
+layout(binding = VKP_WF_PATH_AOV, scalar) buffer PathAovBuffer { PathAov pathAovs[]; };
