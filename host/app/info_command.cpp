@@ -30,6 +30,7 @@ nlohmann::json deviceJson(const vk::DeviceInfo& d) {
         {"scalarBlockLayout", d.scalarBlockLayout},
         {"bufferDeviceAddress", d.bufferDeviceAddress},
         {"signedZeroInfNanPreserveFloat32", d.signedZeroInfNanPreserveFloat32},
+        {"rayQuery", d.rayQuery},
         {"timestamps", d.timestamps},
         {"timestampPeriodNs", d.timestampPeriodNs},
         {"deviceLocalMemory", d.deviceLocalMemory},
@@ -49,6 +50,8 @@ void printDevice(const vk::DeviceInfo& d) {
     std::printf("  subgroup size     %u\n", d.subgroupSize);
     std::printf("  float64 / int64   %s / %s\n", yesNo(d.shaderFloat64), yesNo(d.shaderInt64));
     std::printf("  timestamps        %s, period %g ns\n", yesNo(d.timestamps), d.timestampPeriodNs);
+    std::printf("  ray queries       %s\n",
+                d.rayQuery ? "yes (VK_KHR_ray_query, VK_KHR_acceleration_structure)" : "no");
     std::printf("  device memory     %.0f MiB\n", d.deviceLocalMemory / 1048576.0);
     const std::string advice = vk::driverAdvice(d);
     if (!advice.empty()) std::printf("  note              %s\n", advice.c_str());

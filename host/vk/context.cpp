@@ -108,6 +108,30 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     VkPhysicalDeviceMemoryProperties memory;
     vkGetPhysicalDeviceMemoryProperties(device, &memory);
 
+    uint32_t extensionCount = 0;
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &extensionCount, nullptr);
+    std::vector<VkExtensionProperties> extensions(extensionCount);
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &extensionCount, extensions.data());
+    auto hasExtension = [&](const char* name) {
+        return std::any_of(extensions.begin(), extensions.end(), [name](const auto& e) {
+            return std::strcmp(e.extensionName, name) == 0;
+        });
+    };
+    bool rayQuery = false;
+    if (vulkan12 && hasExtension(VK_KHR_RAY_QUERY_EXTENSION_NAME) &&
+        hasExtension(VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME) &&
+        hasExtension(VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME)) {
+        VkPhysicalDeviceRayQueryFeaturesKHR query{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+        VkPhysicalDeviceAccelerationStructureFeaturesKHR structures{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+        query.pNext = &structures;
+        VkPhysicalDeviceFeatures2 rayFeatures{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        rayFeatures.pNext = &query;
+        vkGetPhysicalDeviceFeatures2(device, &rayFeatures);
+        rayQuery = query.rayQuery && structures.accelerationStructure;
+    }
+
     const VkPhysicalDeviceLimits& limits = props.properties.limits;
     DeviceInfo info;
     info.index = index;
@@ -141,6 +165,7 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
         vulkan12 && floatControls.shaderSignedZeroInfNanPreserveFloat32;
     uint32_t timestampBits = 0;
     computeQueueFamily(device, &timestampBits);
+    info.rayQuery = rayQuery;
     info.timestamps = timestampBits > 0;
     info.timestampPeriodNs = limits.timestampPeriod;
     for (uint32_t h = 0; h < memory.memoryHeapCount; ++h) {

@@ -59,6 +59,10 @@ struct DeviceInfo {
     // The kernels declare the SignedZeroInfNanPreserve execution mode for
     // 32-bit floats (shaders/stages/lib/float_controls.glsl): the device must honour it.
     bool signedZeroInfNanPreserveFloat32 = false;
+    // Hardware ray tracing from compute shaders: VK_KHR_ray_query and
+    // VK_KHR_acceleration_structure (with VK_KHR_deferred_host_operations,
+    // which it requires) are there and their features on.
+    bool rayQuery = false;
     bool timestamps = false;         // the compute queue has timestampValidBits > 0
     float timestampPeriodNs = 0;     // nanoseconds per timestamp tick
     uint64_t deviceLocalMemory = 0;  // bytes, largest device-local heap

@@ -1,6 +1,7 @@
 // The command line as a user meets it: help, info, flags and exit codes.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -40,6 +41,27 @@ TEST(Cli, InfoJsonNamesTheDeviceAndItsLimits) {
     EXPECT_GT(chosen["subgroupSize"].get<uint32_t>(), 0u);
     EXPECT_TRUE(chosen["scalarBlockLayout"].get<bool>());
     EXPECT_GE(json["devices"].size(), 1u);
+}
+
+// Whether the device traces rays in hardware from compute shaders, as
+// Vulkan's own enumeration says: lavapipe from Mesa 25 (install-deps' Mesa)
+// has VK_KHR_ray_query and VK_KHR_acceleration_structure.
+TEST(Cli, InfoSaysWhetherTheDeviceHasRayQueries) {
+    const auto r = runVkpath("info --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto chosen = nlohmann::json::parse(r.out)["chosen"];
+    ASSERT_TRUE(chosen.contains("rayQuery"));
+    const auto text = runVkpath("info");
+    EXPECT_NE(text.out.find(chosen["rayQuery"].get<bool>() ? "ray queries       yes"
+                                                           : "ray queries       no"),
+              std::string::npos)
+        << text.out;
+    const std::string info = chosen["driverInfo"].get<std::string>();
+    const size_t mesa = info.find("Mesa ");
+    if (mesa != std::string::npos && chosen["driver"].get<std::string>() == "llvmpipe" &&
+        std::atoi(info.c_str() + mesa + 5) >= 25) {
+        EXPECT_TRUE(chosen["rayQuery"].get<bool>()) << info;
+    }
 }
 
 TEST(Cli, DeviceIndexOutOfRangeIsBadInput) {
