@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 VKPATH = $(BUILD)/vkpath
 
-.PHONY: all deps configure build demo test test-long bench bench-peer bench-suite bench-ray fuzz fuzz-smoke format clean
+.PHONY: all deps configure build demo test test-long bench bench-peer bench-suite bench-scale bench-ray fuzz fuzz-smoke format clean
 
 all: build
 
@@ -78,6 +78,14 @@ bench-peer: build
 SUITE_ARGS ?=
 bench-suite: build
 	@tools/bench/suite-race --vkpath $(VKPATH) $(SUITE_ARGS)
+
+# How vkpath grows with the scene beside Mitsuba 3 (not in CI: tens of minutes, up to ~10 GiB
+# of memory): spheres of 10 k to 32 M triangles, load and set-up time, host and device memory,
+# Mpaths/s, one log-log plot (docs/images/scale.png). SCALE_ARGS=--sizes 10k,1M etc.; figures
+# and commands: docs/BENCHMARKS.md, "Growth, drawn".
+SCALE_ARGS ?=
+bench-scale: build
+	@tools/bench/scale-bench --vkpath $(VKPATH) $(SCALE_ARGS)
 
 # The Ray driver's overhead (not in CI: tens of minutes on two cores): the
 # 1024-spp CBspheres 800x600 render in 8, 16 and 32 chunks against one process.
