@@ -516,9 +516,10 @@ shared::Material materialOf(const nb::dict& d) {
     return wavefront::buildSceneTables(s).materials.at(0);
 }
 
-// wo, wi and u: (N, 3) each; the outputs as arrays.
+// wo, wi and u: (N, 3) each; the outputs as arrays. `atSample`: eval and
+// eval_pdf at each sampled direction instead of at wi.
 nb::dict bsdf(const nb::dict& material, const InputArray& wo, const InputArray& wi,
-              const InputArray& u, const std::string& device) {
+              const InputArray& u, bool atSample, const std::string& device) {
     const size_t n = wo.shape(0);
     for (const InputArray* a : {&wo, &wi, &u})
         if (a->ndim() != 2 || a->shape(0) != n || a->shape(1) != 3)
@@ -542,7 +543,7 @@ nb::dict bsdf(const nb::dict& material, const InputArray& wo, const InputArray& 
         vk::Buffer out(ctx, n * sizeof(shared::BsdfRoutineOutput));
         vk::Buffer materials = vk::Buffer::fromSpan(ctx, std::span(&m, 1), "material");
         vk::Kernel kernel(ctx, "bsdf_routine");
-        const shared::BsdfRoutinePush push{uint32_t(n)};
+        const shared::BsdfRoutinePush push{uint32_t(n), atSample ? 1u : 0u};
         {
             nb::gil_scoped_release release;
             kernel.dispatch(uint32_t(n), {{0, &in}, {1, &out}, {2, &materials}}, push);
@@ -562,8 +563,10 @@ nb::dict bsdf(const nb::dict& material, const InputArray& wo, const InputArray& 
             r.weight = s.weight;
             r.flags = (s.valid ? 1u : 0u) | (s.delta ? 2u : 0u);
             r.etaSquared = s.etaSquared;
-            r.eval = shared::evalBsdf(m, normal, normal, a.wo, a.wi);
-            r.evalPdf = shared::bsdfPdf(m, normal, normal, a.wo, a.wi);
+            const glm::vec3 at = atSample ? s.direction : a.wi;
+            const bool evaluated = !atSample || s.valid;
+            r.eval = evaluated ? shared::evalBsdf(m, normal, normal, a.wo, at) : glm::vec3(0.0f);
+            r.evalPdf = evaluated ? shared::bsdfPdf(m, normal, normal, a.wo, at) : 0.0f;
         }
     }
     std::vector<float> direction(3 * n), weight(3 * n), eval(3 * n), pdf(n), evalPdf(n), valid(n),
@@ -667,7 +670,7 @@ NB_MODULE(_vkpath, m) {
           "block_size"_a);
     m.def("read_exr", &readExr, "path"_a);
     m.def("write_exr", &writeExr, "path"_a, "image"_a);
-    m.def("bsdf", &bsdf, "material"_a, "wo"_a, "wi"_a, "u"_a, "device"_a);
+    m.def("bsdf", &bsdf, "material"_a, "wo"_a, "wi"_a, "u"_a, "at_sample"_a, "device"_a);
     m.def("sampler_values", &samplerValues, "sampler"_a, "seed"_a, "pixels"_a, "samples"_a,
           "dimensions"_a, "first_sample"_a, "device"_a);
 }

@@ -27,7 +27,9 @@ void main() {
     r.weight = s.weight;
     r.flags = (s.valid ? 1u : 0u) | (s.delta ? 2u : 0u);
     r.etaSquared = s.etaSquared;
-    r.eval = evalBsdf(material, n, n, a.wo, a.wi);
-    r.evalPdf = bsdfPdf(material, n, n, a.wo, a.wi);
+    vec3 wi = push.atSample != 0u ? s.direction : a.wi;
+    bool evaluated = push.atSample == 0u || s.valid;
+    r.eval = evaluated ? evalBsdf(material, n, n, a.wo, wi) : vec3(0.0);
+    r.evalPdf = evaluated ? bsdfPdf(material, n, n, a.wo, wi) : 0.0;
     outputs[i] = r;
 }

@@ -12,6 +12,7 @@ VKP_NAMESPACE_BEGIN
 // local shading frame (geometric and shading normal +z).
 struct BsdfRoutinePush {
     uint count;
+    uint atSample;  // 1: evalBsdf and bsdfPdf at the sampled direction (0 where invalid), not wi
 };
 
 struct BsdfRoutineInput {
@@ -77,7 +78,8 @@ struct LightRoutineOutput {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::BsdfRoutineInput) == 36);  // the scalar layout's sizes
+static_assert(sizeof(vkpath::shared::BsdfRoutinePush) == 8);  // the scalar layout's sizes
+static_assert(sizeof(vkpath::shared::BsdfRoutineInput) == 36);
 static_assert(sizeof(vkpath::shared::BsdfRoutineOutput) == 52);
 static_assert(sizeof(vkpath::shared::SamplerValuesPush) == 24);
 static_assert(sizeof(vkpath::shared::LightRoutineInput) == 24);

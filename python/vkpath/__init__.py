@@ -334,11 +334,11 @@ def _directions(value: Any, count: int, what: str) -> np.ndarray:
     return np.ascontiguousarray(np.broadcast_to(array, (count, 3)))
 
 
-def _bsdf(material: Mapping[str, Any], wo: Any, wi: Any, u: Any, device: str) -> dict:
+def _bsdf(material: Mapping[str, Any], wo: Any, wi: Any, u: Any, device: str, at_sample: bool = False) -> dict:
     arrays = [np.asarray(x) for x in (wo, wi, u)]
     count = max((a.shape[0] for a in arrays if a.ndim == 2), default=1)
     wo_, wi_, u_ = (_directions(a, count, name) for a, name in zip(arrays, ("wo", "wi", "u")))
-    return _vkpath.bsdf(dict(material), wo_, wi_, u_, device)
+    return _vkpath.bsdf(dict(material), wo_, wi_, u_, at_sample, device)
 
 
 def bsdf_sample(material: Mapping[str, Any], wo: Any, u: Any, device: str = "gpu") -> dict:
@@ -348,12 +348,7 @@ def bsdf_sample(material: Mapping[str, Any], wo: Any, u: Any, device: str = "gpu
     direction (N, 3), weight (N, 3) = f |cos| / pdf, pdf (N,), valid and delta
     (N,) as 0/1, and eval (N, 3) and eval_pdf (N,) (evalBsdf and bsdfPdf at
     the sampled direction)."""
-    u = np.asarray(u, dtype=np.float32)
-    out = _bsdf(material, wo, np.zeros((1, 3), np.float32) + [0, 0, 1], u, device)
-    # The evaluations at the sampled directions, from a second call.
-    again = _bsdf(material, wo, out["direction"], u, device)
-    out["eval"], out["eval_pdf"] = again["eval"], again["eval_pdf"]
-    return out
+    return _bsdf(material, wo, [0, 0, 1], u, device, at_sample=True)
 
 
 def bsdf_eval(material: Mapping[str, Any], wo: Any, wi: Any, device: str = "gpu") -> np.ndarray:
