@@ -242,7 +242,7 @@ void cpuTraceBenchmark(benchmark::State& state, const BenchScene* s, RayKind kin
     std::vector<shared::Ray> rays = cameraRays(s->camera);
     if (kind == RayKind::Incoherent) rays = bounceRays(build, rays);
     const shared::BvhView view{build.traversalNodes, build.primitives};
-    const bvh::WideBvh wideBvh = bvh::collapseBvh(build.nodes, build.primitives);
+    const bvh::WideBvh wideBvh = bvh::collapseBvh(build);
     for (auto _ : state)
         for (const shared::Ray& r : rays)
             benchmark::DoNotOptimize(wide ? bvh::traceWide(view, wideBvh, r, false, 0u)

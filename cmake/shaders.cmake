@@ -5,26 +5,45 @@
 
 set(VKPATH_SHADER_INCLUDE_DIR ${CMAKE_SOURCE_DIR}/shaders)
 
-# vkpath_embed_shaders(<target> <registry-name> <shader files...>)
+# vkpath_embed_shaders(<target> <registry-name> <shader files...> [INSTANCED <names...>])
 # Creates a static library <target> whose single generated source defines
-# vkpath::shaders::<registry-name>() returning the embedded kernels.
+# vkpath::shaders::<registry-name>() returning the embedded kernels. The
+# kernels named after INSTANCED (file names without extension) trace rays and
+# are compiled a second time with VKP_INSTANCING defined, as <name>_instanced:
+# the traversal that enters instances' trees (shaders/shared/bvh_traverse.h),
+# which kernels of scenes without instances do not carry (its code would cost
+# them pipeline compile time and memory even where specialisation removes it).
 function(vkpath_embed_shaders target registry)
+    cmake_parse_arguments(PARSE_ARGV 2 EMBED "" "" "INSTANCED")
     set(spv_files "")
-    foreach(src IN LISTS ARGN)
+    foreach(src IN LISTS EMBED_UNPARSED_ARGUMENTS)
         get_filename_component(name ${src} NAME_WE)
-        set(spv ${CMAKE_CURRENT_BINARY_DIR}/spirv/${name}.spv)
-        set(dep ${CMAKE_CURRENT_BINARY_DIR}/spirv/${name}.d)
-        add_custom_command(
-            OUTPUT ${spv}
-            COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/spirv
-            COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2
-                    -I${VKPATH_SHADER_INCLUDE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR}
-                    --depfile ${dep} -o ${spv} ${src}
-            MAIN_DEPENDENCY ${src}
-            DEPFILE ${dep}
-            COMMENT "glslang ${name}.comp"
-            VERBATIM)
-        list(APPEND spv_files ${spv})
+        set(variants "${name}|")
+        if(name IN_LIST EMBED_INSTANCED)
+            list(APPEND variants "${name}_instanced|-DVKP_INSTANCING")
+        endif()
+        foreach(variant IN LISTS variants)
+            string(REPLACE "|" ";" parts "${variant}")
+            list(GET parts 0 kernel)
+            list(LENGTH parts count)
+            set(defines "")
+            if(count GREATER 1)
+                list(GET parts 1 defines)
+            endif()
+            set(spv ${CMAKE_CURRENT_BINARY_DIR}/spirv/${kernel}.spv)
+            set(dep ${CMAKE_CURRENT_BINARY_DIR}/spirv/${kernel}.d)
+            add_custom_command(
+                OUTPUT ${spv}
+                COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/spirv
+                COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2
+                        -I${VKPATH_SHADER_INCLUDE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR} ${defines}
+                        --depfile ${dep} -o ${spv} ${src}
+                MAIN_DEPENDENCY ${src}
+                DEPFILE ${dep}
+                COMMENT "glslang ${kernel}.comp"
+                VERBATIM)
+            list(APPEND spv_files ${spv})
+        endforeach()
     endforeach()
 
     set(generated ${CMAKE_CURRENT_BINARY_DIR}/${target}_embedded.cpp)

@@ -221,6 +221,34 @@ void checkScene(const scene::Scene& s) {
             !(m.specular >= 0.0f && m.specular <= 1.0f))
             finding(fmt::format("material '{}': roughness, metallic or specular outside [0, 1]",
                                 m.name));
+    // Instances place instanced meshes only, with finite transforms; an
+    // instanced mesh is placed by some instance and emits no light.
+    std::vector<uint8_t> placed(s.meshes.size(), 0);
+    for (const scene::Instance& instance : s.instances) {
+        if (uint64_t(instance.firstMesh) + instance.meshCount > s.meshes.size() ||
+            instance.meshCount == 0) {
+            finding(fmt::format("instance '{}': meshes out of range", instance.name));
+            continue;
+        }
+        for (uint32_t m = instance.firstMesh; m < instance.firstMesh + instance.meshCount; ++m) {
+            placed[m] = 1;
+            if (!s.meshes[m].instanced)
+                finding(fmt::format("instance '{}' places mesh '{}', which is not instanced",
+                                    instance.name, s.meshes[m].name));
+        }
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(instance.objectToWorld[c][r]))
+                    finding(fmt::format("instance '{}': a transform entry is not finite",
+                                        instance.name));
+    }
+    for (size_t m = 0; m < s.meshes.size(); ++m) {
+        const scene::Mesh& mesh = s.meshes[m];
+        if (mesh.instanced && !placed[m])
+            finding(fmt::format("mesh '{}' is instanced and placed by no instance", mesh.name));
+        if (mesh.instanced && mesh.material < materials && s.materials[mesh.material].emissive())
+            finding(fmt::format("mesh '{}' is instanced and emissive", mesh.name));
+    }
     for (const scene::Mesh& mesh : s.meshes) {
         if (mesh.material >= materials)
             finding(

@@ -134,7 +134,8 @@ nb::dict progressDict(const wavefront::RenderProgress& p) {
     return d;
 }
 
-// A scene loaded once (with the flags that change it: -e, --env-*, --camera)
+// A scene loaded once (with the flags that change it: -e, --env-*, --camera,
+// --instancing)
 // and rendered many times; its tables (BVH included) are built at the first
 // render and kept.
 class Scene {

@@ -80,6 +80,12 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "Environment rotation about +Y, degrees (default: the scene's, or 0)")
         ->check(finiteReal<float>());
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
+    cmd.add_option("--instancing", o.instancing,
+                   "glTF: keep a mesh that several nodes place once, placed by instances (on), "
+                   "copy it per node (off), or instance where the copies would add 2^20 "
+                   "triangles or more (auto)")
+        ->check(CLI::IsMember({"auto", "on", "off"}))
+        ->capture_default_str();
     cmd.add_option("--workgroup-size", o.workgroupSize,
                    "Threads per workgroup of the stage kernels")
         ->capture_default_str();
@@ -202,6 +208,9 @@ RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHa
     settings["env-strength"] = optional(o.environmentStrength);
     settings["env-rotate"] = optional(o.environmentRotation);
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
+    // Instanced and copied meshes give the same image up to rounding:
+    // recorded only when chosen, so that checkpoints from before instancing resume.
+    if (o.instancing != "auto") settings["instancing"] = o.instancing;
     // Which samples each pixel takes (the target error says how many, and
     // with the Sobol' sampler that they come in two streams; recorded only
     // then, so that renders of one stream resume checkpoints from builds
@@ -236,6 +245,9 @@ std::pair<std::string, std::string> firstSettingDifference(const std::string& x,
 scene::Scene loadRenderScene(const RenderOptions& o) {
     scene::LoadOptions loadOptions;
     loadOptions.cameraName = o.camera;
+    loadOptions.instancing = o.instancing == "on"    ? scene::Instancing::On
+                             : o.instancing == "off" ? scene::Instancing::Off
+                                                     : scene::Instancing::Auto;
     loadOptions.admit = [&](const std::string& file, const scene::GeometryCounts& counts) {
         wavefront::admitOnHost(file, counts,
                                wavefront::estimateFootprint(counts, o.device == "cpu"),

@@ -41,6 +41,7 @@ struct RenderOptions {
     std::optional<float> environmentStrength;  // unset: the scene's own (1 for -e)
     std::optional<float> environmentRotation;
     std::string camera;
+    std::string instancing = "auto";  // scene::Instancing: auto, on, off
     uint32_t workgroupSize = 64;
     uint32_t megakernelPaths = wavefront::RenderSettings{}.megakernelPathsPerInvocation;
     std::optional<uint32_t> pathsInFlight;     // unset: by the device's type

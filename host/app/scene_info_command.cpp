@@ -69,11 +69,18 @@ SceneCounts countScene(const scene::Scene& s) {
             ++c.emissiveMeshes;
             c.emissiveTriangles += mesh.triangles.size();
         }
+        if (mesh.instanced) continue;
         for (const glm::vec3& p : mesh.positions) {
             lo = glm::min(lo, p);
             hi = glm::max(hi, p);
             c.hasBounds = true;
         }
+    }
+    if (!s.instances.empty()) {
+        const scene::Bounds placed = s.geometryBounds();
+        lo = glm::min(lo, placed.lo);
+        hi = glm::max(hi, placed.hi);
+        c.hasBounds = true;
     }
     for (const scene::Sphere& sphere : s.spheres) {
         if (sphere.material < s.materials.size() && s.materials[sphere.material].emissive())
@@ -122,7 +129,9 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
     return {
         {"file", file},
         {"triangles", s.triangleCount()},
+        {"drawnTriangles", s.drawnTriangleCount()},
         {"meshes", s.meshes.size()},
+        {"instances", s.instances.size()},
         {"spheres", s.spheres.size()},
         {"materials", materials},
         {"emitters",
@@ -160,6 +169,9 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
                 const KernelPlan& k) {
     std::printf("scene       %s\n", file.c_str());
     std::printf("triangles   %zu\n", s.triangleCount());
+    if (!s.instances.empty())
+        std::printf("instances   %zu (%llu triangles drawn)\n", s.instances.size(),
+                    (unsigned long long)s.drawnTriangleCount());
     std::printf("meshes      %zu\n", s.meshes.size());
     std::printf("spheres     %zu\n", s.spheres.size());
     std::string kinds;

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <thread>
 
@@ -295,40 +296,59 @@ void validate(const BvhOptions& options) {
         throw std::invalid_argument("BVH: traversalCost must be >= 0");
 }
 
-// The primitives of the scene the BVH holds, in scene order (triangles mesh
-// by mesh, then spheres), with the counts of those left out.
-std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene, BvhStats& stats) {
-    std::vector<BuildPrimitive> primitives;
-    primitives.reserve(scene.triangleCount() + scene.spheres.size());
-    uint64_t triangleId = 0;
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
-        const scene::Mesh& mesh = scene.meshes[m];
-        for (uint32_t t = 0; t < mesh.triangles.size(); ++t, ++triangleId) {
-            const glm::uvec3 tri = mesh.triangles[t];
-            if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() ||
-                tri.z >= mesh.positions.size())
-                throw InputError(
-                    fmt::format("mesh '{}': triangle {} has a vertex index beyond its {} vertices",
-                                mesh.name, t, mesh.positions.size()));
-            const vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y],
-                       c = mesh.positions[tri.z];
-            if (isDegenerateTriangle(a, b, c)) {
-                ++stats.degenerateTriangles;
-                continue;
-            }
-            BuildPrimitive p;
-            p.bounds.grow(a);
-            p.bounds.grow(b);
-            p.bounds.grow(c);
-            p.centroid = 0.5f * (p.bounds.lo + p.bounds.hi);
-            p.kind = VKP_PRIMITIVE_TRIANGLE;
-            p.id = static_cast<uint32_t>(triangleId);
-            p.source = m;
-            p.local = t;
-            primitives.push_back(p);
-            ++stats.triangles;
+// Appends the triangles of mesh `m` (its first triangle's id `firstId`) that
+// are not degenerate.
+void collectTriangles(const scene::Scene& scene, uint32_t m, uint64_t firstId, BvhStats& stats,
+                      std::vector<BuildPrimitive>& primitives) {
+    const scene::Mesh& mesh = scene.meshes[m];
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const glm::uvec3 tri = mesh.triangles[t];
+        if (tri.x >= mesh.positions.size() || tri.y >= mesh.positions.size() ||
+            tri.z >= mesh.positions.size())
+            throw InputError(
+                fmt::format("mesh '{}': triangle {} has a vertex index beyond its {} vertices",
+                            mesh.name, t, mesh.positions.size()));
+        const vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+        if (isDegenerateTriangle(a, b, c)) {
+            ++stats.degenerateTriangles;
+            continue;
         }
+        BuildPrimitive p;
+        p.bounds.grow(a);
+        p.bounds.grow(b);
+        p.bounds.grow(c);
+        p.centroid = 0.5f * (p.bounds.lo + p.bounds.hi);
+        p.kind = VKP_PRIMITIVE_TRIANGLE;
+        p.id = static_cast<uint32_t>(firstId + t);
+        p.source = m;
+        p.local = t;
+        primitives.push_back(p);
+        ++stats.triangles;
     }
+}
+
+// Each mesh's first triangle id: triangles are numbered over all meshes, mesh
+// by mesh in scene order.
+std::vector<uint64_t> firstTriangleIds(const scene::Scene& scene) {
+    std::vector<uint64_t> first(scene.meshes.size());
+    uint64_t id = 0;
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        first[m] = id;
+        id += scene.meshes[m].triangles.size();
+    }
+    return first;
+}
+
+// The primitives of the scene's tree but its instances, in scene order
+// (triangles of the meshes that are not instanced, mesh by mesh, then
+// spheres), with the counts of those left out.
+std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene,
+                                              const std::vector<uint64_t>& firstIds,
+                                              BvhStats& stats) {
+    std::vector<BuildPrimitive> primitives;
+    primitives.reserve(scene.triangleCount() + scene.spheres.size() + scene.instances.size());
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        if (!scene.meshes[m].instanced) collectTriangles(scene, m, firstIds[m], stats, primitives);
     for (uint32_t s = 0; s < scene.spheres.size(); ++s) {
         const scene::Sphere& sphere = scene.spheres[s];
         if (isDegenerateSphere(sphere.center, sphere.radius)) {
@@ -348,6 +368,7 @@ std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene, BvhStat
     return primitives;
 }
 
+// A triangle or sphere as the kernels read it (instances are made by buildBvh).
 BvhPrimitive flattenPrimitive(const scene::Scene& scene, const BuildPrimitive& p) {
     BvhPrimitive out{};
     out.kind = p.kind;
@@ -367,6 +388,78 @@ BvhPrimitive flattenPrimitive(const scene::Scene& scene, const BuildPrimitive& p
         out.material = mesh.material;
     }
     return out;
+}
+
+// A tree over `primitives`, reordering them into leaf order: its nodes in
+// depth-first order, interior offsets relative to the vector, leaf ranges to
+// `primitives`. Empty for no primitives.
+std::vector<BuildNode> buildTree(const BvhOptions& options,
+                                 std::vector<BuildPrimitive>& primitives) {
+    std::vector<BuildNode> nodes;
+    if (primitives.empty()) return nodes;
+    if (ceilLog2(primitives.size()) > options.maxDepth)
+        throw std::invalid_argument(fmt::format("BVH: {} primitives cannot fit below maxDepth {}",
+                                                primitives.size(), options.maxDepth));
+    nodes.reserve(2 * primitives.size());
+    Builder(options, primitives).build(0, static_cast<uint32_t>(primitives.size()), 0, nodes);
+    return nodes;
+}
+
+// Appends `nodes` to `out` with padded boxes, interior offsets moved by
+// `nodeBase` and leaf ranges by `primitiveBase`; adds to the statistics.
+void appendNodes(const std::vector<BuildNode>& nodes, uint32_t nodeBase, uint32_t primitiveBase,
+                 std::vector<BvhNode>& out, BvhStats& stats) {
+    std::vector<uint32_t> depth(nodes.size(), 0);
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        const BuildNode& n = nodes[i];
+        BvhNode node;
+        node.boundsMin =
+            vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
+        node.boundsMax =
+            vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
+        node.count = n.count;
+        node.offset = n.count == 0 ? n.offset + nodeBase : n.offset + primitiveBase;
+        out.push_back(node);
+        // Depth and leaf statistics: nodes are in preorder, so a node's depth
+        // is known when it is reached.
+        if (n.count == 0) {
+            depth[i + 1] = depth[i] + 1;
+            depth[n.offset] = depth[i] + 1;
+        } else {
+            ++stats.leaves;
+            stats.maxDepth = std::max(stats.maxDepth, depth[i]);
+            stats.largestLeaf = std::max(stats.largestLeaf, n.count);
+        }
+    }
+    stats.nodes += nodes.size();
+}
+
+// An instance's world-space box: the corners of its object's box (the
+// root's, unpadded) placed in double, rounded outward. Empty when the
+// transform is singular or a corner is not finite.
+Aabb instanceBounds(const Aabb& object, const glm::dmat4& objectToWorld) {
+    Aabb box;
+    const double det = glm::determinant(glm::dmat3(objectToWorld));
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return box;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 p((corner & 1) ? object.hi.x : object.lo.x,
+                           (corner & 2) ? object.hi.y : object.lo.y,
+                           (corner & 4) ? object.hi.z : object.lo.z);
+        const glm::dvec3 w(objectToWorld * glm::dvec4(p, 1.0));
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(w[k]) || std::abs(w[k]) > 0x1p100) return Aabb{};
+            box.lo[k] = std::min(box.lo[k], roundDown(w[k]));
+            box.hi[k] = std::max(box.hi[k], roundUp(w[k]));
+        }
+    }
+    return box;
+}
+
+// The rows of a 3x4 affine matrix, as an instance record holds them.
+void appendRows(const glm::dmat4& m, std::vector<glm::uvec4>& texels) {
+    for (int row = 0; row < 3; ++row)
+        texels.push_back(glm::floatBitsToUint(
+            glm::vec4(float(m[0][row]), float(m[1][row]), float(m[2][row]), float(m[3][row]))));
 }
 
 }  // namespace
@@ -402,54 +495,131 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
     validate(options);
     const auto start = std::chrono::steady_clock::now();
     BvhBuild result;
-    std::vector<BuildPrimitive> primitives = collectPrimitives(scene, result.stats);
-    if (primitives.size() >= std::numeric_limits<uint32_t>::max() - 1)
-        throw std::length_error(
-            fmt::format("BVH: {} primitives, more than 2^32 - 2", primitives.size()));
-    if (ceilLog2(primitives.size()) > options.maxDepth)
-        throw std::invalid_argument(fmt::format("BVH: {} primitives cannot fit below maxDepth {}",
-                                                primitives.size(), options.maxDepth));
+    const std::vector<uint64_t> firstIds = firstTriangleIds(scene);
+    std::vector<BuildPrimitive> primitives = collectPrimitives(scene, firstIds, result.stats);
 
-    if (primitives.empty()) {
+    // ---- the objects: one tree per distinct range of instanced meshes ------------
+    struct Object {
+        std::vector<BuildPrimitive> primitives;
+        std::vector<BuildNode> nodes;
+    };
+    std::vector<Object> objects;
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> objectOf;  // (firstMesh, meshCount)
+    std::vector<uint32_t> instances;  // the scene's instances that are drawn
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const scene::Instance& instance = scene.instances[i];
+        if (uint64_t(instance.firstMesh) + instance.meshCount > scene.meshes.size())
+            throw InputError(fmt::format("instance '{}': meshes [{}, {}) beyond the scene's {}",
+                                         instance.name, instance.firstMesh,
+                                         uint64_t(instance.firstMesh) + instance.meshCount,
+                                         scene.meshes.size()));
+        const auto key = std::pair(instance.firstMesh, instance.meshCount);
+        auto [it, added] = objectOf.emplace(key, uint32_t(objects.size()));
+        if (added) {
+            Object object;
+            for (uint32_t m = instance.firstMesh; m < instance.firstMesh + instance.meshCount;
+                 ++m) {
+                if (!scene.meshes[m].instanced)
+                    throw InputError(fmt::format("instance '{}': mesh '{}' is not instanced",
+                                                 instance.name, scene.meshes[m].name));
+                collectTriangles(scene, m, firstIds[m], result.stats, object.primitives);
+            }
+            object.nodes = buildTree(options, object.primitives);
+            objects.push_back(std::move(object));
+        }
+        const Object& object = objects[it->second];
+        const Aabb box = object.nodes.empty()
+                             ? Aabb{}
+                             : instanceBounds(object.nodes[0].bounds, instance.objectToWorld);
+        if (box.empty()) {
+            ++result.stats.degenerateInstances;
+            continue;
+        }
+        BuildPrimitive p;
+        p.bounds = box;
+        p.centroid = 0.5f * (box.lo + box.hi);
+        p.kind = VKP_PRIMITIVE_INSTANCE;
+        p.id = uint32_t(instances.size());
+        p.source = it->second;
+        p.local = i;
+        primitives.push_back(p);
+        instances.push_back(i);
+        ++result.stats.instances;
+    }
+    if (objects.size() > (1u << 24))
+        throw std::length_error(
+            fmt::format("BVH: {} instanced objects, more than 2^24", objects.size()));
+    size_t total = primitives.size();
+    for (const Object& o : objects) total += o.primitives.size();
+    if (total >= std::numeric_limits<uint32_t>::max() - 1)
+        throw std::length_error(fmt::format("BVH: {} primitives, more than 2^32 - 2", total));
+
+    // ---- the scene's tree, then each object's -------------------------------------
+    const std::vector<BuildNode> sceneNodes = buildTree(options, primitives);
+    if (sceneNodes.empty()) {
         result.nodes.push_back(BvhNode{vec3(0.0f), 0u, vec3(0.0f), 0u});  // the empty tree
         result.stats.nodes = 1;
     } else {
-        std::vector<BuildNode> nodes;
-        nodes.reserve(2 * primitives.size());
-        Builder(options, primitives).build(0, static_cast<uint32_t>(primitives.size()), 0, nodes);
-
-        result.nodes.resize(nodes.size());
-        for (size_t i = 0; i < nodes.size(); ++i) {
-            const BuildNode& n = nodes[i];
-            BvhNode& out = result.nodes[i];
-            out.boundsMin =
-                vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
-            out.boundsMax =
-                vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
-            out.offset = n.offset;
-            out.count = n.count;
-        }
-        result.primitives.resize(primitives.size());
-        for (size_t i = 0; i < primitives.size(); ++i)
-            result.primitives[i] = flattenPrimitive(scene, primitives[i]);
-
-        // Depth and leaf statistics: nodes are in preorder, so a node's depth
-        // is known when it is reached.
-        std::vector<uint32_t> depth(nodes.size(), 0);
-        result.stats.nodes = nodes.size();
-        for (size_t i = 0; i < nodes.size(); ++i) {
-            if (nodes[i].count == 0) {
-                depth[i + 1] = depth[i] + 1;
-                depth[nodes[i].offset] = depth[i] + 1;
-            } else {
-                ++result.stats.leaves;
-                result.stats.maxDepth = std::max(result.stats.maxDepth, depth[i]);
-                result.stats.largestLeaf = std::max(result.stats.largestLeaf, nodes[i].count);
-            }
-        }
+        appendNodes(sceneNodes, 0, 0, result.nodes, result.stats);
     }
+    result.sceneTreeNodes = uint32_t(result.nodes.size());
     result.traversalNodes = packTraversalNodes(result.nodes);
-    result.stats.sahCost = sahCost(result.nodes, options.traversalCost);
+    uint32_t nextPrimitive = uint32_t(primitives.size());
+    for (const Object& object : objects) {
+        ObjectTree tree;
+        tree.rootNode = uint32_t(result.nodes.size());
+        tree.firstPrimitive = nextPrimitive;
+        tree.primitiveCount = uint32_t(object.primitives.size());
+        if (!object.nodes.empty()) {
+            // Packed with leaf ranges in the whole array and interior offsets in its own.
+            std::vector<BvhNode> local;
+            BvhStats ignored;
+            appendNodes(object.nodes, 0, nextPrimitive, local, ignored);
+            tree.rootTexel = uint32_t(result.traversalNodes.size());
+            const std::vector<glm::uvec4> texels = packTraversalNodes(local, tree.rootTexel);
+            result.traversalNodes.insert(result.traversalNodes.end(), texels.begin(), texels.end());
+            appendNodes(object.nodes, tree.rootNode, nextPrimitive, result.nodes, result.stats);
+        }
+        nextPrimitive += tree.primitiveCount;
+        result.objects.push_back(tree);
+    }
+    for (const auto& [key, index] : objectOf) {
+        result.objects[index].firstMesh = key.first;
+        result.objects[index].meshCount = key.second;
+    }
+
+    // ---- the primitives, and the instance records after the nodes -------------------
+    const auto firstRecord = uint32_t(result.traversalNodes.size());
+    result.primitives.resize(total);
+    for (size_t i = 0; i < primitives.size(); ++i) {
+        const BuildPrimitive& p = primitives[i];
+        if (p.kind != VKP_PRIMITIVE_INSTANCE) {
+            result.primitives[i] = flattenPrimitive(scene, p);
+            continue;
+        }
+        BvhPrimitive& out = result.primitives[i];
+        out = BvhPrimitive{};
+        out.kind = VKP_PRIMITIVE_INSTANCE;
+        out.id = firstRecord + VKP_INSTANCE_RECORD_TEXELS * p.id;
+        out.material = result.objects[p.source].rootTexel;
+        out.p0 = vec3(float(p.source), 0.0f, 0.0f);
+        out.p1 = p.bounds.lo;
+        out.p2 = p.bounds.hi;
+    }
+    size_t next = primitives.size();
+    for (const Object& object : objects)
+        for (const BuildPrimitive& p : object.primitives)
+            result.primitives[next++] = flattenPrimitive(scene, p);
+    for (const uint32_t i : instances) {
+        const glm::dmat4& objectToWorld = scene.instances[i].objectToWorld;
+        appendRows(glm::inverse(objectToWorld), result.traversalNodes);
+        appendRows(objectToWorld, result.traversalNodes);
+    }
+    if (result.traversalNodes.size() > VKP_BVH_WORD_INDEX_MASK)
+        throw std::length_error("BVH: more node texels than the 2^28 a node word indexes");
+
+    result.stats.sahCost =
+        sahCost(std::span(result.nodes).first(result.sceneTreeNodes), options.traversalCost);
     result.stats.buildMilliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return result;
@@ -471,6 +641,7 @@ double sahCost(std::span<const BvhNode> nodes, float traversalCost) {
 
 std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene& scene) {
     constexpr size_t MAX_PROBLEMS = 20;
+    constexpr uint32_t NONE = std::numeric_limits<uint32_t>::max();
     std::vector<std::string> problems;
     auto report = [&](std::string message) {
         if (problems.size() < MAX_PROBLEMS) problems.push_back(std::move(message));
@@ -478,26 +649,40 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
     const auto& nodes = bvh.nodes;
     const auto& prims = bvh.primitives;
 
-    // What the BVH must hold: every non-degenerate primitive of the scene.
-    size_t triangleTotal = 0;
+    // What the BVH must hold: every non-degenerate triangle and sphere of the
+    // scene, an instanced mesh's once per object, and an instance primitive
+    // per instance not left out.
     std::vector<std::pair<uint32_t, uint32_t>> triangleSource;  // global id -> (mesh, triangle)
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
         for (uint32_t t = 0; t < scene.meshes[m].triangles.size(); ++t)
             triangleSource.emplace_back(m, t);
-    triangleTotal = triangleSource.size();
+    const size_t triangleTotal = triangleSource.size();
     std::vector<uint8_t> triangleSeen(triangleTotal, 0), sphereSeen(scene.spheres.size(), 0);
-    size_t expected = 0;
-    for (const auto& [m, t] : triangleSource) {
+    auto validTriangle = [&](uint32_t m, uint32_t t) {
         const scene::Mesh& mesh = scene.meshes[m];
         const glm::uvec3 tri = mesh.triangles[t];
-        const bool valid = tri.x < mesh.positions.size() && tri.y < mesh.positions.size() &&
-                           tri.z < mesh.positions.size();
-        if (valid && !isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y],
-                                           mesh.positions[tri.z]))
-            ++expected;
-    }
+        return tri.x < mesh.positions.size() && tri.y < mesh.positions.size() &&
+               tri.z < mesh.positions.size() &&
+               !isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y],
+                                     mesh.positions[tri.z]);
+    };
+    size_t expected = 0;
+    std::vector<uint8_t> meshInObject(scene.meshes.size(), 0);
+    for (const ObjectTree& o : bvh.objects)
+        for (uint32_t m = o.firstMesh; m < o.firstMesh + o.meshCount && m < scene.meshes.size();
+             ++m)
+            meshInObject[m] = 1;
+    for (const auto& [m, t] : triangleSource)
+        if ((!scene.meshes[m].instanced || meshInObject[m]) && validTriangle(m, t)) ++expected;
     for (const scene::Sphere& s : scene.spheres)
         if (!isDegenerateSphere(s.center, s.radius)) ++expected;
+    size_t instancePrimitives = 0;
+    for (const BvhPrimitive& p : prims) instancePrimitives += p.kind == VKP_PRIMITIVE_INSTANCE;
+    expected += instancePrimitives;
+    if (instancePrimitives + bvh.stats.degenerateInstances != scene.instances.size())
+        report(fmt::format("{} instance primitives and {} left out, the scene has {} instances",
+                           instancePrimitives, bvh.stats.degenerateInstances,
+                           scene.instances.size()));
     if (prims.size() != expected)
         report(fmt::format("{} primitives in the BVH, the scene has {} non-degenerate ones",
                            prims.size(), expected));
@@ -507,7 +692,8 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
         return problems;
     }
     if (nodes[0].count == 0 && nodes[0].offset == 0) {
-        if (nodes.size() != 1 || !prims.empty())
+        if (bvh.sceneTreeNodes != 1 || instancePrimitives != 0 ||
+            (bvh.objects.empty() && !prims.empty()))
             report("an empty root with other nodes or primitives");
         return problems;
     }
@@ -524,86 +710,104 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
         return true;
     };
 
-    // Walk the tree from the root: every node must be reached exactly once,
-    // in preorder (so the walk's visiting order is 0, 1, 2, ...).
-    std::vector<uint32_t> primitiveLeaf(prims.size(), std::numeric_limits<uint32_t>::max());
-    struct Item {
-        uint32_t node;
-        uint32_t depth;
-        uint32_t parent;
+    // Walk each tree from its root: every node of [begin, end) must be
+    // reached exactly once, in preorder (so the walk visits begin, begin + 1,
+    // ...), its leaves within the primitives [firstPrimitive, endPrimitive).
+    std::vector<uint32_t> primitiveLeaf(prims.size(), NONE);
+    auto walk = [&](uint32_t begin, uint32_t end, uint32_t firstPrimitive, uint32_t endPrimitive) {
+        struct Item {
+            uint32_t node;
+            uint32_t depth;
+            uint32_t parent;
+        };
+        std::vector<Item> stack{{begin, 0u, NONE}};
+        uint32_t visited = begin;
+        while (!stack.empty()) {
+            const Item item = stack.back();
+            stack.pop_back();
+            if (item.node != visited) {
+                report(fmt::format("node {} reached as the {}th node of a depth-first walk",
+                                   item.node, visited));
+                return;
+            }
+            ++visited;
+            const BvhNode& node = nodes[item.node];
+            if (!finiteBox(node))
+                report(fmt::format("node {}: box is not finite and ordered", item.node));
+            if (item.parent != NONE && !inside(node, nodes[item.parent]))
+                report(fmt::format("node {}: box is not inside its parent {}'s", item.node,
+                                   item.parent));
+            if (node.count == 0) {
+                if (item.depth + 1 > VKP_BVH_MAX_DEPTH)
+                    report(fmt::format(
+                        "node {}: interior node at depth {} has children below the limit {}",
+                        item.node, item.depth, VKP_BVH_MAX_DEPTH));
+                if (node.offset <= item.node + 1 || node.offset >= end) {
+                    report(fmt::format("node {}: second child {} out of order or range", item.node,
+                                       node.offset));
+                    return;
+                }
+                stack.push_back({node.offset, item.depth + 1, item.node});
+                stack.push_back({item.node + 1, item.depth + 1, item.node});
+                continue;
+            }
+            if (item.depth > VKP_BVH_MAX_DEPTH)
+                report(fmt::format("leaf {} at depth {} beyond the limit {}", item.node, item.depth,
+                                   VKP_BVH_MAX_DEPTH));
+            if (node.offset < firstPrimitive ||
+                static_cast<uint64_t>(node.offset) + node.count > endPrimitive) {
+                report(fmt::format("leaf {}: primitives [{}, {}) beyond its tree's [{}, {})",
+                                   item.node, node.offset,
+                                   static_cast<uint64_t>(node.offset) + node.count, firstPrimitive,
+                                   endPrimitive));
+                continue;
+            }
+            for (uint32_t i = node.offset; i < node.offset + node.count; ++i) {
+                if (primitiveLeaf[i] != NONE)
+                    report(fmt::format("primitive {} is in leaves {} and {}", i, primitiveLeaf[i],
+                                       item.node));
+                primitiveLeaf[i] = item.node;
+                const BvhPrimitive& p = prims[i];
+                glm::vec3 lo, hi;
+                if (p.kind == VKP_PRIMITIVE_SPHERE) {
+                    lo = p.p0 - p.p1.x;
+                    hi = p.p0 + p.p1.x;
+                } else if (p.kind == VKP_PRIMITIVE_INSTANCE) {
+                    lo = p.p1;
+                    hi = p.p2;
+                } else {
+                    lo = glm::min(glm::min(p.p0, p.p1), p.p2);
+                    hi = glm::max(glm::max(p.p0, p.p1), p.p2);
+                }
+                if (!glm::all(glm::lessThan(node.boundsMin, lo)) ||
+                    !glm::all(glm::lessThan(hi, node.boundsMax)))
+                    report(fmt::format("primitive {} is not strictly inside leaf {}'s box", i,
+                                       item.node));
+            }
+        }
+        if (visited != end)
+            report(fmt::format("nodes [{}, {}), {} reachable from the root", begin, end,
+                               visited - begin));
     };
-    std::vector<Item> stack{{0u, 0u, std::numeric_limits<uint32_t>::max()}};
-    size_t visited = 0;
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
-        if (item.node != visited) {
-            report(fmt::format("node {} reached as the {}th node of a depth-first walk", item.node,
-                               visited));
-            return problems;
-        }
-        ++visited;
-        const BvhNode& node = nodes[item.node];
-        if (!finiteBox(node))
-            report(fmt::format("node {}: box is not finite and ordered", item.node));
-        if (item.parent != std::numeric_limits<uint32_t>::max() &&
-            !inside(node, nodes[item.parent]))
-            report(
-                fmt::format("node {}: box is not inside its parent {}'s", item.node, item.parent));
-        if (node.count == 0) {
-            if (item.depth + 1 > VKP_BVH_MAX_DEPTH)
-                report(fmt::format(
-                    "node {}: interior node at depth {} has children below the limit {}", item.node,
-                    item.depth, VKP_BVH_MAX_DEPTH));
-            if (node.offset <= item.node + 1 || node.offset >= nodes.size()) {
-                report(fmt::format("node {}: second child {} out of order or range", item.node,
-                                   node.offset));
-                return problems;
-            }
-            stack.push_back({node.offset, item.depth + 1, item.node});
-            stack.push_back({item.node + 1, item.depth + 1, item.node});
-            continue;
-        }
-        if (item.depth > VKP_BVH_MAX_DEPTH)
-            report(fmt::format("leaf {} at depth {} beyond the limit {}", item.node, item.depth,
-                               VKP_BVH_MAX_DEPTH));
-        if (static_cast<uint64_t>(node.offset) + node.count > prims.size()) {
-            report(fmt::format("leaf {}: primitives [{}, {}) beyond the {} primitives", item.node,
-                               node.offset, static_cast<uint64_t>(node.offset) + node.count,
-                               prims.size()));
-            continue;
-        }
-        for (uint32_t i = node.offset; i < node.offset + node.count; ++i) {
-            if (primitiveLeaf[i] != std::numeric_limits<uint32_t>::max())
-                report(fmt::format("primitive {} is in leaves {} and {}", i, primitiveLeaf[i],
-                                   item.node));
-            primitiveLeaf[i] = item.node;
-            const BvhPrimitive& p = prims[i];
-            glm::vec3 lo, hi;
-            if (p.kind == VKP_PRIMITIVE_SPHERE) {
-                lo = p.p0 - p.p1.x;
-                hi = p.p0 + p.p1.x;
-            } else {
-                lo = glm::min(glm::min(p.p0, p.p1), p.p2);
-                hi = glm::max(glm::max(p.p0, p.p1), p.p2);
-            }
-            if (!glm::all(glm::lessThan(node.boundsMin, lo)) ||
-                !glm::all(glm::lessThan(hi, node.boundsMax)))
-                report(
-                    fmt::format("primitive {} is not strictly inside leaf {}'s box", i, item.node));
-        }
+    const uint32_t scenePrimitives =
+        bvh.objects.empty() ? uint32_t(prims.size()) : bvh.objects[0].firstPrimitive;
+    walk(0, bvh.sceneTreeNodes, 0, scenePrimitives);
+    for (size_t k = 0; k < bvh.objects.size(); ++k) {
+        const ObjectTree& o = bvh.objects[k];
+        const uint32_t end =
+            k + 1 < bvh.objects.size() ? bvh.objects[k + 1].rootNode : uint32_t(nodes.size());
+        if (o.primitiveCount > 0)
+            walk(o.rootNode, end, o.firstPrimitive, o.firstPrimitive + o.primitiveCount);
     }
-    if (visited != nodes.size())
-        report(fmt::format("{} nodes, {} reachable from the root", nodes.size(), visited));
     for (size_t i = 0; i < prims.size(); ++i)
-        if (primitiveLeaf[i] == std::numeric_limits<uint32_t>::max())
-            report(fmt::format("primitive {} is in no leaf", i));
+        if (primitiveLeaf[i] == NONE) report(fmt::format("primitive {} is in no leaf", i));
 
     // Every primitive carries its scene data, and each scene primitive appears once.
     for (size_t i = 0; i < prims.size(); ++i) {
         const BvhPrimitive& p = prims[i];
+        const bool inSceneTree = i < scenePrimitives;
         if (p.kind == VKP_PRIMITIVE_SPHERE) {
-            if (p.id >= scene.spheres.size()) {
+            if (p.id >= scene.spheres.size() || !inSceneTree) {
                 report(fmt::format("primitive {}: sphere id {} out of range", i, p.id));
                 continue;
             }
@@ -618,11 +822,20 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
             }
             const auto [m, t] = triangleSource[p.id];
             const scene::Mesh& mesh = scene.meshes[m];
+            if (mesh.instanced == inSceneTree)
+                report(fmt::format("primitive {}: triangle {} of mesh '{}' in the wrong tree", i,
+                                   p.id, mesh.name));
             const glm::uvec3 tri = mesh.triangles[t];
             if (triangleSeen[p.id]++) report(fmt::format("triangle {} appears twice", p.id));
             if (p.p0 != mesh.positions[tri.x] || p.p1 != mesh.positions[tri.y] ||
                 p.p2 != mesh.positions[tri.z] || p.material != mesh.material)
                 report(fmt::format("primitive {}: data differs from triangle {}", i, p.id));
+        } else if (p.kind == VKP_PRIMITIVE_INSTANCE) {
+            const auto object = uint32_t(p.p0.x);
+            if (!inSceneTree || object >= bvh.objects.size() ||
+                p.material != bvh.objects[object].rootTexel ||
+                uint64_t(p.id) + VKP_INSTANCE_RECORD_TEXELS > bvh.traversalNodes.size())
+                report(fmt::format("primitive {}: an instance whose tree or record is wrong", i));
         } else {
             report(fmt::format("primitive {}: unknown kind {}", i, p.kind));
         }

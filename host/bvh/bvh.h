@@ -45,25 +45,50 @@ struct BvhOptions {
 };
 
 struct BvhStats {
-    size_t triangles = 0;  // in the BVH
-    size_t spheres = 0;    // in the BVH
+    size_t triangles = 0;            // in the BVH: an instanced mesh's once
+    size_t spheres = 0;              // in the BVH
+    size_t instances = 0;            // instance primitives in the scene's tree
+    size_t degenerateInstances = 0;  // left out: a singular or non-finite transform, or an
+                                     // object of no triangle
     size_t degenerateTriangles =
         0;                         // left out: zero area or a non-finite vertex (never hit anyway)
     size_t degenerateSpheres = 0;  // left out: radius <= 0 or non-finite
-    size_t nodes = 0;
-    size_t leaves = 0;
-    uint32_t maxDepth = 0;         // of a leaf, root at 0
+    size_t nodes = 0;              // of all trees
+    size_t leaves = 0;             // of all trees
+    uint32_t maxDepth = 0;         // of a leaf, root at 0, in any tree
     uint32_t largestLeaf = 0;      // primitives in the fullest leaf
-    double sahCost = 0;            // see sahCost()
+    double sahCost = 0;            // see sahCost(): of the scene's tree
     double buildMilliseconds = 0;  // wall clock, scene to flattened arrays
 };
 
+// A bottom-level tree (instancing, shaders/shared/bvh.h): the meshes
+// [firstMesh, firstMesh + meshCount) of the scene in their own space, which
+// instances place.
+struct ObjectTree {
+    uint32_t firstMesh = 0, meshCount = 0;
+    uint32_t rootNode = 0;                            // in BvhBuild::nodes
+    uint32_t rootTexel = 0;                           // in BvhBuild::traversalNodes
+    uint32_t firstPrimitive = 0, primitiveCount = 0;  // in BvhBuild::primitives
+};
+
 struct BvhBuild {
-    std::vector<shared::BvhNode> nodes;            // depth-first preorder, root at 0
-    std::vector<shared::BvhPrimitive> primitives;  // in leaf order
-    std::vector<glm::uvec4>
-        traversalNodes;  // the nodes as traversal reads them (traversal_nodes.h)
+    // Depth-first preorder: the scene's tree, root at 0, then each object's
+    // tree (interior offsets and leaf ranges index the whole arrays).
+    std::vector<shared::BvhNode> nodes;
+    std::vector<shared::BvhPrimitive> primitives;  // in leaf order, the scene's tree's first
+    // The nodes as traversal reads them (traversal_nodes.h), then the
+    // instance records (shaders/shared/bvh.h).
+    std::vector<glm::uvec4> traversalNodes;
+    std::vector<ObjectTree> objects;  // the bottom-level trees, in the order of their nodes
+    uint32_t sceneTreeNodes = 0;      // nodes[0, sceneTreeNodes) are the scene's tree
     BvhStats stats;
+
+    // Each object's root in `nodes` (for bvh::collapseBvh).
+    std::vector<uint32_t> objectRootNodes() const {
+        std::vector<uint32_t> roots;
+        for (const ObjectTree& o : objects) roots.push_back(o.rootNode);
+        return roots;
+    }
 
     size_t nodeBytes() const { return nodes.size() * sizeof(shared::BvhNode); }
     size_t traversalNodeBytes() const { return traversalNodes.size() * sizeof(glm::uvec4); }
@@ -74,12 +99,16 @@ struct BvhBuild {
 
 // The kernel feature bits the tree's traversal needs (shared/features.h):
 // VKP_FEATURE_DEEP_BVH when a leaf lies below VKP_BVH_SHALLOW_DEPTH, so that
-// the kernels' stack can spill to an array (shared/bvh_traverse.h).
+// the kernels' stack can spill to an array (shared/bvh_traverse.h), and
+// VKP_FEATURE_INSTANCES when the scene's tree places instances.
 inline uint32_t traversalFeatures(const BvhBuild& bvh) {
-    return bvh.stats.maxDepth > VKP_BVH_SHALLOW_DEPTH ? VKP_FEATURE_DEEP_BVH : 0u;
+    return (bvh.stats.maxDepth > VKP_BVH_SHALLOW_DEPTH ? VKP_FEATURE_DEEP_BVH : 0u) |
+           (bvh.stats.instances > 0 ? VKP_FEATURE_INSTANCES : 0u);
 }
 
-// Builds the BVH of every non-degenerate triangle and sphere of `scene`.
+// Builds the BVH of every non-degenerate triangle and sphere of `scene`: a
+// tree over the triangles of its meshes that are not instanced, its spheres
+// and its instances, and one tree per distinct range of instanced meshes.
 // Deterministic: the same scene and options give the same arrays bit for bit,
 // whatever the number of threads. Throws InputError for a triangle whose
 // vertex index is out of range, std::invalid_argument for bad options, and

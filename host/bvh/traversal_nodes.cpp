@@ -76,7 +76,7 @@ float embedAbove(float x, uint32_t bits) {
     return embed(x, bits & WORD_MASK, false);
 }
 
-std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes) {
+std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes, uint32_t firstTexel) {
     std::vector<glm::uvec4> texels;
     auto appendRecord = [&](const BvhNode& a, uint32_t wordA, const BvhNode& b, uint32_t wordB) {
         uint32_t words[12];
@@ -93,7 +93,7 @@ std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes) {
     }
     // Each interior node's record offset, in preorder (the root's is 0).
     std::vector<uint32_t> record(nodes.size(), 0);
-    uint32_t next = 0;
+    uint32_t next = firstTexel;
     for (size_t i = 0; i < nodes.size(); ++i) {
         if (nodes[i].count != 0) continue;
         if (next > VKP_BVH_WORD_INDEX_MASK)
@@ -108,7 +108,7 @@ std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes) {
         appendRecord(nodes[0], word, nodes[0], word);
         return texels;
     }
-    texels.reserve(next);
+    texels.reserve(next - firstTexel);
     for (size_t i = 0; i < nodes.size(); ++i) {
         if (nodes[i].count != 0) continue;
         const uint32_t a = static_cast<uint32_t>(i + 1), b = nodes[i].offset;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "bvh/bvh.h"
+
 namespace vkpath::bvh {
 namespace {
 
@@ -16,16 +18,17 @@ float surfaceArea(const shared::BvhNode& node) {
 }
 
 // Appends the blocks of the leaf holding primitives [first, first + count),
-// its triangles then its spheres, each kind in blocks of its own in leaf
-// order; returns the index of the first block.
+// its triangles, then its spheres, then its instances, each kind in blocks of
+// its own in leaf order; returns the index of the first block.
 uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t first,
                       uint32_t count, WideBvh& wide) {
     const auto start = uint32_t(wide.blocks.size());
-    for (const bool spheres : {false, true}) {
+    for (const uint32_t kind :
+         {VKP_PRIMITIVE_TRIANGLE, VKP_PRIMITIVE_SPHERE, VKP_PRIMITIVE_INSTANCE}) {
         uint32_t lane = WideBvh::BLOCK;
         for (uint32_t i = first; i < first + count; ++i) {
             const shared::BvhPrimitive& p = primitives[i];
-            if ((p.kind == VKP_PRIMITIVE_SPHERE) != spheres) continue;
+            if (p.kind != kind) continue;
             if (lane == WideBvh::BLOCK) {
                 wide.blocks.emplace_back();
                 lane = 0;
@@ -37,22 +40,36 @@ uint32_t appendBlocks(std::span<const shared::BvhPrimitive> primitives, uint32_t
             float* lanes[9] = {block.p0x, block.p0y, block.p0z, block.p1x, block.p1y,
                                block.p1z, block.p2x, block.p2y, block.p2z};
             for (int k = 0; k < 9; ++k) lanes[k][lane] = *coordinates[k];
-            (spheres ? block.spheres : block.triangles) |= 1u << lane;
+            (kind == VKP_PRIMITIVE_TRIANGLE ? block.triangles
+             : kind == VKP_PRIMITIVE_SPHERE ? block.spheres
+                                            : block.instances) |= 1u << lane;
             ++lane;
         }
     }
     return start;
 }
 
-// How many blocks appendBlocks makes of primitives [first, first + count).
-uint32_t blockCount(std::span<const shared::BvhPrimitive> primitives, uint32_t first,
-                    uint32_t count) {
-    uint32_t spheres = 0;
-    for (uint32_t i = first; i < first + count; ++i)
+// How many blocks appendBlocks makes of primitives [first, first + count),
+// and how many of the primitives are instances.
+struct BlockCount {
+    uint32_t blocks = 0;
+    uint32_t instances = 0;
+};
+BlockCount blockCount(std::span<const shared::BvhPrimitive> primitives, uint32_t first,
+                      uint32_t count) {
+    uint32_t spheres = 0, instances = 0;
+    for (uint32_t i = first; i < first + count; ++i) {
         spheres += primitives[i].kind == VKP_PRIMITIVE_SPHERE;
+        instances += primitives[i].kind == VKP_PRIMITIVE_INSTANCE;
+    }
     auto blocks = [](uint32_t n) { return (n + WideBvh::BLOCK - 1) / WideBvh::BLOCK; };
-    return blocks(count - spheres) + blocks(spheres);
+    return {blocks(count - spheres - instances) + blocks(spheres) + blocks(instances), instances};
 }
+
+// What testing an instance costs in block tests (a bottom-level traversal):
+// enough that leaves of instances are not merged, whose boxes the binary
+// traversal would cull.
+constexpr float INSTANCE_COST = 16.0f;
 
 // What collapsing knows of each binary node's subtree: its primitives,
 // [first, first + count) in leaf order (a depth-first tree's subtree holds a
@@ -80,7 +97,8 @@ Subtree measureSubtree(std::span<const shared::BvhNode> binary,
                        std::vector<Subtree>& subtrees) {
     const shared::BvhNode& node = binary[index];
     auto leafCost = [&](uint32_t first, uint32_t count) {
-        return float(blockCount(primitives, first, count));
+        const BlockCount c = blockCount(primitives, first, count);
+        return float(c.blocks) + INSTANCE_COST * float(c.instances);
     };
     if (isLeaf(node))
         return subtrees[index] =
@@ -147,7 +165,7 @@ struct Collapse {
             if (leaf(slots[i])) {
                 const Subtree range = subtrees[slots[i]];
                 node.child[i] = appendBlocks(primitives, range.first, range.count, wide);
-                node.count[i] = blockCount(primitives, range.first, range.count);
+                node.count[i] = blockCount(primitives, range.first, range.count).blocks;
             } else {
                 node.child[i] = this->node(slots[i]);
                 node.count[i] = 0;
@@ -161,14 +179,24 @@ struct Collapse {
 }  // namespace
 
 WideBvh collapseBvh(std::span<const shared::BvhNode> binary,
-                    std::span<const shared::BvhPrimitive> primitives) {
+                    std::span<const shared::BvhPrimitive> primitives,
+                    std::span<const uint32_t> objectRoots) {
     WideBvh wide;
     if (binary.empty() || (binary[0].count == 0 && binary[0].offset == 0))
         return wide;  // empty tree
     Collapse collapse{binary, primitives, std::vector<Subtree>(binary.size()), wide};
     measureSubtree(binary, primitives, 0, collapse.subtrees);
     collapse.node(0);
+    for (const uint32_t root : objectRoots) {
+        measureSubtree(binary, primitives, root, collapse.subtrees);
+        wide.objectRoots.push_back(collapse.node(root));
+    }
     return wide;
+}
+
+WideBvh collapseBvh(const BvhBuild& build) {
+    const std::vector<uint32_t> roots = build.objectRootNodes();
+    return collapseBvh(build.nodes, build.primitives, roots);
 }
 
 }  // namespace vkpath::bvh

@@ -31,6 +31,7 @@
 // skipped when popped.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -69,8 +70,10 @@ struct WideBvh {
     static constexpr uint32_t LEAF_PRIMITIVES = 8;
     static constexpr uint32_t BLOCK = 8;
     // Up to eight primitives of one leaf and one kind, in leaf order: lane i
-    // is primitive[i], a triangle (p0, p1, p2) or a sphere (centre p0, radius
-    // p1x), or unused (neither bit). A leaf's triangle blocks come first.
+    // is primitive[i], a triangle (p0, p1, p2), a sphere (centre p0, radius
+    // p1x), an instance (p0x: the bits of its bottom-level tree's index,
+    // shared/bvh.h) or unused (no bit). A leaf's triangle blocks come first,
+    // then its spheres', then its instances'.
     struct alignas(32) Block {
         float p0x[BLOCK], p0y[BLOCK], p0z[BLOCK];
         float p1x[BLOCK], p1y[BLOCK], p1z[BLOCK];
@@ -78,17 +81,27 @@ struct WideBvh {
         uint32_t primitive[BLOCK];  // index into the leaf-ordered BvhPrimitive array
         uint32_t triangles;         // bit i: lane i is a triangle
         uint32_t spheres;           // bit i: lane i is a sphere
+        uint32_t instances;         // bit i: lane i is an instance
     };
 
-    std::vector<Node> nodes;    // root at 0; empty for an empty tree
+    std::vector<Node> nodes;    // the scene's tree's root at 0; empty for an empty tree
     std::vector<Block> blocks;  // the leaves' primitives, leaf after leaf
+    // Each bottom-level tree's root in `nodes` (instancing: bvh::BvhBuild::objects).
+    std::vector<uint32_t> objectRoots;
 
     size_t bytes() const { return nodes.size() * sizeof(Node) + blocks.size() * sizeof(Block); }
 };
 
-// The wide tree over a BvhBuild's depth-first node array and its leaf-ordered primitives.
+struct BvhBuild;
+
+// The wide tree over a BvhBuild's depth-first node array and its
+// leaf-ordered primitives: the scene's tree from node 0, and each
+// bottom-level tree from its root node in `objectRoots` (BvhBuild::objects).
 WideBvh collapseBvh(std::span<const shared::BvhNode> binary,
-                    std::span<const shared::BvhPrimitive> primitives);
+                    std::span<const shared::BvhPrimitive> primitives,
+                    std::span<const uint32_t> objectRoots = {});
+// The same for a whole build.
+WideBvh collapseBvh(const BvhBuild& build);
 
 namespace wide_detail {
 
@@ -146,11 +159,21 @@ inline uint32_t intersectBoxes(const WideBvh::Node& node, const glm::vec3& origi
     return laneBits(hit) & ((1u << node.children) - 1u);
 }
 
-// shared::bvhIntervalEnd for each lane's primitive: hit.t, or one ulp beyond
-// it where the lane's primitive would win a tie.
-inline Floats intervalEnds(const WideBvh::Block& block, const shared::Hit& hit) {
+// shared::bvhIntervalEnd for each lane's primitive (of the bottom-level tree
+// of `instance`, or of the scene's tree): hit.t, or one ulp beyond it where
+// the lane's primitive would win a tie.
+inline Floats intervalEnds(const WideBvh::Block& block, const shared::Hit& hit, uint32_t instance) {
     const Uints primitives = load<Uints>(block.primitive);
-    const Ints winsTie = hit.primitive != VKP_NO_HIT ? Ints(primitives < hit.primitive) : Ints{};
+    Ints winsTie{};
+    if (hit.primitive != VKP_NO_HIT) {
+        const uint32_t hitTop = hit.instance != VKP_NO_INSTANCE ? hit.instance : hit.primitive;
+        if (instance == VKP_NO_INSTANCE)
+            winsTie = Ints(primitives < hitTop);  // a lane's key is (its index, its index)
+        else if (instance != hitTop)
+            winsTie = instance < hitTop ? ~Ints{} : Ints{};
+        else
+            winsTie = Ints(primitives < hit.primitive);
+    }
     Uints bits = Uints{} + glm::floatBitsToUint(hit.t);
     bits -= Uints(winsTie);  // true lanes are all ones: minus -1 adds one
     Floats ends;
@@ -237,13 +260,49 @@ inline uint32_t intersectTriangles(const WideBvh::Block& block,
            block.triangles;
 }
 
-// Tests a block's primitives as shared/bvh_leaf.h bvhTestPrimitive would,
-// each in turn, and updates `hit` alike. Returns whether it took a hit.
 template <typename View>
-bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray& ray,
-               const shared::TriangleRay& triangleRay, uint32_t alphaKey, bool anyHit,
-               shared::Hit& hit) {
-    const Floats limit = intervalEnds(block, hit);
+bool traceFrom(const View& view, const WideBvh& wide, const shared::Ray& ray, uint32_t root,
+               uint32_t instance, bool anyHit, uint32_t alphaKey, shared::Hit& hit);
+
+// A block of instances: each lane's bottom-level tree traced with the ray in
+// its space, as shared/bvh_traverse.h bvhTraceInstance does (the same
+// operations, so the same object-space ray). Returns whether it took a hit.
+template <typename View>
+bool testInstances(const View& view, const WideBvh& wide, const WideBvh::Block& block,
+                   const shared::Ray& ray, uint32_t alphaKey, bool anyHit, shared::Hit& hit) {
+    bool took = false;
+    for (uint32_t bits = block.instances; bits != 0; bits &= bits - 1) {
+        const uint32_t lane = uint32_t(__builtin_ctz(bits));
+        const uint32_t index = block.primitive[lane];
+        const shared::BvhPrimitive instance = view.bvhPrimitive(index);
+        glm::vec4 rows[3];
+        for (uint32_t k = 0; k < 3; ++k)
+            rows[k] = glm::uintBitsToFloat(view.bvhNodeTexel(instance.id + k));
+        shared::Ray objectRay;
+        objectRay.origin = shared::transformPoint(rows, ray.origin);
+        objectRay.direction = shared::transformDirection(rows, ray.direction);
+        objectRay.tMax = ray.tMax;
+        objectRay.pixel = ray.pixel;
+        const uint32_t object = std::bit_cast<uint32_t>(block.p0x[lane]);
+        if (traceFrom(view, wide, objectRay, wide.objectRoots[object], index, anyHit, alphaKey,
+                      hit)) {
+            if (anyHit) return true;
+            took = true;
+        }
+    }
+    return took;
+}
+
+// Tests a block's primitives (of the bottom-level tree of `instance`, or of
+// the scene's tree) as shared/bvh_leaf.h bvhTestPrimitive would, each in
+// turn, and updates `hit` alike. Returns whether it took a hit.
+template <typename View>
+bool testBlock(const View& view, const WideBvh& wide, const WideBvh::Block& block,
+               const shared::Ray& ray, const shared::TriangleRay& triangleRay, uint32_t instance,
+               uint32_t alphaKey, bool anyHit, shared::Hit& hit) {
+    if (shared::hasFeature(VKP_FEATURE_INSTANCES) && block.instances != 0)
+        return testInstances(view, wide, block, ray, alphaKey, anyHit, hit);
+    const Floats limit = intervalEnds(block, hit, instance);
     Floats t, v, w, det;
     uint32_t candidates;
     if (block.spheres != 0) {
@@ -255,7 +314,7 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
             bool took = false;
             for (uint32_t bits = block.triangles; bits != 0; bits &= bits - 1) {
                 if (view.bvhTestPrimitive(ray, triangleRay, block.primitive[__builtin_ctz(bits)],
-                                          alphaKey, hit)) {
+                                          instance, alphaKey, hit)) {
                     if (anyHit) return true;
                     took = true;
                 }
@@ -284,53 +343,50 @@ bool testBlock(const View& view, const WideBvh::Block& block, const shared::Ray&
                 !view.bvhAlphaTest(view.bvhPrimitive(index), barycentrics, alphaKey))
                 continue;
         }
-        hit = shared::Hit{t[best], index, barycentrics};
+        hit = shared::Hit{t[best], index, barycentrics, instance};
         return true;
     }
     return false;
 }
 
-}  // namespace wide_detail
-
-// Closest hit (anyHit false) or any hit in [0, ray.tMax) of the tree `wide`
-// collapsed from the BVH that `view` reads: the hit `view.bvhTrace` returns.
-// `view` provides bvhTestPrimitive (shared/bvh_leaf.h included in it), which
-// asks its alpha test with `alphaKey`.
+// The traversal of the tree whose root is wide node `root`, for the
+// bottom-level tree of `instance` or the scene's tree (VKP_NO_INSTANCE):
+// updates `hit`, returns whether it took a hit (with anyHit, stops at the first).
 template <typename View>
-shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& ray, bool anyHit,
-                      uint32_t alphaKey) {
-    shared::Hit hit{ray.tMax, VKP_NO_HIT, glm::vec2(0.0f)};
-    if (wide.nodes.empty()) return hit;
+bool traceFrom(const View& view, const WideBvh& wide, const shared::Ray& ray, uint32_t root,
+               uint32_t instance, bool anyHit, uint32_t alphaKey, shared::Hit& hit) {
     const shared::TriangleRay triangleRay = shared::makeTriangleRay(ray.origin, ray.direction);
     const glm::vec3 inverseDirection = shared::safeInverse(ray.direction);
-    // No test of the scene's box first, as the binary traversal makes: the
+    // No test of the tree's box first, as the binary traversal makes: the
     // root's boxes take one vector pass, what that one box takes in scalar
     // code, and nearly every ray of a path starts inside the scene's box.
 
     struct Entry {
-        uint32_t child, count;  // as in WideBvh::Node; the root is (0, 0)
+        uint32_t child, count;  // as in WideBvh::Node; the root is (root, 0)
         float entry;            // where the ray enters its box
     };
     // Each interior node pops one entry and pushes at most WIDTH.
     Entry stack[(WideBvh::WIDTH - 1) * WideBvh::MAX_DEPTH + 1];
     uint32_t size = 0;
-    stack[size++] = Entry{0, 0, 0.0f};
+    stack[size++] = Entry{root, 0, 0.0f};
+    bool took = false;
     while (size > 0) {
         const Entry top = stack[--size];
         if (!(top.entry <= hit.t * VKP_BOX_SLACK))
             continue;  // the box lies beyond the hit found since
         if (top.count > 0) {
-            for (uint32_t b = top.child; b < top.child + top.count; ++b)
-                if (wide_detail::testBlock(view, wide.blocks[b], ray, triangleRay, alphaKey, anyHit,
-                                           hit) &&
-                    anyHit)
-                    return hit;
+            for (uint32_t b = top.child; b < top.child + top.count; ++b) {
+                if (testBlock(view, wide, wide.blocks[b], ray, triangleRay, instance, alphaKey,
+                              anyHit, hit)) {
+                    if (anyHit) return true;
+                    took = true;
+                }
+            }
             continue;
         }
         const WideBvh::Node& node = wide.nodes[top.child];
         float entries[WideBvh::WIDTH];
-        uint32_t bits =
-            wide_detail::intersectBoxes(node, ray.origin, inverseDirection, hit.t, entries);
+        uint32_t bits = intersectBoxes(node, ray.origin, inverseDirection, hit.t, entries);
         // Push the hit children farthest first, so the nearest is popped next.
         const uint32_t first = size;
         for (; bits != 0; bits &= bits - 1) {
@@ -341,6 +397,21 @@ shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& 
             stack[j] = e;
         }
     }
+    return took;
+}
+
+}  // namespace wide_detail
+
+// Closest hit (anyHit false) or any hit in [0, ray.tMax) of the tree `wide`
+// collapsed from the BVH that `view` reads: the hit `view.bvhTrace` returns.
+// `view` provides bvhTestPrimitive (shared/bvh_leaf.h included in it), which
+// asks its alpha test with `alphaKey`, bvhPrimitive and bvhNodeTexel.
+template <typename View>
+shared::Hit traceWide(const View& view, const WideBvh& wide, const shared::Ray& ray, bool anyHit,
+                      uint32_t alphaKey) {
+    shared::Hit hit{ray.tMax, VKP_NO_HIT, glm::vec2(0.0f), VKP_NO_INSTANCE};
+    if (wide.nodes.empty()) return hit;
+    wide_detail::traceFrom(view, wide, ray, 0, VKP_NO_INSTANCE, anyHit, alphaKey, hit);
     return hit;
 }
 

@@ -8,7 +8,8 @@ namespace vkpath::shared {
 
 SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const SceneInfo& info)
     : m_primitives(tables.bvh.primitives),
-      m_wide(bvh::collapseBvh(tables.bvh.nodes, tables.bvh.primitives)),
+      m_nodes(tables.bvh.traversalNodes),
+      m_wide(bvh::collapseBvh(tables.bvh)),
       m_info(info),
 #define VKP_ARRAY_SPAN_INIT(index, name, Record, access, member) m_##name(tables.member),
       VKP_SCENE_ARRAYS(VKP_ARRAY_SPAN_INIT)
@@ -23,7 +24,7 @@ SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const Sce
             fmt::format("{} guide spheres for guideSphereCount {}", m_guideSpheres.size(),
                         info.guideSphereCount));
     for (const BvhPrimitive& p : m_primitives)
-        require(p.material < m_materials.size(),
+        require(p.kind == VKP_PRIMITIVE_INSTANCE || p.material < m_materials.size(),
                 fmt::format("material {} of {}", p.material, m_materials.size()));
     require(m_lights.size() == info.lightCount && m_lightAlias.size() == info.lightCount,
             fmt::format("{} lights and {} alias entries for lightCount {}", m_lights.size(),

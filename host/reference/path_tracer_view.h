@@ -58,6 +58,7 @@ struct SceneTablesView {
 
     // The accessors shared/bvh_leaf.h and path_tracer.h read through.
     BvhPrimitive bvhPrimitive(uint index) const { return m_primitives[index]; }
+    uvec4 bvhNodeTexel(uint texel) const { return m_nodes[texel]; }
     SceneInfo sceneInfo() const { return m_info; }
     Material sceneMaterial(uint index) const { return m_materials[index]; }
     Light sceneLight(uint index) const { return m_lights[index]; }
@@ -87,6 +88,7 @@ struct SceneTablesView {
 
   private:
     std::span<const BvhPrimitive> m_primitives;  // leaf order
+    std::span<const uvec4> m_nodes;              // the node texels and instance records
     bvh::WideBvh m_wide;
     SceneInfo m_info;
     // One per row of shaders/shared/scene_arrays.h: m_materials, m_lights, ...

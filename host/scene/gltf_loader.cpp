@@ -15,6 +15,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -25,6 +26,7 @@
 #include "scene/gltf_materials.h"
 #include "scene/gltf_meshes.h"
 #include "scene/import_warnings.h"
+#include "scene/load.h"
 
 namespace vkpath::scene {
 namespace {
@@ -64,6 +66,7 @@ class Importer {
                                   "animation", m_model.animations[0].name);
 
         const std::vector<Visit> visits = traverse();
+        chooseInstancedMeshes(visits);
         if (m_options.admit) m_options.admit(m_file, countGeometry(visits));
         for (const Visit& visit : visits) visitNode(visit.node, visit.world);
 
@@ -264,13 +267,42 @@ class Importer {
         return order;
     }
 
-    // The geometry the visits will add, each node's mesh counted once per
-    // node that references it (the scene holds them flattened).
+    // Which glTF meshes are kept once and placed by instances
+    // (LoadOptions::instancing): those several nodes place, whose primitives
+    // emit no light, whose copies would add enough triangles.
+    void chooseInstancedMeshes(const std::vector<Visit>& visits) {
+        std::map<int, uint64_t> placements;
+        for (const Visit& visit : visits)
+            if (const int mesh = m_model.nodes[size_t(visit.node)].mesh; mesh >= 0)
+                ++placements[mesh];
+        for (const auto& [mesh, count] : placements) {
+            if (count < 2 || m_options.instancing == Instancing::Off) continue;
+            if (size_t(mesh) >= m_model.meshes.size()) continue;  // addMesh says what is wrong
+            bool emissive = false;
+            for (const tinygltf::Primitive& p : m_model.meshes[size_t(mesh)].primitives)
+                emissive |= p.material >= 0 && size_t(p.material) < m_scene.materials.size() &&
+                            m_scene.materials[size_t(p.material)].emissive();
+            const uint64_t copies = (count - 1) * gltf::countMesh(m_model, mesh).triangles;
+            if (!emissive &&
+                (m_options.instancing == Instancing::On || copies >= INSTANCING_MIN_TRIANGLES))
+                m_instanced[mesh] = std::nullopt;  // converted at its first placement
+        }
+    }
+
+    // The geometry the visits will add: a mesh counted once per node that
+    // places it, an instanced mesh once and an instance per node.
     GeometryCounts countGeometry(const std::vector<Visit>& visits) const {
         GeometryCounts counts;
+        std::set<int> instanced;
         for (const Visit& visit : visits) {
             const tinygltf::Node& node = m_model.nodes[size_t(visit.node)];
-            if (node.mesh >= 0) counts += gltf::countMesh(m_model, node.mesh);
+            if (node.mesh >= 0 && m_instanced.contains(node.mesh)) {
+                counts.instances += 1;
+                if (instanced.insert(node.mesh).second)
+                    counts += gltf::countMesh(m_model, node.mesh);
+            } else if (node.mesh >= 0) {
+                counts += gltf::countMesh(m_model, node.mesh);
+            }
             if (node.extensions.contains("VKPATH_sphere")) counts.spheres += 1;
         }
         return counts;
@@ -300,12 +332,38 @@ class Importer {
 
     // ---- meshes --------------------------------------------------------------
 
+    // A node's mesh: copied into world space, or, instanced, converted once
+    // in its own space and placed by an instance.
     void addMesh(int nodeIndex, const glm::dmat4& world) {
+        const int mesh = m_model.nodes[size_t(nodeIndex)].mesh;
+        const auto instanced = m_instanced.find(mesh);
+        if (instanced == m_instanced.end()) {
+            appendMeshes(nodeIndex, world, false);
+            return;
+        }
+        if (!instanced->second) instanced->second = appendMeshes(nodeIndex, glm::dmat4(1.0), true);
+        const auto [first, count] = *instanced->second;
+        if (count == 0) return;  // no triangle
+        Instance instance;
+        instance.name = nodeName(nodeIndex);
+        instance.firstMesh = first;
+        instance.meshCount = count;
+        instance.objectToWorld = world;
+        m_scene.instances.push_back(std::move(instance));
+    }
+
+    // Appends the primitives of node `nodeIndex`'s mesh under `world`;
+    // returns the range of meshes they became.
+    std::pair<uint32_t, uint32_t> appendMeshes(int nodeIndex, const glm::dmat4& world,
+                                               bool instanced) {
+        const auto first = uint32_t(m_scene.meshes.size());
         for (gltf::WorldPrimitive& primitive : gltf::convertMesh(
                  m_model, m_accessors, nodeIndex, nodeName(nodeIndex), world, m_file, m_warnings)) {
             if (primitive.usesDefaultMaterial) primitive.mesh.material = defaultMaterial();
+            primitive.mesh.instanced = instanced;
             m_scene.meshes.push_back(std::move(primitive.mesh));
         }
+        return {first, uint32_t(m_scene.meshes.size()) - first};
     }
 
     // ---- spheres ----------------------------------------------------------------
@@ -506,6 +564,9 @@ class Importer {
     gltf::TextureImporter m_textures;
     std::optional<uint32_t> m_defaultMaterial;
     std::vector<CameraCandidate> m_cameras;  // in node order
+    // The instanced glTF meshes, each with the range of Scene::meshes it
+    // became once converted (at its first placement).
+    std::map<int, std::optional<std::pair<uint32_t, uint32_t>>> m_instanced;
 };
 
 }  // namespace

@@ -1,14 +1,17 @@
 #include "scene/mitsuba_export.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <bit>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <pugixml.hpp>
 #include <stdexcept>
+#include <vector>
 
 #include "image/image.h"
 #include "scene/camera.h"
@@ -218,10 +221,16 @@ void sceneBounds(const Scene& scene, glm::vec3& lo, glm::vec3& hi) {
     lo = glm::vec3(std::numeric_limits<float>::max());
     hi = -lo;
     for (const Mesh& mesh : scene.meshes)
-        for (const glm::vec3& p : mesh.positions) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
+        if (!mesh.instanced)
+            for (const glm::vec3& p : mesh.positions) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+    if (!scene.instances.empty()) {
+        const Bounds placed = scene.geometryBounds();
+        lo = glm::min(lo, placed.lo);
+        hi = glm::max(hi, placed.hi);
+    }
     for (const Sphere& s : scene.spheres) {
         lo = glm::min(lo, s.center - s.radius);
         hi = glm::max(hi, s.center + s.radius);
@@ -323,14 +332,15 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
         addMaterial(root, s.materials[i], fmt::format("mat{}", i), notes);
 
     size_t normalMapped = 0;
-    for (size_t i = 0; i < s.meshes.size(); ++i) {
+    // A mesh as a PLY shape, under `parent` (the scene, or a shape group).
+    auto addMesh = [&](pugi::xml_node parent, size_t i) {
         const Mesh& mesh = s.meshes[i];
-        if (mesh.triangles.empty()) continue;
+        if (mesh.triangles.empty()) return;
         const std::string id = fmt::format("mesh{:03}_{}", i, safeName(mesh.name));
         const fs::path file = fs::path("meshes") / (id + ".ply");
         writePly(outDir / file, mesh);
         result.files.push_back(outDir / file);
-        pugi::xml_node shape = root.append_child("shape");
+        pugi::xml_node shape = parent.append_child("shape");
         shape.append_attribute("type") = "ply";
         shape.append_attribute("id") = id.c_str();
         addValue(shape, "string", "filename", file.generic_string());
@@ -341,6 +351,33 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
         finishShape(shape, s, mesh.material);
         normalMapped += mesh.material < s.materials.size() &&
                         s.materials[mesh.material].normalTexture.present();
+    };
+    for (size_t i = 0; i < s.meshes.size(); ++i)
+        if (!s.meshes[i].instanced) addMesh(root, i);
+    // Instanced meshes: each placed range once, as a Mitsuba shape group,
+    // and an instance shape per placement with its matrix (row by row).
+    std::map<std::pair<uint32_t, uint32_t>, std::string> groups;
+    for (const Instance& instance : s.instances) {
+        const auto key = std::pair(instance.firstMesh, instance.meshCount);
+        if (!groups.contains(key)) {
+            const std::string id = fmt::format("object{:03}", groups.size());
+            pugi::xml_node group = root.append_child("shape");
+            group.append_attribute("type") = "shapegroup";
+            group.append_attribute("id") = id.c_str();
+            for (uint32_t m = instance.firstMesh; m < instance.firstMesh + instance.meshCount; ++m)
+                addMesh(group, m);
+            groups[key] = id;
+        }
+        pugi::xml_node shape = root.append_child("shape");
+        shape.append_attribute("type") = "instance";
+        child(shape, "ref").append_attribute("id") = groups[key].c_str();
+        std::vector<std::string> entries;
+        for (int row = 0; row < 4; ++row)
+            for (int column = 0; column < 4; ++column)
+                entries.push_back(num(float(instance.objectToWorld[column][row])));
+        const std::string matrix = fmt::format("{}", fmt::join(entries, " "));
+        child(shape, "transform", "to_world").append_child("matrix").append_attribute("value") =
+            matrix.c_str();
     }
     size_t emissiveSpheres = 0;
     for (size_t i = 0; i < s.spheres.size(); ++i) {

@@ -151,6 +151,22 @@ struct Mesh {
     std::vector<glm::uvec3>
         triangles;          // indices into positions, counter-clockwise seen from the front
     uint32_t material = 0;  // index into Scene::materials
+    // In object space and drawn only where Scene::instances place it (its
+    // positions, normals and tangents are then the object's, not the world's).
+    bool instanced = false;
+};
+
+// A placement of instanced meshes (glTF: a node whose mesh other nodes also
+// place): the meshes [firstMesh, firstMesh + meshCount) of Scene::meshes, all
+// `instanced`, drawn under `objectToWorld`. Instances of the same range share
+// one copy of its triangles and one bottom-level tree (shaders/shared/bvh.h).
+// Emissive meshes are never instanced (their triangles are lights, sampled
+// in world space).
+struct Instance {
+    std::string name;
+    uint32_t firstMesh = 0;
+    uint32_t meshCount = 0;
+    glm::dmat4 objectToWorld{1.0};
 };
 
 struct Sphere {
@@ -228,6 +244,7 @@ struct GeometryCounts {
     uint64_t colors = 0;
     uint64_t tangents = 0;
     uint64_t spheres = 0;
+    uint64_t instances = 0;  // placements of instanced meshes (counted once above)
 
     GeometryCounts& operator+=(const GeometryCounts& o) {
         triangles += o.triangles;
@@ -237,6 +254,7 @@ struct GeometryCounts {
         colors += o.colors;
         tangents += o.tangents;
         spheres += o.spheres;
+        instances += o.instances;
         return *this;
     }
 };
@@ -249,6 +267,7 @@ struct Bounds {
 struct Scene {
     std::vector<Material> materials;
     std::vector<Mesh> meshes;
+    std::vector<Instance> instances;  // where the `instanced` meshes are drawn
     std::vector<Sphere> spheres;
     std::vector<TextureImage> images;
     std::vector<Texture> textures;
@@ -263,7 +282,10 @@ struct Scene {
     std::vector<std::filesystem::path> referencedFiles;
 
     FeatureSummary features() const;
+    // Triangles stored: an instanced mesh's once.
     size_t triangleCount() const;
+    // Triangles drawn: an instanced mesh's once per instance.
+    uint64_t drawnTriangleCount() const;
     GeometryCounts countGeometry() const;
     // The box around the triangles of the meshes and the spheres (lo > hi
     // when there are none): what the importers frame a default camera on.

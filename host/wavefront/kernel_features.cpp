@@ -44,6 +44,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_DEEP_BVH, "deep-bvh"},
     {VKP_FEATURE_SPHERE_GUIDING, "sphere-guiding"},
     {VKP_FEATURE_AOVS, "aovs"},
+    {VKP_FEATURE_INSTANCES, "instances"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -65,6 +66,7 @@ static_assert(namesEveryBit(), "a VKP_FEATURE_* bit without a name");
 uint32_t sceneFeatures(const SceneTables& t) {
     uint32_t f = 0;
     for (const shared::BvhPrimitive& p : t.bvh.primitives) {
+        if (p.kind == VKP_PRIMITIVE_INSTANCE) continue;  // traversalFeatures, below
         f |= p.kind == VKP_PRIMITIVE_SPHERE ? VKP_FEATURE_SPHERES : VKP_FEATURE_TRIANGLES;
         const shared::Material& m = t.materials.at(p.material);
         f |= shared::materialFeature(m.kind);

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cstddef>
 #include <span>
+#include <string>
 
 #include "shared/bindings.h"
+#include "shared/features.h"
 #include "vk/context.h"
 
 namespace vkpath::wavefront {
@@ -12,6 +14,15 @@ namespace {
 
 std::span<const std::byte> bytes(const shared::WavePush& p) {
     return std::as_bytes(std::span(&p, 1));
+}
+
+// A kernel that traces rays, as its `_instanced` variant where the features
+// it is specialised to may include instances (cmake/shaders.cmake).
+std::string tracing(const char* kernel, const std::vector<vk::SpecializationConstant>& scene) {
+    for (const vk::SpecializationConstant& c : scene)
+        if (c.id == VKP_SPEC_FEATURES && (c.value & VKP_FEATURE_INSTANCES) != 0u)
+            return std::string(kernel) + "_instanced";
+    return kernel;
 }
 
 }  // namespace
@@ -25,7 +36,7 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
     const vk::KernelOptions options{.workgroupSize = setup.workgroupSize};
     vk::KernelOptions sceneOptions = options;
     sceneOptions.specialization = setup.sceneSpecialization;
-    auto build = [&](const char* name, const vk::KernelOptions& o, vk::DescriptorSet& set) {
+    auto build = [&](const std::string& name, const vk::KernelOptions& o, vk::DescriptorSet& set) {
         auto kernel = std::make_unique<vk::Kernel>(context, name, o);
         set = kernel->bindDeclared(bindings);
         m_built.emplace_back(kernel.get(), &set);
@@ -45,12 +56,16 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
     bindings = whole;
     m_built.emplace_back(m_accumulate.get(), &m_accumulateSets.front());
     if (setup.form == KernelForm::Megakernel) {
-        m_megakernel = build("megakernel", sceneOptions, m_megakernelSet);
+        m_megakernel =
+            build(tracing("megakernel", setup.sceneSpecialization), sceneOptions, m_megakernelSet);
     } else {
         m_generate = build("generate", sceneOptions, m_generateSet);
-        m_intersect = build("intersect", sceneOptions, m_intersectSet);
+        m_intersect =
+            build(tracing("intersect", setup.sceneSpecialization), sceneOptions, m_intersectSet);
         m_shade = build("shade", sceneOptions, m_shadeSet);
-        if (setup.shadowStage) m_shadow = build("shadow", sceneOptions, m_shadowSet);
+        if (setup.shadowStage)
+            m_shadow =
+                build(tracing("shadow", setup.sceneSpecialization), sceneOptions, m_shadowSet);
     }
     // One empty dispatch of each; with no paths the queues are empty (the
     // renderer clears the counters again before its first wave).

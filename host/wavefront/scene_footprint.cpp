@@ -35,14 +35,18 @@ std::string geometry(const scene::GeometryCounts& c) {
         if (n < 100'000) return fmt::format("{} {}", n, what);
         return fmt::format("{:.1f} M {}", double(n) / 1e6, what);
     };
-    if (c.spheres == 0) return count(c.triangles, "triangles");
-    return count(c.triangles, "triangles") + " and " + count(c.spheres, "spheres");
+    std::string text = count(c.triangles, "triangles");
+    if (c.spheres > 0) text += " and " + count(c.spheres, "spheres");
+    if (c.instances > 0) text += " placed by " + count(c.instances, "instances");
+    return text;
 }
 
 }  // namespace
 
 SceneFootprint estimateFootprint(const scene::GeometryCounts& c, bool cpuReference) {
-    const uint64_t primitives = c.triangles + c.spheres;
+    // An instance is a primitive of the scene's tree and a record of
+    // VKP_INSTANCE_RECORD_TEXELS texels after the nodes.
+    const uint64_t primitives = c.triangles + c.spheres + c.instances;
     const uint64_t attributeVertices = c.normals + c.texcoords + c.colors + c.tangents;
     SceneFootprint f;
     struct Array {
@@ -50,7 +54,8 @@ SceneFootprint estimateFootprint(const scene::GeometryCounts& c, bool cpuReferen
         uint64_t bytes;
     };
     const Array arrays[] = {
-        {"BVH node", NODE_BYTES_PER_PRIMITIVE * primitives},
+        {"BVH node",
+         NODE_BYTES_PER_PRIMITIVE * primitives + 16 * VKP_INSTANCE_RECORD_TEXELS * c.instances},
         {"BVH primitive", sizeof(shared::BvhPrimitive) * primitives},
         {"triangleVertices",
          attributeVertices > 0 ? sizeof(shared::TriangleVertices) * c.triangles : 0},
@@ -68,9 +73,9 @@ SceneFootprint estimateFootprint(const scene::GeometryCounts& c, bool cpuReferen
     }
     // The loaded scene: positions and indices, the attributes as scene::Mesh
     // keeps them, the spheres.
-    const uint64_t sceneBytes = 12 * c.vertices + 12 * c.triangles + 12 * c.normals +
-                                8 * c.texcoords + 16 * c.colors + 16 * c.tangents +
-                                sizeof(scene::Sphere) * c.spheres;
+    const uint64_t sceneBytes =
+        12 * c.vertices + 12 * c.triangles + 12 * c.normals + 8 * c.texcoords + 16 * c.colors +
+        16 * c.tangents + sizeof(scene::Sphere) * c.spheres + sizeof(scene::Instance) * c.instances;
     f.hostBytes = sceneBytes + BUILD_BYTES_PER_PRIMITIVE * primitives;
     // The GPU renderer holds the tables and, while uploading, their staging
     // copies; the CPU reference reads the tables and its own tree.

@@ -40,9 +40,10 @@ __all__ = [
     "MATERIAL_KINDS",
 ]
 
-# The keywords that change the scene itself (its environment, its camera):
+# The keywords that change the scene itself (its environment, its camera,
+# whether meshes several nodes place are instanced):
 # given to Scene(), which loads the file with them once.
-SCENE_KEYWORDS = ("env", "env_color", "env_strength", "env_rotate", "camera")
+SCENE_KEYWORDS = ("env", "env_color", "env_strength", "env_rotate", "camera", "instancing")
 # The device is also the scene's: a CPU render is admitted against the host's
 # memory alone (wavefront/scene_footprint.h).
 _LOAD_KEYWORDS = SCENE_KEYWORDS + ("device",)
@@ -135,7 +136,8 @@ class Scene:
     cameras) without reloading it or rebuilding its BVH.
 
     Keywords: the flags that change the scene (env, env_color, env_strength,
-    env_rotate, camera: a glTF camera's name) and device ("gpu" or "cpu", the
+    env_rotate, camera: a glTF camera's name, instancing: "auto", "on" or
+    "off") and device ("gpu" or "cpu", the
     memory the scene is admitted against; a render may name either)."""
 
     def __init__(self, path: Union[str, os.PathLike], **keywords: Any):

@@ -16,6 +16,7 @@
 
 #include "shared/compat.h"
 #include "shared/features.h"
+#include "shared/precise_math.h"
 #include "shared/records.h"
 
 // The deepest a leaf may be (root at depth 0). Traversal pushes at most one
@@ -52,9 +53,30 @@
 // BvhPrimitive::kind
 #define VKP_PRIMITIVE_TRIANGLE 0u
 #define VKP_PRIMITIVE_SPHERE 1u
+#define VKP_PRIMITIVE_INSTANCE 2u
 
 // Hit::primitive of a ray that hits nothing.
 #define VKP_NO_HIT 0xffffffffu
+// Hit::instance of a hit on a primitive of the scene's own tree.
+#define VKP_NO_INSTANCE 0xffffffffu
+
+// Instancing (scene::Instance; VKP_FEATURE_INSTANCES): a mesh that several
+// nodes place is stored once, in its own space, with its own tree (a BLAS, a
+// bottom-level tree), and the scene's tree (the TLAS) holds one primitive
+// per placement, of kind VKP_PRIMITIVE_INSTANCE:
+//   id        the first texel of its instance record in the node array
+//   material  the texel of its bottom-level tree's root record
+//   p0 .. p2  unused (0)
+// Every tree is in the same two arrays: the node array holds the scene's
+// tree's records from texel 0, then each bottom-level tree's, then the
+// instance records; the primitive array the scene's tree's leaves, then each
+// bottom-level tree's. A child word indexes the whole array, so a bottom-level
+// tree is traversed as the scene's tree is, from its root's texel, with the
+// ray in its space (shared/bvh_traverse.h). An instance record is
+// VKP_INSTANCE_RECORD_TEXELS texels of floats: the rows of the world-to-object
+// matrix (x' = dot(row.xyz, x) + row.w), then those of the object-to-world
+// matrix, both 3x4, the inverse computed in double by the host.
+#define VKP_INSTANCE_RECORD_TEXELS 6u
 
 // ---- the test-level trace kernels (tests/kernels/bvh_closest.comp, bvh_anyhit.comp)
 #define VKP_TRACE_BINDING_NODES 0       // BvhNode[], read (a placeholder when read by address)
@@ -102,7 +124,42 @@ struct Hit {
     uint primitive;  // index into the leaf-ordered BvhPrimitive array; VKP_NO_HIT when nothing was
                      // hit
     vec2 barycentrics;  // triangle: weights of p1 and p2 (p0's is 1 - x - y); sphere: (0, 0)
+    uint instance;      // the instance primitive (its index in the array) whose bottom-level tree
+                        // holds `primitive`; VKP_NO_INSTANCE for the scene tree's own primitives
 };
+
+// An instance's two transforms (the rows of its record, above).
+struct InstanceTransform {
+    vec4 worldToObject[3];
+    vec4 objectToWorld[3];
+};
+
+// Row-major 3x4 `rows` applied to the point p, each row's dot product in
+// glm's order (shared/precise_math.h says why it is written out).
+VKP_FN vec3 transformPoint(const vec4 rows[3], vec3 p) {
+    VKP_PRECISE vec3 r = vec3(rows[0].x * p.x + rows[0].y * p.y + rows[0].z * p.z + rows[0].w,
+                              rows[1].x * p.x + rows[1].y * p.y + rows[1].z * p.z + rows[1].w,
+                              rows[2].x * p.x + rows[2].y * p.y + rows[2].z * p.z + rows[2].w);
+    return r;
+}
+
+// The same for the direction v (no translation).
+VKP_FN vec3 transformDirection(const vec4 rows[3], vec3 v) {
+    VKP_PRECISE vec3 r = vec3(rows[0].x * v.x + rows[0].y * v.y + rows[0].z * v.z,
+                              rows[1].x * v.x + rows[1].y * v.y + rows[1].z * v.z,
+                              rows[2].x * v.x + rows[2].y * v.y + rows[2].z * v.z);
+    return r;
+}
+
+// The transpose of the 3x3 part of `rows` applied to v: with the
+// world-to-object rows, an object-space normal's world-space direction (the
+// inverse transpose of the object-to-world matrix).
+VKP_FN vec3 transformNormal(const vec4 rows[3], vec3 n) {
+    VKP_PRECISE vec3 r = vec3(rows[0].x * n.x + rows[1].x * n.y + rows[2].x * n.z,
+                              rows[0].y * n.x + rows[1].y * n.y + rows[2].y * n.z,
+                              rows[0].z * n.x + rows[1].z * n.y + rows[2].z * n.z);
+    return r;
+}
 
 // The child word held in the low bits of a box's six floats (as bits:
 // minimum, then maximum), as packed by host/bvh/traversal_nodes.cpp.
@@ -125,20 +182,37 @@ struct TracePush {
     BvhAddresses bvh;  // read only by address (VKP_SPEC_SCENE_BY_ADDRESS)
 };
 
-// Whether `primitive` is a sphere (else a triangle); known without reading it
-// when the kernel meets only one of the two (shared/features.h).
+// Whether `primitive` is a sphere (else a triangle or an instance); known
+// without reading it when the kernel meets only one kind (shared/features.h).
 VKP_FN bool isSphere(VKP_IN(BvhPrimitive) primitive) {
     if (!hasFeature(VKP_FEATURE_SPHERES)) return false;
     if (onlyFeature(VKP_FEATURES_PRIMITIVES, VKP_FEATURE_SPHERES)) return true;
     return primitive.kind == VKP_PRIMITIVE_SPHERE;
 }
 
-// The end of the half-open interval [0, end) in which primitive `index` may
-// still become `hit` (shared/bvh_leaf.h has the rule for ties): hit.t, or one
-// ulp beyond it when `index` would win a tie at exactly hit.t. hit.t of a
-// found hit is finite and >= 0, so the next float up is its bits plus one.
-VKP_FN float bvhIntervalEnd(VKP_IN(Hit) hit, uint index) {
-    bool winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
+// Whether `primitive` of the scene's tree places a bottom-level tree.
+VKP_FN bool isInstance(VKP_IN(BvhPrimitive) primitive) {
+    return hasFeature(VKP_FEATURE_INSTANCES) && primitive.kind == VKP_PRIMITIVE_INSTANCE;
+}
+
+// The end of the half-open interval [0, end) in which primitive `index`
+// (of the bottom-level tree of instance primitive `instance`, or of the
+// scene's tree for VKP_NO_INSTANCE) may still become `hit`
+// (shared/bvh_leaf.h has the rule for ties): hit.t, or one ulp beyond it
+// when it would win a tie at exactly hit.t. hit.t of a found hit is finite
+// and >= 0, so the next float up is its bits plus one. A hit's key is its
+// scene-tree primitive (the instance's for an instanced hit), then its
+// primitive: the smaller key wins.
+VKP_FN float bvhIntervalEnd(VKP_IN(Hit) hit, uint index, uint instance) {
+    bool winsTie;
+    if (hasFeature(VKP_FEATURE_INSTANCES)) {
+        uint top = instance != VKP_NO_INSTANCE ? instance : index;
+        uint hitTop = hit.instance != VKP_NO_INSTANCE ? hit.instance : hit.primitive;
+        winsTie = hit.primitive != VKP_NO_HIT &&
+                  (top < hitTop || (top == hitTop && index < hit.primitive));
+    } else {
+        winsTie = hit.primitive != VKP_NO_HIT && index < hit.primitive;
+    }
     return winsTie ? uintBitsToFloat(floatBitsToUint(hit.t) + 1u) : hit.t;
 }
 
@@ -149,7 +223,7 @@ static_assert(sizeof(vkpath::shared::BvhNode) == 32);
 #define VKP_RECORD BvhPrimitive
 VKP_RECORD_CHECK(VKP_BVH_PRIMITIVE_FIELDS, 3)
 #undef VKP_RECORD
-static_assert(sizeof(vkpath::shared::Hit) == 16);
+static_assert(sizeof(vkpath::shared::Hit) == 20);
 static_assert(sizeof(vkpath::shared::BvhAddresses) == 16);
 static_assert(sizeof(vkpath::shared::TracePush) == 20);
 #endif

@@ -14,7 +14,8 @@
 // host/bvh/bvh_view.h) answer true.
 //
 // Ties: a hit at exactly the distance of the best so far replaces it when
-// its leaf index is smaller. So the closest hit is the nearest candidate that
+// its leaf index is smaller (with instances: its key, shared/bvh.h
+// bvhIntervalEnd). So the closest hit is the nearest candidate that
 // stands, and among those at the same distance the one of smallest index,
 // whatever order a traversal visits the leaves in: the binary and the wide
 // tree give the same hit, bit for bit. (Before this rule the first one found
@@ -29,12 +30,15 @@
 #define VKP_BVH_CONST
 #endif
 
-// Tests leaf primitive `index`; when it is hit in [0, hit.t), or at exactly
-// hit.t with an index below hit.primitive, makes it `hit` and returns true.
-VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index,
-                             uint alphaKey, VKP_INOUT(Hit) hit) VKP_BVH_CONST {
-    float tLimit = bvhIntervalEnd(hit, index);
-    BvhPrimitive primitive = bvhPrimitive(index);
+// Tests the triangle or sphere `primitive`, at `index` in the primitive
+// array, of the bottom-level tree of instance primitive `instance` (the ray
+// in its space) or of the scene's tree (VKP_NO_INSTANCE); when it is hit in
+// [0, hit.t), or at exactly hit.t with the smaller key
+// (shared/bvh.h bvhIntervalEnd), makes it `hit` and returns true.
+VKP_FN bool bvhTestPrimitiveRecord(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay,
+                                   VKP_IN(BvhPrimitive) primitive, uint index, uint instance,
+                                   uint alphaKey, VKP_INOUT(Hit) hit) VKP_BVH_CONST {
+    float tLimit = bvhIntervalEnd(hit, index, instance);
     float t;
     vec2 barycentrics = vec2(0.0f, 0.0f);
     bool found;
@@ -50,5 +54,14 @@ VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, u
     hit.t = t;
     hit.primitive = index;
     hit.barycentrics = barycentrics;
+    hit.instance = instance;
     return true;
+}
+
+// Tests leaf primitive `index` (a triangle or sphere) of the tree of
+// `instance` as above.
+VKP_FN bool bvhTestPrimitive(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index,
+                             uint instance, uint alphaKey, VKP_INOUT(Hit) hit) VKP_BVH_CONST {
+    return bvhTestPrimitiveRecord(ray, triangleRay, bvhPrimitive(index), index, instance, alphaKey,
+                                  hit);
 }

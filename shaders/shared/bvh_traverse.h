@@ -19,7 +19,11 @@
 //   tree built from this one instead (host/bvh/wide_bvh.h), with the same
 //   leaf test and so the same hits.
 //
-// There is no include guard: include it exactly once per scope.
+// There is no include guard: include it exactly once per scope. The loop
+// itself is in shared/bvh_traverse_loop.h, which this file includes once for
+// the scene's tree and once for the bottom-level trees of instances
+// (shared/bvh.h): at an instance primitive the scene's loop moves the ray
+// into the instance's space and runs the other loop from its tree's root.
 //
 // The traversal reads the node records of shared/bvh.h: a record holds both
 // children's boxes and words, so a step reads three texels and a pop or a
@@ -55,6 +59,60 @@ VKP_FN uint bvhStackPop(VKP_INOUT(uvec4) near, VKP_INOUT(uvec4) far) VKP_BVH_CON
     return top;
 }
 
+// ---- the bottom-level trees (instancing) ----------------------------------------
+// Compiled in C++ and in the kernels built with VKP_INSTANCING (their
+// `_instanced` variants, cmake/shaders.cmake), which the host picks for
+// kernels whose features include VKP_FEATURE_INSTANCES: a kernel of a scene
+// without instances carries none of this code, not even code its
+// specialisation would remove, whose compilation costs time and memory.
+#if defined(__cplusplus) || defined(VKP_INSTANCING)
+// Their loop tests triangles only: a bottom-level tree holds a mesh.
+#define VKP_TRAVERSE_FUNCTION bvhTraverseObject
+#define VKP_TRAVERSE_LEAF(i) bvhTestPrimitive(ray, triangleRay, i, instance, alphaKey, hit)
+#include "shared/bvh_traverse_loop.h"
+#undef VKP_TRAVERSE_FUNCTION
+#undef VKP_TRAVERSE_LEAF
+
+// Instance primitive `primitive` (at `index`): `ray` moved into its space by
+// its world-to-object rows, then its bottom-level tree traversed. A ray
+// parameter means the same point in both spaces (the direction is
+// transformed, not normalised), so hit.t needs no conversion.
+VKP_FN bool bvhTraceInstance(VKP_IN(Ray) ray, VKP_IN(BvhPrimitive) primitive, uint index,
+                             bool anyHit, uint alphaKey, VKP_INOUT(Hit) hit) VKP_BVH_CONST {
+    vec4 rows[3];
+    for (uint k = 0u; k < 3u; ++k) rows[k] = uintBitsToFloat(bvhNodeTexel(primitive.id + k));
+    Ray objectRay;
+    objectRay.origin = transformPoint(rows, ray.origin);
+    objectRay.direction = transformDirection(rows, ray.direction);
+    objectRay.tMax = ray.tMax;
+    objectRay.pixel = ray.pixel;
+    TriangleRay objectTriangleRay = makeTriangleRay(objectRay.origin, objectRay.direction);
+    return bvhTraverseObject(objectRay, objectTriangleRay, safeInverse(objectRay.direction),
+                             primitive.material, index, anyHit, alphaKey, hit);
+}
+
+#endif
+
+// A leaf primitive of the scene's tree (`instance` is VKP_NO_INSTANCE): an
+// instance, a triangle or a sphere.
+VKP_FN bool bvhTestSceneLeaf(VKP_IN(Ray) ray, VKP_IN(TriangleRay) triangleRay, uint index,
+                             uint instance, bool anyHit, uint alphaKey,
+                             VKP_INOUT(Hit) hit) VKP_BVH_CONST {
+    BvhPrimitive primitive = bvhPrimitive(index);
+#if defined(__cplusplus) || defined(VKP_INSTANCING)
+    if (isInstance(primitive))
+        return bvhTraceInstance(ray, primitive, index, anyHit, alphaKey, hit);
+#endif
+    return bvhTestPrimitiveRecord(ray, triangleRay, primitive, index, instance, alphaKey, hit);
+}
+
+// ---- the scene's tree ----------------------------------------------------------------
+#define VKP_TRAVERSE_FUNCTION bvhTraverseScene
+#define VKP_TRAVERSE_LEAF(i) bvhTestSceneLeaf(ray, triangleRay, i, instance, anyHit, alphaKey, hit)
+#include "shared/bvh_traverse_loop.h"
+#undef VKP_TRAVERSE_FUNCTION
+#undef VKP_TRAVERSE_LEAF
+
 // anyHit: stop at the first hit in [0, ray.tMax) (it need not be the closest).
 // alphaKey: passed to bvhAlphaTest (shared/alpha.h alphaRayKey).
 VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
@@ -62,67 +120,9 @@ VKP_FN Hit bvhTrace(VKP_IN(Ray) ray, bool anyHit, uint alphaKey) VKP_BVH_CONST {
     hit.t = ray.tMax;
     hit.primitive = VKP_NO_HIT;
     hit.barycentrics = vec2(0.0f, 0.0f);
-
-    TriangleRay triangleRay = makeTriangleRay(ray.origin, ray.direction);
-    vec3 inverseDirection = safeInverse(ray.direction);
-
-    // The stack: its top eight entries in near and far, the rest in overflow
-    // (overflow[0] the bottom entry), which a shallow tree's kernels compile
-    // out. Entries and `node` are child words (shared/bvh.h).
-    uvec4 near = uvec4(0u), far = uvec4(0u);
-    uint overflow[VKP_BVH_MAX_DEPTH - VKP_BVH_SHALLOW_DEPTH];
-    uint stackSize = 0u;
-    uint node = 0u;  // the root's record
-    while (true) {
-        // ---- interior nodes: descend to the nearer child, push the farther ----
-        // (all of a SIMD group's rays descend together, then all test leaves)
-        bool exhausted = false;
-        while ((node >> VKP_BVH_WORD_COUNT_SHIFT) == 0u) {
-            uvec4 t0 = bvhNodeTexel(node);
-            uvec4 t1 = bvhNodeTexel(node + 1u);
-            uvec4 t2 = bvhNodeTexel(node + 2u);
-            uvec3 minA = uvec3(t0.x, t0.y, t0.z), maxA = uvec3(t0.w, t1.x, t1.y);
-            uvec3 minB = uvec3(t1.z, t1.w, t2.x), maxB = uvec3(t2.y, t2.z, t2.w);
-            float entryA, entryB;
-            bool hitA = intersectBox(uintBitsToFloat(minA), uintBitsToFloat(maxA), ray.origin,
-                                     inverseDirection, hit.t, entryA);
-            bool hitB = intersectBox(uintBitsToFloat(minB), uintBitsToFloat(maxB), ray.origin,
-                                     inverseDirection, hit.t, entryB);
-            uint first = bvhChildWord(minA, maxA);
-            uint second = bvhChildWord(minB, maxB);
-            // The next node is one of the two just tested, or from the stack.
-            if (hitA && hitB) {
-                bool firstNearer = entryA <= entryB;
-                if (hasFeature(VKP_FEATURE_DEEP_BVH) && stackSize >= VKP_BVH_SHALLOW_DEPTH)
-                    overflow[stackSize - VKP_BVH_SHALLOW_DEPTH] = far.w;
-                bvhStackPush(near, far, firstNearer ? second : first);
-                stackSize += 1u;
-                node = firstNearer ? first : second;
-            } else if (hitA || hitB) {
-                node = hitA ? first : second;
-            } else if (stackSize > 0u) {
-                node = bvhStackPop(near, far);
-                stackSize -= 1u;
-                if (hasFeature(VKP_FEATURE_DEEP_BVH) && stackSize >= VKP_BVH_SHALLOW_DEPTH)
-                    far.w = overflow[stackSize - VKP_BVH_SHALLOW_DEPTH];
-            } else {
-                exhausted = true;
-                break;
-            }
-        }
-        if (exhausted) break;
-
-        // ---- a leaf: test its primitives --------------------------------------
-        uint begin = node & VKP_BVH_WORD_INDEX_MASK;
-        uint end = begin + (node >> VKP_BVH_WORD_COUNT_SHIFT);
-        for (uint i = begin; i < end; ++i)
-            if (bvhTestPrimitive(ray, triangleRay, i, alphaKey, hit) && anyHit) return hit;
-        if (stackSize == 0u) break;
-        node = bvhStackPop(near, far);
-        stackSize -= 1u;
-        if (hasFeature(VKP_FEATURE_DEEP_BVH) && stackSize >= VKP_BVH_SHALLOW_DEPTH)
-            far.w = overflow[stackSize - VKP_BVH_SHALLOW_DEPTH];
-    }
+    hit.instance = VKP_NO_INSTANCE;
+    bvhTraverseScene(ray, makeTriangleRay(ray.origin, ray.direction), safeInverse(ray.direction),
+                     0u, VKP_NO_INSTANCE, anyHit, alphaKey, hit);
     return hit;
 }
 

@@ -56,7 +56,10 @@
 // --aov albedo,normal (SceneInfo::aovs): each path keeps the albedo and
 // shading normal of its first non-delta hit (shared/integrator.h recordAov)
 #define VKP_FEATURE_AOVS (1u << 28)
-#define VKP_FEATURE_COUNT 29u
+// A mesh stored once and placed by instances (shared/bvh.h): the scene's
+// tree has instance primitives, whose bottom-level trees traversal enters
+#define VKP_FEATURE_INSTANCES (1u << 29)
+#define VKP_FEATURE_COUNT 30u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
@@ -73,7 +76,8 @@ VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_CONSTANT)
 #define VKP_FEATURES_NON_DELTA (0u VKP_MATERIAL_KINDS(VKP_KIND_NON_DELTA_TERM))
 // The glass kinds: they read Material::ior and transmittance.
 #define VKP_FEATURES_TRANSMITS (0u VKP_MATERIAL_KINDS(VKP_KIND_TRANSMITS_TERM))
-#define VKP_FEATURES_PRIMITIVES (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES)
+#define VKP_FEATURES_PRIMITIVES \
+    (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES | VKP_FEATURE_INSTANCES)
 #define VKP_FEATURES_ENVIRONMENT (VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_ENVIRONMENT_MAP)
 
 VKP_NAMESPACE_BEGIN

@@ -12,6 +12,7 @@
 //   AliasEntry sceneEnvAlias(uint texel);
 //   vec3 sceneEnvRadiance(uint texel);              // linear RGB, before strength
 //   BvhPrimitive bvhPrimitive(uint index);          // from the BVH
+//   uvec4 bvhNodeTexel(uint texel);                 // the BVH's nodes and instance records
 //   TriangleVertices sceneTriangleVertices(uint triangle);  // by BvhPrimitive::id
 //   (shared/mesh_attributes.h) vec3 sceneVertexNormal(uint vertex); vec4 sceneVertexTexcoords(uint
 //   vertex);         // (TEXCOORD_0, TEXCOORD_1) vec4 sceneVertexColor(uint vertex); vec4
@@ -64,6 +65,7 @@ VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
 // ones before it (so clang-format leaves the order alone).
 // clang-format off
 #include "shared/path/environment.h"
+#include "shared/path/instances.h"
 #include "shared/path/textures.h"
 #include "shared/path/shading_normals.h"
 #include "shared/path/alpha_test.h"

@@ -267,7 +267,7 @@ inline bool intersectPrimitive(const BvhPrimitive& p, const Ray& ray, float tMax
 }
 
 inline Hit bruteForceClosest(const std::vector<BvhPrimitive>& primitives, const Ray& ray) {
-    Hit hit{ray.tMax, VKP_NO_HIT, glm::vec2(0.0f)};
+    Hit hit{ray.tMax, VKP_NO_HIT, glm::vec2(0.0f), VKP_NO_INSTANCE};
     const shared::TriangleRay triangleRay = shared::makeTriangleRay(ray.origin, ray.direction);
     for (uint32_t i = 0; i < primitives.size(); ++i) {
         const BvhPrimitive& p = primitives[i];
@@ -277,7 +277,7 @@ inline Hit bruteForceClosest(const std::vector<BvhPrimitive>& primitives, const 
             p.kind == VKP_PRIMITIVE_SPHERE
                 ? shared::intersectSphere(ray.origin, ray.direction, p.p0, p.p1.x, hit.t, t)
                 : shared::intersectTriangle(triangleRay, p.p0, p.p1, p.p2, hit.t, t, bary);
-        if (found) hit = Hit{t, i, bary};
+        if (found) hit = Hit{t, i, bary, VKP_NO_INSTANCE};
     }
     return hit;
 }
@@ -358,8 +358,8 @@ class GpuTracer {
     GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build, bool byAddress = false)
         : m_context(context),
           m_bvh(vkpath::bvh::uploadBvh(context, build, byAddress)),
-          m_closest(context, "bvh_closest", options(build, byAddress)),
-          m_anyHit(context, "bvh_anyhit", options(build, byAddress)) {}
+          m_closest(context, kernel("bvh_closest", build), options(build, byAddress)),
+          m_anyHit(context, kernel("bvh_anyhit", build), options(build, byAddress)) {}
 
     std::vector<Hit> closest(const std::vector<Ray>& rays) {
         vk::Buffer rayBuffer = vk::Buffer::fromSpan(m_context, std::span(rays));
@@ -390,11 +390,18 @@ class GpuTracer {
     double lastMilliseconds() const { return m_lastMilliseconds; }
 
   private:
+    // The trace kernel for the tree: its `_instanced` variant where the tree
+    // has instances (cmake/shaders.cmake).
+    static std::string kernel(const char* name, const vkpath::bvh::BvhBuild& build) {
+        return build.stats.instances > 0 ? std::string(name) + "_instanced" : std::string(name);
+    }
+
     // Specialised as a render's kernels are to the tree's depth (whether the
-    // stack may spill to an array); every other feature bit set.
+    // stack may spill to an array) and its instances; every other feature bit set.
     static vk::KernelOptions options(const vkpath::bvh::BvhBuild& build, bool byAddress) {
         const uint32_t features =
-            (VKP_FEATURES_ALL & ~VKP_FEATURE_DEEP_BVH) | vkpath::bvh::traversalFeatures(build);
+            (VKP_FEATURES_ALL & ~(VKP_FEATURE_DEEP_BVH | VKP_FEATURE_INSTANCES)) |
+            vkpath::bvh::traversalFeatures(build);
         return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress),
                                                     {VKP_SPEC_FEATURES, features}}};
     }

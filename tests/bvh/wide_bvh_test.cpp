@@ -40,7 +40,7 @@ struct Traced {
 // Traces every ray through both trees and brute force.
 Traced traceAll(const bvh::BvhBuild& build, const std::vector<Ray>& rays) {
     const shared::BvhView view{build.traversalNodes, build.primitives};
-    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
+    const bvh::WideBvh wide = bvh::collapseBvh(build);
     const std::vector<Hit> brute = bruteForceClosest(build.primitives, rays);
     Traced t;
     t.rays = rays.size();
@@ -130,7 +130,7 @@ std::pair<uint32_t, uint32_t> blockLeaf(const bvh::BvhBuild& build, const bvh::W
 // LEAF_PRIMITIVES primitives, with that node's box, and the wide leaves
 // hold every primitive once.
 void expectSoundCollapse(const bvh::BvhBuild& build) {
-    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
+    const bvh::WideBvh wide = bvh::collapseBvh(build);
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> nodeOfRange;
     subtreeRanges(build, 0, nodeOfRange);
     std::vector<int> visits(wide.nodes.size(), 0);
@@ -190,7 +190,7 @@ TEST(WideBvh, CollapseKeepsEveryLeafOnce) {
 
 TEST(WideBvh, EmptyTreeHitsNothing) {
     const bvh::BvhBuild build = buildChecked(emptyScene());
-    const bvh::WideBvh wide = bvh::collapseBvh(build.nodes, build.primitives);
+    const bvh::WideBvh wide = bvh::collapseBvh(build);
     EXPECT_TRUE(wide.nodes.empty());
     const shared::BvhView view{build.traversalNodes, build.primitives};
     EXPECT_EQ(bvh::traceWide(view, wide, makeRay(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f)), false, 0u)

@@ -220,6 +220,43 @@ TEST(ExportMitsuba, CornellBoxUnderTheSky) {
     EXPECT_EQ(map.height, 1024u);
 }
 
+// An instanced mesh is written once, as a shape group of its primitives'
+// PLYs, and each placement as an instance shape with its matrix, row by row.
+TEST(ExportMitsuba, InstancedMeshesAreShapeGroupsPlacedByInstances) {
+    const vkpath::test::TempDir dir;
+    const fs::path scenePath = vkpath::test::sourcePath("assets/instances.gltf");
+    const auto r = runVkpath("export-mitsuba " + quoted(scenePath) + " " + quoted(dir / "i"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_file((dir / "i" / "scene.xml").c_str()));
+    const scene::Scene s = scene::loadScene(scenePath);
+    ASSERT_EQ(s.instances.size(), 30u);
+    std::vector<pugi::xml_node> groups, instances;
+    for (pugi::xml_node shape : doc.child("scene").children("shape")) {
+        const std::string type = shape.attribute("type").as_string();
+        if (type == "shapegroup") groups.push_back(shape);
+        if (type == "instance") instances.push_back(shape);
+    }
+    ASSERT_EQ(groups.size(), 1u);
+    EXPECT_EQ(std::distance(groups[0].children("shape").begin(), groups[0].children("shape").end()),
+              2);
+    for (pugi::xml_node ply : groups[0].children("shape"))
+        EXPECT_TRUE(fs::exists(dir / "i" / param(ply, "string", "filename")));
+    ASSERT_EQ(instances.size(), s.instances.size());
+    for (size_t i = 0; i < instances.size(); ++i) {
+        EXPECT_EQ(std::string(instances[i].child("ref").attribute("id").as_string()),
+                  groups[0].attribute("id").as_string());
+        std::istringstream values(
+            instances[i].child("transform").child("matrix").attribute("value").as_string());
+        for (int row = 0; row < 4; ++row)
+            for (int column = 0; column < 4; ++column) {
+                float v = NAN;
+                values >> v;
+                EXPECT_FLOAT_EQ(v, float(s.instances[i].objectToWorld[column][row]));
+            }
+    }
+}
+
 TEST(ExportMitsuba, ConstantEnvironment) {
     const vkpath::test::TempDir dir;
     const fs::path source = VKPATH_SOURCE_DIR;

@@ -237,6 +237,19 @@ def test_scene_info_is_scene_infos_json():
     assert info == json.loads(printed)
 
 
+def test_instancing_is_a_scene_keyword_and_keeps_the_image():
+    path = ROOT / "assets" / "instances.gltf"
+    instanced, copied = vkpath.Scene(path, instancing="on"), vkpath.Scene(path)
+    assert instanced.info()["instances"] == 30 and copied.info()["instances"] == 0
+    assert instanced.info()["drawnTriangles"] == copied.info()["drawnTriangles"]
+    a = instanced.render(size=(32, 24), spp=4).image
+    b = copied.render(size=(32, 24), spp=4).image
+    # The same image up to rounding (tests/render/instancing_render_test.cpp bounds it).
+    assert vkpath.compare(a, b)["rel_mse"] < 1e-3
+    with pytest.raises(ValueError, match="instancing"):
+        vkpath.Scene(path, instancing="sometimes")
+
+
 # ---- the shared routines over arrays -----------------------------------------------------
 
 

@@ -1,5 +1,6 @@
 // Every scene the project ships or reads (<scenes>/scotty3d/*.dae and
-// assets/*.gltf) renders through the wavefront path tracer at low spp with
+// assets/*.gltf, its repeated meshes instanced) renders through the
+// wavefront path tracer at low spp with
 // no NaN or infinite sample and a finite, non-negative image, and its BVH
 // passes the integrity check. On every one, the GPU's four kernel builds
 // (wavefront or megakernel, specialised or general) give the same image bit
@@ -43,8 +44,16 @@ std::vector<std::string> sceneFiles() {
 
 class AllScenes : public testing::TestWithParam<std::string> {};
 
+// Every mesh that several nodes place is instanced (--instancing on), so that
+// instancing (assets/instances.gltf) meets every kernel and check here.
+scene::Scene loadInstanced(const std::string& path) {
+    scene::LoadOptions options;
+    options.instancing = scene::Instancing::On;
+    return scene::loadScene(path, options);
+}
+
 TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
-    const scene::Scene s = scene::loadScene(GetParam());
+    const scene::Scene s = loadInstanced(GetParam());
     // The renderer's builder and options: every primitive in exactly one leaf,
     // every child box inside its parent.
     EXPECT_EQ(bvh::integrityCheck(bvh::buildBvh(s), s), std::vector<std::string>{});
@@ -74,15 +83,16 @@ TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
 // (glTF 2.0 Appendix B), so their mirror spheres (metallic 1, roughness 0)
 // are smooth conductors, whose reflectance rises from F0 = 0.95 toward 1 at
 // grazing angles. Their diffuse materials say KHR_materials_specular
-// specularFactor 0, which is exactly Lambertian. Scenes made to show the
-// microfacet kinds are listed here.
+// specularFactor 0, which is exactly Lambertian. Scenes made with the
+// microfacet kinds (the roughness sweep; the instanced tori, of gold and red
+// plastic) are listed here.
 TEST_P(AllScenes, KeepTheirMaterialKinds) {
     const std::string name = std::filesystem::path(GetParam()).filename().string();
-    const std::vector<std::string> showingMicrofacets = {"material_spheres.gltf"};
+    const std::vector<std::string> showingMicrofacets = {"material_spheres.gltf", "instances.gltf"};
     if (std::find(showingMicrofacets.begin(), showingMicrofacets.end(), name) !=
         showingMicrofacets.end())
         GTEST_SKIP() << name << " is made to show the microfacet kinds";
-    const scene::Scene s = scene::loadScene(GetParam());
+    const scene::Scene s = loadInstanced(GetParam());
     for (const scene::Material& m : s.materials) {
         const bool smoothConductor =
             m.kind == scene::MaterialKind::Conductor && m.roughness == 0.0f;
@@ -171,7 +181,7 @@ wavefront::RenderSettings sameImageSettings(bool defaults) {
 // (shared/integrator.h): with the same seed, the same bits, in both of
 // sameImageSettings.
 TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
-    const scene::Scene s = scene::loadScene(GetParam());
+    const scene::Scene s = loadInstanced(GetParam());
     for (const bool defaults : {true, false}) {
         SCOPED_TRACE(defaults ? "default settings"
                               : "3 light samples, independent, no roulette, regularised");
@@ -201,7 +211,7 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
 // build, bit for bit, in both of sameImageSettings. A scene whose features a
 // profile holds runs the first such profile.
 TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
-    const scene::Scene s = scene::loadScene(GetParam());
+    const scene::Scene s = loadInstanced(GetParam());
     for (const bool defaults : {true, false}) {
         SCOPED_TRACE(defaults ? "default settings"
                               : "3 light samples, independent, no roulette, regularised");

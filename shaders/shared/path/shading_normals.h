@@ -13,7 +13,8 @@
 // were made for glTF's v-down coordinates) and n. `n` itself where the
 // frame or the map's normal is degenerate.
 VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) triangle, float b1,
-                            float b2, vec3 n) VKP_SCENE_CONST {
+                            float b2, vec3 n, bool instanced,
+                            VKP_IN(InstanceTransform) x) VKP_SCENE_CONST {
     TextureSlot slot = sceneTextureSlot(material.textures + VKP_SLOT_NORMAL);
     if (slot.texture == VKP_NO_TEXTURE) return n;
     float b0 = 1.0f - b1 - b2;
@@ -22,8 +23,9 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
                      b2 * sceneVertexTexcoords(v.z);
     vec3 mapped =
         2.0f * vec3(textureSlotValue(material.textures + VKP_SLOT_NORMAL, texcoords)) - 1.0f;
-    vec4 tangent =
-        b0 * sceneVertexTangent(v.x) + b1 * sceneVertexTangent(v.y) + b2 * sceneVertexTangent(v.z);
+    vec4 tangent = b0 * placedVertexTangent(v.x, instanced, x) +
+                   b1 * placedVertexTangent(v.y, instanced, x) +
+                   b2 * placedVertexTangent(v.z, instanced, x);
     vec3 t = vec3(tangent) - dot(n, vec3(tangent)) * n;
     float t2 = dot(t, t);
     if (!(t2 > 1e-12f)) return n;
@@ -35,9 +37,9 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
     return world / sqrt(length2);
 }
 
-// The normal the BSDF uses at a hit on `primitive` whose geometric normal is
-// `geometric`, seen from wo: the triangle's vertex normals interpolated with
-// the hit's barycentrics (Phong's interpolation: glTF's NORMAL attribute,
+// The normal the BSDF uses at a hit on `primitive` (of an object: in its
+// space) whose geometric normal is `geometric`, seen from wo: the triangle's vertex normals
+// interpolated with the hit's barycentrics (Phong's interpolation: glTF's NORMAL attribute,
 // Scotty3D's smooth meshes), or the geometric normal, perturbed by the
 // material's normal map where it has one, then adapted to wo
 // (shared/bsdf.h); the geometric normal itself for spheres and for flat
@@ -56,17 +58,20 @@ VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primit
                         (triangle.attributes & VKP_TRIANGLE_SHADING_NORMALS) != 0u;
     if (!mapped && !interpolated) return geometric;
     float b1 = hit.barycentrics.x, b2 = hit.barycentrics.y;
+    bool instanced = hasFeature(VKP_FEATURE_INSTANCES) && hit.instance != VKP_NO_INSTANCE;
+    InstanceTransform x;
+    if (instanced) x = instanceTransform(hit.instance);
     vec3 n = geometric;
     if (interpolated) {
-        vec3 sum = (1.0f - b1 - b2) * sceneVertexNormal(triangle.vertex.x) +
-                   b1 * sceneVertexNormal(triangle.vertex.y) +
-                   b2 * sceneVertexNormal(triangle.vertex.z);
+        vec3 sum = (1.0f - b1 - b2) * placedVertexNormal(triangle.vertex.x, instanced, x) +
+                   b1 * placedVertexNormal(triangle.vertex.y, instanced, x) +
+                   b2 * placedVertexNormal(triangle.vertex.z, instanced, x);
         float length2 = dot(sum, sum);
         if (length2 > 1e-12f)
             n = sum / sqrt(length2);
         else if (!mapped)
             return geometric;  // vertex normals that cancel out
     }
-    if (mapped) n = normalMapNormal(material, triangle, b1, b2, n);
+    if (mapped) n = normalMapNormal(material, triangle, b1, b2, n, instanced, x);
     return adaptShadingNormal(geometric, n, wo);
 }
