@@ -657,7 +657,8 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
         for (uint32_t t = 0; t < scene.meshes[m].triangles.size(); ++t)
             triangleSource.emplace_back(m, t);
     const size_t triangleTotal = triangleSource.size();
-    std::vector<uint8_t> triangleSeen(triangleTotal, 0), sphereSeen(scene.spheres.size(), 0);
+    std::vector<uint32_t> triangleSeen(triangleTotal, 0);
+    std::vector<uint8_t> sphereSeen(scene.spheres.size(), 0);
     auto validTriangle = [&](uint32_t m, uint32_t t) {
         const scene::Mesh& mesh = scene.meshes[m];
         const glm::uvec3 tri = mesh.triangles[t];
@@ -666,14 +667,16 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
                !isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y],
                                      mesh.positions[tri.z]);
     };
+    // An instanced mesh's triangles are in each object's tree that holds it
+    // (objects may share meshes); the others' in the scene's tree once.
     size_t expected = 0;
-    std::vector<uint8_t> meshInObject(scene.meshes.size(), 0);
+    std::vector<uint32_t> objectsOfMesh(scene.meshes.size(), 0);
     for (const ObjectTree& o : bvh.objects)
         for (uint32_t m = o.firstMesh; m < o.firstMesh + o.meshCount && m < scene.meshes.size();
              ++m)
-            meshInObject[m] = 1;
+            ++objectsOfMesh[m];
     for (const auto& [m, t] : triangleSource)
-        if ((!scene.meshes[m].instanced || meshInObject[m]) && validTriangle(m, t)) ++expected;
+        if (validTriangle(m, t)) expected += scene.meshes[m].instanced ? objectsOfMesh[m] : 1;
     for (const scene::Sphere& s : scene.spheres)
         if (!isDegenerateSphere(s.center, s.radius)) ++expected;
     size_t instancePrimitives = 0;
@@ -826,7 +829,9 @@ std::vector<std::string> integrityCheck(const BvhBuild& bvh, const scene::Scene&
                 report(fmt::format("primitive {}: triangle {} of mesh '{}' in the wrong tree", i,
                                    p.id, mesh.name));
             const glm::uvec3 tri = mesh.triangles[t];
-            if (triangleSeen[p.id]++) report(fmt::format("triangle {} appears twice", p.id));
+            if (++triangleSeen[p.id] > (mesh.instanced ? objectsOfMesh[m] : 1u))
+                report(fmt::format("triangle {} appears more often than the trees that hold it",
+                                   p.id));
             if (p.p0 != mesh.positions[tri.x] || p.p1 != mesh.positions[tri.y] ||
                 p.p2 != mesh.positions[tri.z] || p.material != mesh.material)
                 report(fmt::format("primitive {}: data differs from triangle {}", i, p.id));

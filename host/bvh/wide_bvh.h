@@ -31,7 +31,6 @@
 // skipped when popped.
 #pragma once
 
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -71,7 +70,7 @@ struct WideBvh {
     static constexpr uint32_t BLOCK = 8;
     // Up to eight primitives of one leaf and one kind, in leaf order: lane i
     // is primitive[i], a triangle (p0, p1, p2), a sphere (centre p0, radius
-    // p1x), an instance (p0x: the bits of its bottom-level tree's index,
+    // p1x), an instance (p0x: its bottom-level tree's index as a float,
     // shared/bvh.h) or unused (no bit). A leaf's triangle blocks come first,
     // then its spheres', then its instances'.
     struct alignas(32) Block {
@@ -283,7 +282,7 @@ bool testInstances(const View& view, const WideBvh& wide, const WideBvh::Block& 
         objectRay.direction = shared::transformDirection(rows, ray.direction);
         objectRay.tMax = ray.tMax;
         objectRay.pixel = ray.pixel;
-        const uint32_t object = std::bit_cast<uint32_t>(block.p0x[lane]);
+        const auto object = uint32_t(block.p0x[lane]);  // its tree's index, as a float
         if (traceFrom(view, wide, objectRay, wide.objectRoots[object], index, anyHit, alphaKey,
                       hit)) {
             if (anyHit) return true;

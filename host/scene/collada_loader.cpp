@@ -7,7 +7,10 @@
 // (SOURCE.md: x' = -x, y' = z, z' = y for Z_UP) and applies <unit meter>.
 // Geometry is instanced per node (a geometry used twice is parsed once,
 // collada_geometry), after the hierarchy is walked and the scene's geometry
-// counted (LoadOptions::admit); materials are bound per instance through <bind_material>
+// counted (LoadOptions::admit): copied into world space per
+// <instance_geometry>, or, where several bind it the same materials and
+// LoadOptions::instancing says so, converted once in its own space and
+// placed by scene::Instances; materials are bound per instance through <bind_material>
 // symbols (collada_materials). Lights and the camera are gathered here and
 // handed to the Scotty3D policy (scotty3d_policy.h), which decides what they
 // become where Scotty3D is not physical.
@@ -36,8 +39,10 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
+#include <map>
 #include <optional>
 #include <pugixml.hpp>
+#include <set>
 #include <string_view>
 
 #include "input_error.h"
@@ -111,6 +116,11 @@ class ColladaLoader {
     glm::dmat4 rootTransform();
     glm::dmat4 localTransform(pugi::xml_node node);
     void visitNode(pugi::xml_node node, const glm::dmat4& parent, int depth);
+    // A mesh geometry with the materials an instance binds to it: what
+    // instances of one geometry must share to share its meshes.
+    using InstancedKey = std::pair<const void*, Bindings>;
+    static InstancedKey instancedKey(const GeometryInstance& g);
+    void chooseInstancedGeometry();
     GeometryCounts countGeometry();
     void addGeometryInstance(const GeometryInstance& instance);
     void addLightInstance(pugi::xml_node instance, const glm::dmat4& world,
@@ -126,6 +136,9 @@ class ColladaLoader {
     Scotty3dLights m_lights;
     std::vector<CameraInstance> m_cameras;
     std::vector<GeometryInstance> m_geometryInstances;  // in document order
+    // The instanced geometries (LoadOptions::instancing), each with the range
+    // of Scene::meshes it became once converted (at its first instance).
+    std::map<InstancedKey, std::optional<std::pair<uint32_t, uint32_t>>> m_instanced;
     uint64_t m_nodeVisits = 0;
 };
 
@@ -291,13 +304,70 @@ void ColladaLoader::visitNode(pugi::xml_node node, const glm::dmat4& parent, int
 // Geometry, lights and the camera
 // ===========================================================================
 
+Bindings bindingsOf(pugi::xml_node instance) {
+    Bindings bindings;
+    for (pugi::xml_node im :
+         instance.child("bind_material").child("technique_common").children("instance_material"))
+        bindings.emplace_back(im.attribute("symbol").as_string(),
+                              im.attribute("target").as_string());
+    return bindings;
+}
+
+uint64_t triangleCount(const LocalMesh& local) {
+    uint64_t triangles = 0;
+    for (const Primitive& primitive : local.primitives) triangles += primitive.corners.size() / 3;
+    return triangles;
+}
+
+ColladaLoader::InstancedKey ColladaLoader::instancedKey(const GeometryInstance& g) {
+    return {g.geometry.internal_object(), bindingsOf(g.instance)};
+}
+
+// Which <mesh> geometries are kept once and placed by instances
+// (LoadOptions::instancing): those several <instance_geometry>s place with
+// the same material bindings, whose materials emit no light, whose copies
+// would add enough triangles (as the glTF importer decides).
+void ColladaLoader::chooseInstancedGeometry() {
+    if (m_options.instancing == Instancing::Off) return;
+    std::map<InstancedKey, std::pair<uint64_t, const GeometryInstance*>> placements;
+    for (const GeometryInstance& g : m_geometryInstances)
+        if (g.geometry.child("mesh")) {
+            auto& [count, first] = placements[instancedKey(g)];
+            if (count++ == 0) first = &g;
+        }
+    for (const auto& [key, placed] : placements) {
+        const auto [count, first] = placed;
+        if (count < 2) continue;
+        const LocalMesh& local = m_geometry.localMesh(first->geometry);
+        if (m_options.instancing == Instancing::Auto &&
+            (count - 1) * triangleCount(local) < INSTANCING_MIN_TRIANGLES)
+            continue;
+        bool emissive = false;
+        for (const Primitive& primitive : local.primitives)
+            emissive |=
+                m_scene.materials
+                    .at(m_materials.forSymbol(primitive.symbol, key.second, first->nodeName))
+                    .emissive();
+        if (!emissive) m_instanced[key] = std::nullopt;
+    }
+}
+
 // The geometry the instances will add: each <mesh> geometry's triangles once
-// per instance, with a vertex per corner (an upper bound: an instance splits
-// a position only where its corners' normals differ).
+// per instance (an instanced one's once, and an instance each), with a vertex
+// per corner (an upper bound: an instance splits a position only where its
+// corners' normals differ).
 GeometryCounts ColladaLoader::countGeometry() {
     GeometryCounts counts;
+    std::set<InstancedKey> counted;
     for (const GeometryInstance& g : m_geometryInstances) {
         if (g.geometry.child("mesh")) {
+            if (!m_instanced.empty()) {
+                const InstancedKey key = instancedKey(g);
+                if (m_instanced.contains(key)) {
+                    counts.instances += 1;
+                    if (!counted.insert(key).second) continue;
+                }
+            }
             const LocalMesh& local = m_geometry.localMesh(g.geometry);
             for (const Primitive& primitive : local.primitives) {
                 const uint64_t corners = primitive.corners.size();
@@ -319,20 +389,31 @@ void ColladaLoader::addGeometryInstance(const GeometryInstance& g) {
     const pugi::xml_node instance = g.instance, geometry = g.geometry;
     const glm::dmat4& world = g.world;
     const std::string& nodeName = g.nodeName;
-    Bindings bindings;
-    for (pugi::xml_node im :
-         instance.child("bind_material").child("technique_common").children("instance_material"))
-        bindings.emplace_back(im.attribute("symbol").as_string(),
-                              im.attribute("target").as_string());
+    const Bindings bindings = bindingsOf(instance);
 
     // Scotty3D's order: a <mesh> makes a mesh, else the CMU462 <sphere>.
     if (geometry.child("mesh")) {
-        m_geometry.addMeshInstance(
-            m_geometry.localMesh(geometry), world, nodeName,
-            [&](const std::string& symbol) {
-                return m_materials.forSymbol(symbol, bindings, nodeName);
-            },
-            m_scene.meshes);
+        auto materialFor = [&](const std::string& symbol) {
+            return m_materials.forSymbol(symbol, bindings, nodeName);
+        };
+        const auto instanced =
+            m_instanced.empty() ? m_instanced.end() : m_instanced.find(instancedKey(g));
+        if (instanced == m_instanced.end()) {
+            m_geometry.addMeshInstance(m_geometry.localMesh(geometry), world, nodeName, materialFor,
+                                       m_scene.meshes);
+            return;
+        }
+        // Instanced: converted once in its own space, then placed.
+        if (!instanced->second) {
+            const auto first = uint32_t(m_scene.meshes.size());
+            m_geometry.addMeshInstance(m_geometry.localMesh(geometry), glm::dmat4(1.0),
+                                       nameOf(geometry), materialFor, m_scene.meshes);
+            for (size_t i = first; i < m_scene.meshes.size(); ++i)
+                m_scene.meshes[i].instanced = true;
+            instanced->second = {first, uint32_t(m_scene.meshes.size()) - first};
+        }
+        const auto [first, count] = *instanced->second;
+        if (count > 0) m_scene.instances.push_back({nodeName, first, count, world});
         return;
     }
     if (const pugi::xml_node sphere = cmuTechnique(geometry).child("sphere")) {
@@ -544,6 +625,7 @@ Scene ColladaLoader::load(std::vector<std::string>* warningLines) {
 
     const glm::dmat4 rootMatrix = rootTransform();
     for (pugi::xml_node node : visualScene.children("node")) visitNode(node, rootMatrix, 0);
+    chooseInstancedGeometry();
     if (m_options.admit) m_options.admit(m_document.file(), countGeometry());
     for (const GeometryInstance& instance : m_geometryInstances) addGeometryInstance(instance);
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <numbers>
 #include <span>
@@ -51,11 +52,17 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
 std::pair<glm::dvec3, double> boundingSphere(const scene::Scene& scene) {
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
     for (const auto& mesh : scene.meshes)
-        for (const glm::vec3& p : mesh.positions)
-            if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
-                lo = glm::min(lo, glm::dvec3(p));
-                hi = glm::max(hi, glm::dvec3(p));
-            }
+        if (!mesh.instanced)
+            for (const glm::vec3& p : mesh.positions)
+                if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+                    lo = glm::min(lo, glm::dvec3(p));
+                    hi = glm::max(hi, glm::dvec3(p));
+                }
+    if (!scene.instances.empty()) {  // placed instanced meshes
+        const scene::Bounds placed = scene.geometryBounds();
+        lo = glm::min(lo, glm::dvec3(placed.lo));
+        hi = glm::max(hi, glm::dvec3(placed.hi));
+    }
     for (const auto& s : scene.spheres) {
         lo = glm::min(lo, glm::dvec3(s.center) - double(s.radius));
         hi = glm::max(hi, glm::dvec3(s.center) + double(s.radius));
@@ -163,7 +170,11 @@ scene::Scene moved(const scene::Scene& world, glm::dvec3 origin) {
     scene::Scene s = world;
     auto move = [&](glm::vec3& p) { p = glm::vec3(glm::dvec3(p) - origin); };
     for (auto& mesh : s.meshes)
-        for (auto& p : mesh.positions) move(p);
+        if (!mesh.instanced)
+            for (auto& p : mesh.positions) move(p);
+    // Instanced meshes stay in their own space; their placements move.
+    for (auto& instance : s.instances)
+        instance.objectToWorld = glm::translate(glm::dmat4(1.0), -origin) * instance.objectToWorld;
     for (auto& sphere : s.spheres) move(sphere.center);
     for (auto& light : s.pointLights) move(light.position);
     for (auto& light : s.spotLights) move(light.position);

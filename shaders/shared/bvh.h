@@ -66,7 +66,9 @@
 // per placement, of kind VKP_PRIMITIVE_INSTANCE:
 //   id        the first texel of its instance record in the node array
 //   material  the texel of its bottom-level tree's root record
-//   p0 .. p2  unused (0)
+//   p0.x      its bottom-level tree's index (bvh::BvhBuild::objects), as a
+//             float (exact below 2^24: the CPU's wide tree finds it by this)
+//   p1, p2    its world-space box (the integrity check's; traversal reads neither)
 // Every tree is in the same two arrays: the node array holds the scene's
 // tree's records from texel 0, then each bottom-level tree's, then the
 // instance records; the primitive array the scene's tree's leaves, then each

@@ -85,20 +85,22 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         return false;
     }
     BvhPrimitive primitive = bvhPrimitive(hit.primitive);
-    bool mirrored = false;
-    if (hasFeature(VKP_FEATURE_INSTANCES) && hit.instance != VKP_NO_INSTANCE) {
+    bool instanced = hasFeature(VKP_FEATURE_INSTANCES) && hit.instance != VKP_NO_INSTANCE;
+    InstanceTransform x;
+    if (instanced) {
         // An object's triangle, placed (shared/path/instances.h).
-        InstanceTransform x = instanceTransform(hit.instance);
+        x = instanceTransform(hit.instance);
         primitive = placedTriangle(primitive, x);
-        mirrored = instanceMirrors(x);
     }
     shading.material = materialAt(sceneMaterial(primitive.material), primitive, hit);
     if (hasFeature(VKP_FEATURE_REGULARIZE) && path.afterNonDelta)
         shading.material = regularizedMaterial(shading.material, sceneInfo().regularizeAlpha);
     shading.surface = surfacePoint(primitive, path.ray, hit);
-    if (mirrored) {
-        shading.surface.normal = -shading.surface.normal;
-        shading.surface.shadingNormal = shading.surface.normal;
+    if (instanced) {
+        if (instanceMirrors(x)) {
+            shading.surface.normal = -shading.surface.normal;
+            shading.surface.shadingNormal = shading.surface.normal;
+        }
     }
     shading.wo = -path.ray.direction;
     if (hasFeature(VKP_FEATURE_ABSORPTION))

@@ -52,7 +52,8 @@ std::vector<glm::dmat4> placements(int count) {
     for (int k = 0; k < count; ++k) {
         glm::dmat4 m(1.0);
         m = glm::translate(m, glm::dvec3((k % 4) * 2.5 - 3.75, (k / 4) * 2.5 - 2.5, -0.5 * k));
-        m = glm::rotate(m, 0.3 + 0.7 * k, glm::normalize(glm::dvec3(std::cos(k), 1.0, std::sin(k))));
+        m = glm::rotate(m, 0.3 + 0.7 * k,
+                        glm::normalize(glm::dvec3(std::cos(k), 1.0, std::sin(k))));
         glm::dvec3 scale(0.6 + 0.15 * (k % 5));
         if (k % 3 == 1) scale *= glm::dvec3(1.4, 1.0, 0.7);
         if (k == 5) scale.x = -scale.x;  // a mirror image
@@ -72,18 +73,25 @@ scene::Scene placedScene(int count, bool instanced) {
     const scene::Mesh parts[2] = {icosphere(3, 1.0f, vec3(0.0f)), tessellatedCube(6)};
     const std::vector<glm::dmat4> where = placements(count);
     if (instanced) {
+        // Two objects: the sphere and the cube together, and the cube alone
+        // (every third placement).
         const auto first = uint32_t(s.meshes.size());
         for (scene::Mesh part : parts) {
             part.instanced = true;
             s.meshes.push_back(std::move(part));
         }
-        for (int k = 0; k < count; ++k)
-            s.instances.push_back({"instance " + std::to_string(k), first, 2, where[size_t(k)]});
+        for (int k = 0; k < count; ++k) {
+            const bool cubeOnly = k % 3 == 2;
+            s.instances.push_back({"instance " + std::to_string(k), first + (cubeOnly ? 1u : 0u),
+                                   cubeOnly ? 1u : 2u, where[size_t(k)]});
+        }
         return s;
     }
-    for (const glm::dmat4& m : where) {
+    for (size_t k = 0; k < where.size(); ++k) {
+        const glm::dmat4& m = where[k];
         const bool mirror = glm::determinant(glm::dmat3(m)) < 0.0;
-        for (scene::Mesh part : parts) {
+        for (size_t i = k % 3 == 2 ? 1 : 0; i < 2; ++i) {
+            scene::Mesh part = parts[i];
             for (glm::vec3& p : part.positions) p = glm::vec3(m * glm::dvec4(glm::dvec3(p), 1.0));
             if (mirror)
                 for (glm::uvec3& t : part.triangles) std::swap(t.y, t.z);
@@ -101,10 +109,12 @@ TEST(Instancing, OneTreePerObjectWhateverThePlacements) {
     for (const int count : {1, 3, 24}) {
         const scene::Scene s = placedScene(count, true);
         const bvh::BvhBuild build = buildChecked(s);
-        ASSERT_EQ(build.objects.size(), 1u);
+        // The sphere with the cube, and from three placements on the cube alone.
+        ASSERT_EQ(build.objects.size(), count >= 3 ? 2u : 1u);
         EXPECT_EQ(build.stats.instances, size_t(count));
-        // The object's triangles once: the soup's 300, the sphere's 1280, the cube's 6 x 72.
-        EXPECT_EQ(build.stats.triangles, 300u + 1280u + 6u * 72u);
+        // The objects' triangles once each: the soup's 300, the sphere's
+        // 1280, the cube's 6 x 72 (once with the sphere, once alone).
+        EXPECT_EQ(build.stats.triangles, 300u + 1280u + 6u * 72u + (count >= 3 ? 6u * 72u : 0u));
         EXPECT_EQ(build.objects[0].primitiveCount, 1280u + 6u * 72u);
         EXPECT_EQ(bvh::traversalFeatures(build) & VKP_FEATURE_INSTANCES,
                   uint32_t(VKP_FEATURE_INSTANCES));
@@ -113,8 +123,10 @@ TEST(Instancing, OneTreePerObjectWhateverThePlacements) {
 
 TEST(Instancing, SingularAndEmptyPlacementsAreLeftOut) {
     scene::Scene s = placedScene(2, true);
-    s.instances.push_back({"flat", s.instances[0].firstMesh, 2, glm::scale(glm::dmat4(1.0), glm::dvec3(1, 0, 1))});
-    s.instances.push_back({"huge", s.instances[0].firstMesh, 2, glm::scale(glm::dmat4(1.0), glm::dvec3(1e300))});
+    s.instances.push_back(
+        {"flat", s.instances[0].firstMesh, 2, glm::scale(glm::dmat4(1.0), glm::dvec3(1, 0, 1))});
+    s.instances.push_back(
+        {"huge", s.instances[0].firstMesh, 2, glm::scale(glm::dmat4(1.0), glm::dvec3(1e300))});
     const bvh::BvhBuild build = buildChecked(s);
     EXPECT_EQ(build.stats.instances, 2u);
     EXPECT_EQ(build.stats.degenerateInstances, 2u);
@@ -129,8 +141,14 @@ TEST(Instancing, TraversalsAgreeBitForBitAndWithTheFlattenedScene) {
     const std::vector<Ray> rays = randomRays(flat, 20000, 3, vec3(-6.0f), vec3(6.0f));
 
     // Which flattened triangle each (instance, object triangle) is: the
-    // copies follow the soup, placement after placement, in mesh order.
-    const uint32_t soup = 300, objectTriangles = 1280 + 6 * 72;
+    // copies follow the soup, placement after placement, in mesh order
+    // (every third placement the cube alone).
+    const uint32_t soup = 300, sphere = 1280;
+    std::vector<uint32_t> flatStart(count);
+    for (int k = 0, next = int(soup); k < count; ++k) {
+        flatStart[size_t(k)] = uint32_t(next);
+        next += k % 3 == 2 ? 6 * 72 : int(sphere) + 6 * 72;
+    }
     // The instance records follow the nodes in scene order: a record's place
     // among them is its placement.
     uint32_t firstRecord = UINT32_MAX;
@@ -145,7 +163,8 @@ TEST(Instancing, TraversalsAgreeBitForBitAndWithTheFlattenedScene) {
         const BvhPrimitive& p = instanced.primitives[h.primitive];
         if (p.kind != VKP_PRIMITIVE_TRIANGLE) return UINT32_MAX;  // a sphere: compared by t
         if (h.instance == VKP_NO_INSTANCE) return p.id;
-        return soup + placementOfInstance.at(h.instance) * objectTriangles + (p.id - soup);
+        const uint32_t k = placementOfInstance.at(h.instance);
+        return flatStart[k] + (k % 3 == 2 ? p.id - soup - sphere : p.id - soup);
     };
 
     const shared::BvhView view{instanced.traversalNodes, instanced.primitives};
@@ -196,7 +215,8 @@ TEST(Instancing, TraversalsAgreeBitForBitAndWithTheFlattenedScene) {
         const float magnitude =
             std::max(glm::compMax(glm::abs(rays[i].origin)), glm::compMax(glm::abs(point)));
         largestGap = std::max(largestGap, across / magnitude);
-        if (across > POSITION_TOLERANCE * magnitude) ++distance;
+        if (across > POSITION_TOLERANCE * magnitude)
+            ++distance;
         else if (flatTriangle(binary) != flatId)
             ++neighbour;
     }
@@ -208,9 +228,10 @@ TEST(Instancing, TraversalsAgreeBitForBitAndWithTheFlattenedScene) {
     EXPECT_EQ(distance, 0u);
     EXPECT_LE(double(hitOrMiss + neighbour), MAX_DIFFERING_SHARE * double(rays.size()))
         << hitOrMiss << " hit or miss, " << neighbour << " on a neighbour, of " << rays.size();
-    std::printf("instanced hits %zu of %zu rays; against the flattened scene: %zu hit or miss, "
-                "%zu at another point, %zu on a neighbour; largest distance %.3g of the magnitude\n",
-                instancedHits, rays.size(), hitOrMiss, distance, neighbour, largestGap);
+    std::printf(
+        "instanced hits %zu of %zu rays; against the flattened scene: %zu hit or miss, "
+        "%zu at another point, %zu on a neighbour; largest distance %.3g of the magnitude\n",
+        instancedHits, rays.size(), hitOrMiss, distance, neighbour, largestGap);
 }
 
 }  // namespace

@@ -225,11 +225,14 @@ TEST(ExportMitsuba, CornellBoxUnderTheSky) {
 TEST(ExportMitsuba, InstancedMeshesAreShapeGroupsPlacedByInstances) {
     const vkpath::test::TempDir dir;
     const fs::path scenePath = vkpath::test::sourcePath("assets/instances.gltf");
-    const auto r = runVkpath("export-mitsuba " + quoted(scenePath) + " " + quoted(dir / "i"));
+    const auto r = runVkpath("export-mitsuba " + quoted(scenePath) + " " + quoted(dir / "i") +
+                             " --instancing on");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     pugi::xml_document doc;
     ASSERT_TRUE(doc.load_file((dir / "i" / "scene.xml").c_str()));
-    const scene::Scene s = scene::loadScene(scenePath);
+    scene::LoadOptions on;
+    on.instancing = scene::Instancing::On;
+    const scene::Scene s = scene::loadScene(scenePath, on);
     ASSERT_EQ(s.instances.size(), 30u);
     std::vector<pugi::xml_node> groups, instances;
     for (pugi::xml_node shape : doc.child("scene").children("shape")) {

@@ -506,6 +506,45 @@ TEST(ColladaTransforms, MirroringNodeFlipsWindingAndKeepsFacing) {
     for (const glm::vec3& p : m.positions) EXPECT_LE(p.x, 0.0f);
 }
 
+// A geometry that three nodes place with the same material binding is kept
+// once in its own space and placed by instances with --instancing on, as a
+// glTF mesh is (tests/scene/gltf_instancing_test.cpp); copied per node with
+// off. A node that binds it another material gets a copy of its own.
+TEST(ColladaTransforms, AGeometryPlacedThriceIsKeptOnceWhenInstancingIsOn) {
+    TempDir dir;
+    Doc d;
+    d.extraEffects = effect("red", "0.8 0.1 0.1");
+    d.extraMaterials = material("red");
+    auto node = [](const std::string& name, const std::string& matrix, const std::string& mat) {
+        return "<node id=\"" + name + "\" name=\"" + name + "\"><matrix>" + matrix +
+               "</matrix><instance_geometry url=\"#tri\">" + bind(mat) +
+               "</instance_geometry></node>";
+    };
+    d.extraNodes = node("A", "1 0 0 2  0 1 0 0  0 0 1 0  0 0 0 1", "white") +
+                   node("B", "-1 0 0 4  0 1 0 0  0 0 1 0  0 0 0 1", "white") +
+                   node("C", "1 0 0 6  0 1 0 0  0 0 1 0  0 0 0 1", "red");
+    const fs::path file = dir.write("placed.dae", xml(d));
+    std::vector<std::string> warnings;
+    scene::LoadOptions on;
+    on.instancing = scene::Instancing::On;
+    const scene::Scene s = scene::loadCollada(file, on, &warnings);
+    size_t instanced = 0;
+    for (const scene::Mesh& m : s.meshes) instanced += m.instanced;
+    EXPECT_EQ(instanced, 1u);
+    EXPECT_EQ(s.meshes.size(), 2u);     // the white triangle once, the red one copied
+    ASSERT_EQ(s.instances.size(), 3u);  // Tri, A and B
+    EXPECT_EQ(s.instances[1].objectToWorld[3], glm::dvec4(2, 0, 0, 1));
+    EXPECT_EQ(s.instances[2].objectToWorld[0], glm::dvec4(-1, 0, 0, 0));
+    EXPECT_EQ(s.drawnTriangleCount(), 4u);
+    const scene::Scene copied = scene::loadCollada(file, {}, &warnings);
+    EXPECT_TRUE(copied.instances.empty());
+    EXPECT_EQ(copied.meshes.size(), 4u);
+    EXPECT_EQ(copied.drawnTriangleCount(), 4u);
+    // The scene's box holds the placed copies alike.
+    EXPECT_EQ(s.geometryBounds().lo, copied.geometryBounds().lo);
+    EXPECT_EQ(s.geometryBounds().hi, copied.geometryBounds().hi);
+}
+
 TEST(ColladaTransforms, NonUniformScaleUsesTheInverseTranspose) {
     TempDir dir;
     Doc d;

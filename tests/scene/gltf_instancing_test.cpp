@@ -15,26 +15,6 @@ namespace {
 using namespace vkpath;
 namespace fs = std::filesystem;
 
-// A UV sphere of 4 r (r - 1) triangles as one glTF mesh.
-int sphereMesh(test::GltfBuilder& b, int rings, int material = -1) {
-    std::vector<glm::vec3> positions;
-    const int segments = 2 * rings;
-    for (int r = 0; r <= rings; ++r)
-        for (int s = 0; s <= segments; ++s) {
-            const double theta = M_PI * r / rings, phi = 2 * M_PI * s / segments;
-            positions.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                   std::sin(theta) * std::sin(phi));
-        }
-    std::vector<uint32_t> indices;
-    for (int r = 0; r < rings; ++r)
-        for (int s = 0; s < segments; ++s) {
-            const uint32_t a = uint32_t(r * (segments + 1) + s), c = a + uint32_t(segments + 1);
-            if (r > 0) indices.insert(indices.end(), {a, a + 1, c});
-            if (r < rings - 1) indices.insert(indices.end(), {a + 1, c + 1, c});
-        }
-    return b.mesh(b.vec3s(positions), b.indices(indices, test::U32), b.vec3s(positions), material);
-}
-
 scene::LoadOptions with(scene::Instancing instancing) {
     scene::LoadOptions options;
     options.instancing = instancing;
@@ -80,7 +60,7 @@ TEST(GltfInstancing, AutoInstancesWhereTheCopiesWouldAddEnoughTriangles) {
     const test::TempDir dir;
     for (const int placements : {27, 28}) {
         test::GltfBuilder b;
-        const int ball = sphereMesh(b, 100);  // 39 600 triangles
+        const int ball = b.uvSphere(100, false);  // 39 600 triangles
         for (int i = 0; i < placements; ++i)
             b.node({{"mesh", ball}, {"translation", {3 * i, 0, 0}}});
         b.camera();

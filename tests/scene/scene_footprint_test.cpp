@@ -31,35 +31,6 @@ namespace {
 using namespace vkpath;
 namespace fs = std::filesystem;
 
-// A unit UV sphere of 4 r (r - 1) triangles with normals (and texture
-// coordinates), as one indexed glTF mesh; returns the mesh index.
-int uvSphere(test::GltfBuilder& b, int rings, bool texcoords) {
-    std::vector<glm::vec3> positions;
-    std::vector<glm::vec2> uvs;
-    const int segments = 2 * rings;
-    for (int r = 0; r <= rings; ++r)
-        for (int s = 0; s <= segments; ++s) {
-            const double theta = M_PI * r / rings, phi = 2 * M_PI * s / segments;
-            positions.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                   std::sin(theta) * std::sin(phi));
-            uvs.emplace_back(float(s) / float(segments), float(r) / float(rings));
-        }
-    std::vector<uint32_t> indices;
-    for (int r = 0; r < rings; ++r)
-        for (int s = 0; s < segments; ++s) {
-            const uint32_t a = uint32_t(r * (segments + 1) + s), c = a + uint32_t(segments + 1);
-            if (r > 0) indices.insert(indices.end(), {a, a + 1, c});
-            if (r < rings - 1) indices.insert(indices.end(), {a + 1, c + 1, c});
-        }
-    const int p = b.vec3s(positions);
-    const int n = b.vec3s(positions);  // a unit sphere's normals are its positions
-    const int m = b.mesh(p, b.indices(indices, test::U32), n);
-    if (texcoords)
-        b.doc["meshes"][size_t(m)]["primitives"][0]["attributes"]["TEXCOORD_0"] = b.accessor(
-            b.view(uvs.data(), uvs.size() * sizeof(glm::vec2)), test::F32, "VEC2", uvs.size());
-    return m;
-}
-
 scene::Scene loadCounting(const fs::path& path, scene::GeometryCounts& counted) {
     scene::LoadOptions options;
     options.admit = [&](const std::string&, const scene::GeometryCounts& c) { counted = c; };
@@ -97,7 +68,7 @@ TEST(SceneFootprint, GltfImporterCountsWhatItBuilds) {
     }
     const test::TempDir dir;
     test::GltfBuilder b;
-    const int ball = uvSphere(b, 10, true);
+    const int ball = b.uvSphere(10, true);
     for (int i = 0; i < 3; ++i) b.node({{"mesh", ball}, {"translation", {3.0 * i, 0, 0}}});
     b.camera();
     scene::GeometryCounts counted;
@@ -133,7 +104,7 @@ TEST(SceneFootprint, ColladaImporterCountsTrianglesAndBoundsVertices) {
 TEST(SceneFootprint, DeviceEstimateIsTheBuiltTablesGeometry) {
     const test::TempDir dir;
     test::GltfBuilder b;
-    b.node({{"mesh", uvSphere(b, 100, false)}});
+    b.node({{"mesh", b.uvSphere(100, false)}});
     b.camera();
     std::vector<fs::path> scenes = {test::sourcePath("assets/normal_maps.gltf"),
                                     b.writeGltf(dir / "ball.gltf")};
@@ -166,7 +137,7 @@ TEST(SceneFootprint, DeviceEstimateIsTheBuiltTablesGeometry) {
 TEST(SceneFootprint, AForestTooLargeForAnyMachineIsRefusedFromItsCounts) {
     const test::TempDir dir;
     test::GltfBuilder b;
-    const int ball = uvSphere(b, 100, false);
+    const int ball = b.uvSphere(100, false);
     for (int i = 0; i < 100'000; ++i)
         b.node({{"mesh", ball}, {"translation", {i % 316, 0, i / 316}}});
     b.camera();
@@ -198,7 +169,7 @@ TEST(SceneFootprint, AForestTooLargeForAnyMachineIsRefusedFromItsCounts) {
 
 // The same through COLLADA's <instance_node>: a node that instances the one
 // below it twice, 18 levels deep over a 20 000-triangle geometry, is 262 144
-// instances and 5.2 billion triangles.
+// instances and 5.2 billion triangles: refused copied, rendered instanced.
 TEST(SceneFootprint, ColladaInstanceNodesTooLargeAreRefusedFromTheirCounts) {
     const test::TempDir dir;
     const int side = 101;  // vertices a side: 2 x 100^2 triangles
@@ -238,13 +209,18 @@ TEST(SceneFootprint, ColladaInstanceNodesTooLargeAreRefusedFromTheirCounts) {
         3 * side * side, positions, side * side, 2 * (side - 1) * (side - 1), p, nodes);
     const fs::path path = dir.write("instances.dae", dae);
     const std::string exr = (dir / "instances.exr").string();
-    const auto r = test::runVkpath("render " + path.string() + " -d 8x8 -s 1 -o " + exr);
+    const auto r =
+        test::runVkpath("render " + path.string() + " --instancing off -d 8x8 -s 1 -o " + exr);
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(path.string() + ": too large for this machine: 5242.9 M triangles"),
               std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(exr));
+    // Instanced (the default), the grid is kept once and placed 262 144 times.
+    const auto instanced = test::runVkpath("render " + path.string() + " -d 8x8 -s 1 -o " + exr);
+    EXPECT_EQ(instanced.exitCode, 0) << instanced.err;
+    EXPECT_TRUE(fs::exists(exr));
 }
 
 // VKPATH_HOST_MEMORY_BYTES for the command lines this test runs.

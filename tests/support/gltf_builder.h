@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -125,6 +126,36 @@ class GltfBuilder {
         const int p = vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
         const int n = vec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
         return mesh(p, -1, n, material);
+    }
+
+    // A unit UV sphere of 4 r (r - 1) triangles with normals (and texture
+    // coordinates), as one indexed mesh of `material` (-1: none); returns the
+    // mesh index.
+    int uvSphere(int rings, bool texcoords, int material = -1) {
+        std::vector<glm::vec3> positions;
+        std::vector<glm::vec2> uvs;
+        const int segments = 2 * rings;
+        for (int r = 0; r <= rings; ++r)
+            for (int s = 0; s <= segments; ++s) {
+                const double theta = M_PI * r / rings, phi = 2 * M_PI * s / segments;
+                positions.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                       std::sin(theta) * std::sin(phi));
+                uvs.emplace_back(float(s) / float(segments), float(r) / float(rings));
+            }
+        std::vector<uint32_t> corners;
+        for (int r = 0; r < rings; ++r)
+            for (int s = 0; s < segments; ++s) {
+                const uint32_t a = uint32_t(r * (segments + 1) + s), c = a + uint32_t(segments + 1);
+                if (r > 0) corners.insert(corners.end(), {a, a + 1, c});
+                if (r < rings - 1) corners.insert(corners.end(), {a + 1, c + 1, c});
+            }
+        const int p = vec3s(positions);
+        const int n = vec3s(positions);  // a unit sphere's normals are its positions
+        const int m = mesh(p, indices(corners, U32), n, material);
+        if (texcoords)
+            doc["meshes"][size_t(m)]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+                accessor(view(uvs.data(), uvs.size() * sizeof(glm::vec2)), F32, "VEC2", uvs.size());
+        return m;
     }
 
     enum class Buffer { Embedded, External, None };
