@@ -5,22 +5,27 @@
 
 set(VKPATH_SHADER_INCLUDE_DIR ${CMAKE_SOURCE_DIR}/shaders)
 
-# vkpath_embed_shaders(<target> <registry-name> <shader files...> [INSTANCED <names...>])
+# vkpath_embed_shaders(<target> <registry-name> <shader files...> [TRACING <names...>])
 # Creates a static library <target> whose single generated source defines
 # vkpath::shaders::<registry-name>() returning the embedded kernels. The
-# kernels named after INSTANCED (file names without extension) trace rays and
-# are compiled a second time with VKP_INSTANCING defined, as <name>_instanced:
-# the traversal that enters instances' trees (shaders/shared/bvh_traverse.h),
-# which kernels of scenes without instances do not carry (its code would cost
-# them pipeline compile time and memory even where specialisation removes it).
+# kernels named after TRACING (file names without extension) trace rays and
+# are compiled twice more:
+#   <name>_instanced, with VKP_INSTANCING: the traversal that enters instances'
+#     trees (shaders/shared/bvh_traverse.h), which kernels of scenes without
+#     instances do not carry (its code would cost them pipeline compile time
+#     and memory even where specialisation removes it);
+#   <name>_rayquery, with VKP_RAY_QUERY: tracing by the device's acceleration
+#     structures (shaders/shared/bvh_ray_query.h), whose SPIR-V capability only
+#     a device with ray queries accepts.
 function(vkpath_embed_shaders target registry)
-    cmake_parse_arguments(PARSE_ARGV 2 EMBED "" "" "INSTANCED")
+    cmake_parse_arguments(PARSE_ARGV 2 EMBED "" "" "TRACING")
     set(spv_files "")
     foreach(src IN LISTS EMBED_UNPARSED_ARGUMENTS)
         get_filename_component(name ${src} NAME_WE)
         set(variants "${name}|")
-        if(name IN_LIST EMBED_INSTANCED)
+        if(name IN_LIST EMBED_TRACING)
             list(APPEND variants "${name}_instanced|-DVKP_INSTANCING")
+            list(APPEND variants "${name}_rayquery|-DVKP_RAY_QUERY")
         endif()
         foreach(variant IN LISTS variants)
             string(REPLACE "|" ";" parts "${variant}")

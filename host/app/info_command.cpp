@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "bvh/gpu_bvh.h"
 #include "vk/context.h"
+#include "wavefront/wave_sizing.h"
 
 namespace vkpath::app {
 namespace {
@@ -31,6 +33,7 @@ nlohmann::json deviceJson(const vk::DeviceInfo& d) {
         {"bufferDeviceAddress", d.bufferDeviceAddress},
         {"signedZeroInfNanPreserveFloat32", d.signedZeroInfNanPreserveFloat32},
         {"rayQuery", d.rayQuery},
+        {"defaultTraversal", bvh::traversalName(wavefront::defaultTraversal(d))},
         {"timestamps", d.timestamps},
         {"timestampPeriodNs", d.timestampPeriodNs},
         {"deviceLocalMemory", d.deviceLocalMemory},
@@ -52,6 +55,8 @@ void printDevice(const vk::DeviceInfo& d) {
     std::printf("  timestamps        %s, period %g ns\n", yesNo(d.timestamps), d.timestampPeriodNs);
     std::printf("  ray queries       %s\n",
                 d.rayQuery ? "yes (VK_KHR_ray_query, VK_KHR_acceleration_structure)" : "no");
+    std::printf("  traversal         %s by default (--traversal)\n",
+                bvh::traversalName(wavefront::defaultTraversal(d)));
     std::printf("  device memory     %.0f MiB\n", d.deviceLocalMemory / 1048576.0);
     const std::string advice = vk::driverAdvice(d);
     if (!advice.empty()) std::printf("  note              %s\n", advice.c_str());

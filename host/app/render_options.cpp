@@ -112,6 +112,11 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "(one invocation per "
                    "path); default: the faster on the device's type")
         ->check(CLI::IsMember({"wavefront", "megakernel"}));
+    cmd.add_option("--traversal", o.traversal,
+                   "GPU: how rays find their hits: compute (the kernels' own BVH traversal) or "
+                   "rayquery (the device's acceleration structures, VK_KHR_ray_query; same "
+                   "hits but at ties); default: the faster on the device")
+        ->check(CLI::IsMember({"compute", "rayquery"}));
     cmd.add_flag("--no-specialize", o.noSpecialize,
                  "The general kernels (GPU) or the general build of the CPU reference, not code "
                  "specialised to "
@@ -293,6 +298,9 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     if (!o.kernel.empty() && o.device == "cpu")
         throw InputError("--kernel chooses a GPU kernel form: not with --device cpu");
     if (!o.kernel.empty()) settings.kernel = wavefront::parseKernelForm(o.kernel);
+    if (!o.traversal.empty() && o.device == "cpu")
+        throw InputError("--traversal chooses how GPU kernels trace rays: not with --device cpu");
+    if (!o.traversal.empty()) settings.traversal = bvh::parseTraversal(o.traversal);
     settings.specialize = !o.noSpecialize;
     settings.workgroupSize = o.workgroupSize;
     settings.megakernelPathsPerInvocation = o.megakernelPaths;

@@ -48,6 +48,7 @@ struct RenderOptions {
     std::optional<double> maxWaveMs;           // GPU: RenderSettings::maxWaveMilliseconds
     std::optional<double> maxDeviceMemoryMiB;  // GPU: RenderSettings::maxDeviceMemoryBytes, in MiB
     std::string kernel;          // wavefront::parseKernelForm's names; empty: the device's default
+    std::string traversal;       // bvh::parseTraversal's names; empty: the device's default
     bool noSpecialize = false;   // general kernels instead of ones specialised to the scene
     std::string device = "gpu";  // gpu: the Vulkan renderer; cpu: the reference
     std::optional<uint32_t> threads;    // cpu: worker threads (0 or unset: every hardware thread)

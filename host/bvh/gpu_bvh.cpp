@@ -18,9 +18,30 @@ glm::uvec2 split(VkDeviceAddress address) {
 
 }  // namespace
 
+std::optional<Traversal> parseTraversal(const std::string& name) {
+    if (name == "compute") return Traversal::Compute;
+    if (name == "rayquery") return Traversal::RayQuery;
+    return std::nullopt;
+}
+
+const char* traversalName(Traversal traversal) {
+    return traversal == Traversal::RayQuery ? "rayquery" : "compute";
+}
+
+std::string tracingKernel(const char* name, Traversal traversal, bool instances) {
+    // The device's structures place instances themselves: one variant for both.
+    if (traversal == Traversal::RayQuery) return std::string(name) + "_rayquery";
+    return instances ? std::string(name) + "_instanced" : std::string(name);
+}
+
 shared::BvhAddresses GpuBvh::addresses() const {
-    if (!byAddress) return {};
-    return {split(nodes.deviceAddress()), split(primitives.deviceAddress())};
+    shared::BvhAddresses a{};
+    if (byAddress) {
+        a.nodes = split(nodes.deviceAddress());
+        a.primitives = split(primitives.deviceAddress());
+    }
+    if (rayQuery) rayQuery->setAddresses(a);
+    return a;
 }
 
 std::array<vk::ArrayExtent, 2> arrayExtents(const BvhBuild& bvh) {
@@ -38,17 +59,30 @@ GpuBvh uploadBvh(vk::Context& context, const BvhBuild& bvh, bool byAddress) {
     GpuBvh gpu;
     gpu.byAddress = byAddress;
     gpu.nodes = vk::Buffer::fromSpan(context, std::span(bvh.traversalNodes), "bvh nodes");
+    // The device's acceleration structures read triangles from it.
+    const VkBufferUsageFlags usage =
+        context.info().rayQuery
+            ? VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR
+            : 0;
     if (bvh.primitives.empty()) {
         // A binding (or an address) needs a buffer; the empty tree never reads it.
         const std::vector<shared::BvhPrimitive> placeholder(1, shared::BvhPrimitive{});
-        gpu.primitives = vk::Buffer::fromSpan(context, std::span(placeholder), "bvh primitives");
+        gpu.primitives =
+            vk::Buffer::fromSpan(context, std::span(placeholder), "bvh primitives", usage);
     } else {
-        gpu.primitives = vk::Buffer::fromSpan(context, std::span(bvh.primitives), "bvh primitives");
+        gpu.primitives =
+            vk::Buffer::fromSpan(context, std::span(bvh.primitives), "bvh primitives", usage);
     }
     // One texel: the bindings are texel buffers (shared/bvh_buffers.h).
     if (byAddress)
         gpu.placeholder = vk::Buffer(context, 16, vk::MemoryKind::DeviceLocal, "bvh placeholder");
     return gpu;
+}
+
+void addAccelerationStructures(vk::Context& context, GpuBvh& gpu, const BvhBuild& bvh,
+                               const std::vector<bool>& alphaTested) {
+    gpu.rayQuery =
+        std::make_unique<AccelerationStructures>(context, bvh, gpu.primitives, alphaTested);
 }
 
 std::string describeMemory(const BvhBuild& bvh) {

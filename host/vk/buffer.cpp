@@ -15,7 +15,8 @@
 
 namespace vkpath::vk {
 
-Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char* debugName)
+Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char* debugName,
+               VkBufferUsageFlags extraUsage)
     : m_context(&context), m_size(size), m_kind(kind) {
     const VkDeviceSize allocated = std::max<VkDeviceSize>(size, 4);
     VkBufferCreateInfo create{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -24,7 +25,7 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
     if (kind == MemoryKind::DeviceLocal)
         create.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                         VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | extraUsage;
     const bool addressable = kind == MemoryKind::DeviceLocal && context.info().bufferDeviceAddress;
     if (addressable) create.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;

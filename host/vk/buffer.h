@@ -25,9 +25,10 @@ class Buffer {
     Buffer() = default;
     // A buffer of `size` bytes (at least 4) usable as a storage buffer, a
     // uniform texel buffer (texelView), a copy source and destination, and an
-    // indirect-dispatch argument buffer.
+    // indirect-dispatch argument buffer; device-local ones also as
+    // `extraUsage` says (acceleration structures' storage and build input).
     Buffer(Context& context, VkDeviceSize size, MemoryKind kind = MemoryKind::DeviceLocal,
-           const char* debugName = nullptr);
+           const char* debugName = nullptr, VkBufferUsageFlags extraUsage = 0);
     ~Buffer();
     Buffer(Buffer&& other) noexcept;
     Buffer& operator=(Buffer&& other) noexcept;
@@ -37,8 +38,8 @@ class Buffer {
     // A device-local buffer holding a copy of `data`.
     template <typename T, size_t Extent>
     static Buffer fromSpan(Context& context, std::span<T, Extent> data,
-                           const char* debugName = nullptr) {
-        Buffer buffer(context, data.size_bytes(), MemoryKind::DeviceLocal, debugName);
+                           const char* debugName = nullptr, VkBufferUsageFlags extraUsage = 0) {
+        Buffer buffer(context, data.size_bytes(), MemoryKind::DeviceLocal, debugName, extraUsage);
         buffer.upload(std::as_bytes(data));
         return buffer;
     }

@@ -431,11 +431,28 @@ void Context::createDevice() {
     features.pNext = &features12;
     features.features.shaderInt64 = m_info.shaderInt64;
     features.features.shaderFloat64 = m_info.shaderFloat64;
+    // Ray queries where the device has them (--traversal rayquery,
+    // host/bvh/acceleration_structures.h).
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR structures{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    structures.accelerationStructure = VK_TRUE;
+    VkPhysicalDeviceRayQueryFeaturesKHR query{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+    query.rayQuery = VK_TRUE;
+    std::vector<const char*> extensions;
+    if (m_info.rayQuery) {
+        extensions = {VK_KHR_RAY_QUERY_EXTENSION_NAME, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                      VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+        query.pNext = &structures;
+        features12.pNext = &query;
+    }
 
     VkDeviceCreateInfo create{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     create.pNext = &features;
     create.queueCreateInfoCount = 1;
     create.pQueueCreateInfos = &queue;
+    create.enabledExtensionCount = uint32_t(extensions.size());
+    create.ppEnabledExtensionNames = extensions.data();
     VK_CHECK(vkCreateDevice(m_physicalDevice, &create, nullptr, &m_device));
     vkGetDeviceQueue(m_device, m_queueFamily, 0, &m_queue);
 

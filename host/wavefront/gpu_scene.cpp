@@ -359,7 +359,7 @@ std::vector<std::pair<uint32_t, const vk::Buffer*>> GpuScene::bindings() const {
     return b;
 }
 
-GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
+GpuScene uploadScene(vk::Context& context, const SceneTables& t, bvh::Traversal traversal) {
     // The arrays that may be read by address, and their sizes.
     std::vector<vk::ArrayExtent> extents;
     for (const vk::ArrayExtent& e : bvh::arrayExtents(t.bvh)) extents.push_back(e);
@@ -382,17 +382,23 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t) {
     VKP_SCENE_ARRAYS(VKP_BOUND_FITS)
 #undef VKP_BOUND_FITS
     g.bvh = bvh::uploadBvh(context, t.bvh, g.byAddress);
+    if (traversal == bvh::Traversal::RayQuery) {
+        std::vector<bool> alphaTested(t.materialAlpha.size());
+        for (size_t m = 0; m < t.materialAlpha.size(); ++m)
+            alphaTested[m] = t.materialAlpha[m].mode != VKP_ALPHA_OPAQUE;
+        bvh::addAccelerationStructures(context, g.bvh, t.bvh, alphaTested);
+    }
 #define VKP_ARRAY_UPLOAD(index, name, Record, access, member) \
     g.name = uploadArray(context, t.member, #name);
     VKP_SCENE_ARRAYS(VKP_ARRAY_UPLOAD)
 #undef VKP_ARRAY_UPLOAD
     shared::SceneAddresses addresses{};
+    addresses.bvh = g.bvh.addresses();
     if (g.byAddress) {
         auto split = [](const vk::Buffer& b) {
             const VkDeviceAddress a = b.deviceAddress();
             return glm::uvec2(uint32_t(a), uint32_t(a >> 32));
         };
-        addresses.bvh = g.bvh.addresses();
 #define VKP_ARRAY_ADDRESS(index, name, Record, access, member) \
     VKP_SCENE_ARRAY_IF_SPANS_##access(addresses.name = split(g.name);)
         VKP_SCENE_ARRAYS(VKP_ARRAY_ADDRESS)

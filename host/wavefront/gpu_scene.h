@@ -103,7 +103,10 @@ uint64_t deviceBytes(const SceneTables& tables);
 // maxStorageBufferRange and 16 x maxTexelBufferElements, or
 // VKPATH_MAX_BINDING_BYTES when lower);
 // throws InputError, naming the array, when one is larger than a buffer may be.
-GpuScene uploadScene(vk::Context& context, const SceneTables& tables);
+// With bvh::Traversal::RayQuery the device's acceleration structures are built
+// too (InputError where it has no ray queries).
+GpuScene uploadScene(vk::Context& context, const SceneTables& tables,
+                     bvh::Traversal traversal = bvh::Traversal::Compute);
 
 // One line for the render summary: the scene's device memory, the BVH's part
 // of it, and how the kernels read it, e.g. "scene: 12.3 MiB on the device

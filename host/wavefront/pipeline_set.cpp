@@ -16,13 +16,13 @@ std::span<const std::byte> bytes(const shared::WavePush& p) {
     return std::as_bytes(std::span(&p, 1));
 }
 
-// A kernel that traces rays, as its `_instanced` variant where the features
-// it is specialised to may include instances (cmake/shaders.cmake).
-std::string tracing(const char* kernel, const std::vector<vk::SpecializationConstant>& scene) {
-    for (const vk::SpecializationConstant& c : scene)
-        if (c.id == VKP_SPEC_FEATURES && (c.value & VKP_FEATURE_INSTANCES) != 0u)
-            return std::string(kernel) + "_instanced";
-    return kernel;
+// A kernel that traces rays, as its variant for the traversal and for
+// features that may include instances (bvh::tracingKernel).
+std::string tracing(const char* kernel, const PipelineSetup& setup) {
+    bool instances = false;
+    for (const vk::SpecializationConstant& c : setup.sceneSpecialization)
+        if (c.id == VKP_SPEC_FEATURES && (c.value & VKP_FEATURE_INSTANCES) != 0u) instances = true;
+    return bvh::tracingKernel(kernel, setup.traversal, instances);
 }
 
 }  // namespace
@@ -56,16 +56,13 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
     bindings = whole;
     m_built.emplace_back(m_accumulate.get(), &m_accumulateSets.front());
     if (setup.form == KernelForm::Megakernel) {
-        m_megakernel =
-            build(tracing("megakernel", setup.sceneSpecialization), sceneOptions, m_megakernelSet);
+        m_megakernel = build(tracing("megakernel", setup), sceneOptions, m_megakernelSet);
     } else {
         m_generate = build("generate", sceneOptions, m_generateSet);
-        m_intersect =
-            build(tracing("intersect", setup.sceneSpecialization), sceneOptions, m_intersectSet);
+        m_intersect = build(tracing("intersect", setup), sceneOptions, m_intersectSet);
         m_shade = build("shade", sceneOptions, m_shadeSet);
         if (setup.shadowStage)
-            m_shadow =
-                build(tracing("shadow", setup.sceneSpecialization), sceneOptions, m_shadowSet);
+            m_shadow = build(tracing("shadow", setup), sceneOptions, m_shadowSet);
     }
     // One empty dispatch of each; with no paths the queues are empty (the
     // renderer clears the counters again before its first wave).

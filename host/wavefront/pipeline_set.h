@@ -28,7 +28,8 @@ struct PipelineSetup {
     uint32_t workgroupSize = 64;
     // The scene kernels' specialisation: scene access and feature bits.
     std::vector<vk::SpecializationConstant> sceneSpecialization;
-    uint32_t megakernelPathsPerInvocation = 1;  // RenderSettings'
+    uint32_t megakernelPathsPerInvocation = 1;           // RenderSettings'
+    bvh::Traversal traversal = bvh::Traversal::Compute;  // of the kernels that trace rays
 };
 
 class PipelineSet {

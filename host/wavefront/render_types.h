@@ -76,6 +76,9 @@ struct RenderSettings {
     // GPU: the form of the kernels; unset: the measured default for the
     // device's type (defaultKernelForm).
     std::optional<KernelForm> kernel;
+    // GPU: how the kernels find hits (bvh::Traversal); unset: the measured
+    // default for the device (defaultTraversal).
+    std::optional<bvh::Traversal> traversal;
     // GPU: kernels specialised to the scene's features (shared/features.h);
     // false builds the general kernels (--no-specialize).
     bool specialize = true;

@@ -104,7 +104,8 @@ void GpuRenderer::setUp() {
     const RenderSettings& settings = m_settings;
     const shared::Camera camera =
         scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
-    m_scene = uploadScene(context, m_tables);
+    m_traversal = settings.traversal.value_or(defaultTraversal(context.info()));
+    m_scene = uploadScene(context, m_tables, m_traversal);
 
     shared::SceneInfo& info = m_tables.info;
     info = renderSceneInfo(m_tables, settings);
@@ -173,7 +174,8 @@ void GpuRenderer::setUp() {
                         .workgroupSize = settings.workgroupSize,
                         .sceneSpecialization = {bvh::sceneAccessConstant(m_scene.byAddress),
                                                 {VKP_SPEC_FEATURES, m_features}},
-                        .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation};
+                        .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation,
+                        .traversal = m_traversal};
     r->pipelines = std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->filmOdd,
                                                  r->filmAov, r->counters);
     m_pipelines = r->pipelines->count();
@@ -199,10 +201,9 @@ std::string GpuRenderer::describe() const {
         total += group.bytes;
     }
     return fmt::format(
-        "kernels: {}, {} ({} pipelines in {:.0f} ms, ready {:.0f} ms after the scene was loaded); "
-        "device memory {:.1f} "
-        "MiB: {} ({} paths in flight)",
-        kernelFormName(m_form),
+        "kernels: {}, {} traversal, {} ({} pipelines in {:.0f} ms, ready {:.0f} ms after the "
+        "scene was loaded); device memory {:.1f} MiB: {} ({} paths in flight)",
+        kernelFormName(m_form), bvh::traversalName(m_traversal),
         m_settings.specialize ? "specialised to " + describeFeatures(m_features)
                               : std::string("general (--no-specialize)"),
         m_pipelines, m_pipelineMilliseconds, m_setupMilliseconds, total / (1024.0 * 1024.0), memory,

@@ -65,6 +65,7 @@ class GpuRenderer {
     uint64_t sceneBytes() const { return m_scene.bytes(); }
     const GpuScene& scene() const { return m_scene; }
     KernelForm form() const { return m_form; }
+    bvh::Traversal traversal() const { return m_traversal; }
     uint32_t features() const { return m_features; }  // VKP_FEATURE_* bits of the pipelines
     double pipelineMilliseconds() const {
         return m_pipelineMilliseconds;
@@ -87,6 +88,7 @@ class GpuRenderer {
     SceneTables m_tables;
     GpuScene m_scene;
     KernelForm m_form = KernelForm::Wavefront;
+    bvh::Traversal m_traversal = bvh::Traversal::Compute;
     uint32_t m_features = 0;
     uint32_t m_pipelines = 0;
     double m_pipelineMilliseconds = 0;

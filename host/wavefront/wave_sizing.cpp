@@ -52,6 +52,13 @@ KernelForm defaultKernelForm(const vk::DeviceInfo& device) {
     return device.type == "cpu" ? KernelForm::Megakernel : KernelForm::Wavefront;
 }
 
+bvh::Traversal defaultTraversal(const vk::DeviceInfo&) {
+    // Measured: lavapipe's ray queries trace 2-4 times slower than the
+    // kernels' own traversal (docs/BENCHMARKS.md, "Ray queries"). No device
+    // with ray-tracing hardware has been measured, so none defaults to them.
+    return bvh::Traversal::Compute;
+}
+
 uint32_t defaultPathsInFlight(const vk::DeviceInfo& device) {
     // Measured by wave size: docs/BENCHMARKS.md, "An NVIDIA H200" (a discrete
     // GPU; pathsPerWave still keeps the path state to a quarter of the

@@ -42,6 +42,9 @@ uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, bool aovs
 // The kernel form a device gets without --kernel (measured:
 // docs/BENCHMARKS.md, "Kernel forms and specialisation").
 KernelForm defaultKernelForm(const vk::DeviceInfo& device);
+// The faster traversal on the device (measured: docs/BENCHMARKS.md,
+// "Ray queries"); compute where it has no ray queries.
+bvh::Traversal defaultTraversal(const vk::DeviceInfo& device);
 
 // The paths one wave may hold unless the settings say: more on a discrete GPU,
 // where a wave of 2^20 paths leaves the GPU idle while the host submits the

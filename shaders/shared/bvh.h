@@ -171,12 +171,35 @@ VKP_FN uint bvhChildWord(uvec3 boxMin, uvec3 boxMax) {
            ((boxMax.x & m) << 18u) | ((boxMax.y & m) << 24u) | ((boxMax.z & 3u) << 30u);
 }
 
-// Where the BVH's two arrays lie in device memory, for kernels that read it by
-// address (VKP_SPEC_SCENE_BY_ADDRESS): VkDeviceAddress as (low, high) words,
-// GL_EXT_buffer_reference_uvec2. Zero when the arrays are bound instead.
+// Hardware ray tracing (--traversal rayquery; host/bvh/acceleration_structures.h
+// builds them, shared/bvh_ray_query.h traces): the device's acceleration
+// structures hold the same primitives, and a hit's (instance custom index,
+// geometry index, primitive index) leads back to its place in the primitive
+// array through two arrays. A TLAS instance's custom index is its first
+// RayQueryGeometry, one per geometry of its BLAS in geometry order; the
+// geometry's primitive k has the entry at firstIndex + stride x k of the
+// index array. A triangle geometry's entries are vertex indices (stride 3):
+// the device reads a triangle's corners from the primitive array itself, as
+// 16-byte vertices (p0, p1 and p2 of primitive i are vertices 3i, 3i + 1 and
+// 3i + 2), so its primitive is its first entry / 3. A sphere geometry (AABBs,
+// tested by the kernel) has one entry per sphere (stride 1): its primitive.
+struct RayQueryGeometry {
+    uint firstIndex;
+    uint stride;    // 3: triangles; 1: spheres
+    uint instance;  // Hit::instance of its hits: the instance primitive, or VKP_NO_INSTANCE
+    uint padding;
+};
+
+// Where the BVH's arrays lie in device memory: VkDeviceAddress as (low, high)
+// words, GL_EXT_buffer_reference_uvec2. The first two for kernels that read
+// the tree by address (VKP_SPEC_SCENE_BY_ADDRESS), zero when it is bound
+// instead; the other three for kernels that trace by ray queries, zero without.
 struct BvhAddresses {
-    uvec2 nodes;       // the traversal's node texels (uvec4[], above)
-    uvec2 primitives;  // BvhPrimitive[]
+    uvec2 nodes;                  // the traversal's node texels (uvec4[], above)
+    uvec2 primitives;             // BvhPrimitive[]
+    uvec2 accelerationStructure;  // the TLAS
+    uvec2 rayQueryGeometries;     // RayQueryGeometry[]
+    uvec2 rayQueryIndices;        // uint[]
 };
 
 struct TracePush {
@@ -226,8 +249,9 @@ static_assert(sizeof(vkpath::shared::BvhNode) == 32);
 VKP_RECORD_CHECK(VKP_BVH_PRIMITIVE_FIELDS, 3)
 #undef VKP_RECORD
 static_assert(sizeof(vkpath::shared::Hit) == 20);
-static_assert(sizeof(vkpath::shared::BvhAddresses) == 16);
-static_assert(sizeof(vkpath::shared::TracePush) == 20);
+static_assert(sizeof(vkpath::shared::RayQueryGeometry) == 16);
+static_assert(sizeof(vkpath::shared::BvhAddresses) == 40);
+static_assert(sizeof(vkpath::shared::TracePush) == 44);
 #endif
 
 #endif  // VKPATH_SHARED_BVH_H

@@ -78,6 +78,12 @@ BvhPrimitive bvhPrimitive(uint index) {
 }
 
 #include "shared/bvh_leaf.h"
+// The kernels' `_rayquery` variants trace by the device's acceleration
+// structures, the others by their own traversal of the tree.
+#ifdef VKP_RAY_QUERY
+#include "shared/bvh_ray_query.h"
+#else
 #include "shared/bvh_traverse.h"
+#endif
 
 #endif  // VKPATH_SHARED_BVH_BUFFERS_H

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <random>
 #include <string>
@@ -349,17 +350,78 @@ inline Comparison compareHits(const vkpath::bvh::BvhBuild& build, const std::vec
     return c;
 }
 
+// ---- instancing: one object placed, or its placements copied ----------------------
+
+// Placements of the object: rotations about tilted axes, uniform and uneven
+// scales, one mirror, on a grid.
+inline std::vector<glm::dmat4> placements(int count) {
+    std::vector<glm::dmat4> out;
+    for (int k = 0; k < count; ++k) {
+        glm::dmat4 m(1.0);
+        m = glm::translate(m, glm::dvec3((k % 4) * 2.5 - 3.75, (k / 4) * 2.5 - 2.5, -0.5 * k));
+        m = glm::rotate(m, 0.3 + 0.7 * k,
+                        glm::normalize(glm::dvec3(std::cos(k), 1.0, std::sin(k))));
+        glm::dvec3 scale(0.6 + 0.15 * (k % 5));
+        if (k % 3 == 1) scale *= glm::dvec3(1.4, 1.0, 0.7);
+        if (k == 5) scale.x = -scale.x;  // a mirror image
+        out.push_back(glm::scale(m, scale));
+    }
+    return out;
+}
+
+// The scene with the two meshes of one object placed `count` times, plus a
+// world-space triangle soup and spheres: instanced, or flattened (each
+// placement a copy with its vertices placed in double and, under a mirror,
+// its winding swapped, as host/scene/gltf_meshes.cpp does).
+inline scene::Scene placedScene(int count, bool instanced) {
+    scene::Scene s = emptyScene();
+    addTriangleSoup(s, 300, 0.4f, 7);
+    addSphereField(s, 20, 0.1f, 0.3f, 11);
+    const scene::Mesh parts[2] = {icosphere(3, 1.0f, vec3(0.0f)), tessellatedCube(6)};
+    const std::vector<glm::dmat4> where = placements(count);
+    if (instanced) {
+        // Two objects: the sphere and the cube together, and the cube alone
+        // (every third placement).
+        const auto first = uint32_t(s.meshes.size());
+        for (scene::Mesh part : parts) {
+            part.instanced = true;
+            s.meshes.push_back(std::move(part));
+        }
+        for (int k = 0; k < count; ++k) {
+            const bool cubeOnly = k % 3 == 2;
+            s.instances.push_back({"instance " + std::to_string(k), first + (cubeOnly ? 1u : 0u),
+                                   cubeOnly ? 1u : 2u, where[size_t(k)]});
+        }
+        return s;
+    }
+    for (size_t k = 0; k < where.size(); ++k) {
+        const glm::dmat4& m = where[k];
+        const bool mirror = glm::determinant(glm::dmat3(m)) < 0.0;
+        for (size_t i = k % 3 == 2 ? 1 : 0; i < 2; ++i) {
+            scene::Mesh part = parts[i];
+            for (glm::vec3& p : part.positions) p = glm::vec3(m * glm::dvec4(glm::dvec3(p), 1.0));
+            if (mirror)
+                for (glm::uvec3& t : part.triangles) std::swap(t.y, t.z);
+            s.meshes.push_back(std::move(part));
+        }
+    }
+    return s;
+}
+
 // ---- the GPU trace kernels -------------------------------------------------------
 
 class GpuTracer {
   public:
     // byAddress: the kernels read the BVH through buffer device addresses (the
     // path of scenes beyond maxStorageBufferRange) instead of bindings.
-    GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build, bool byAddress = false)
+    // traversal: RayQuery traces by the device's acceleration structures
+    // (every triangle opaque).
+    GpuTracer(vk::Context& context, const vkpath::bvh::BvhBuild& build, bool byAddress = false,
+              vkpath::bvh::Traversal traversal = vkpath::bvh::Traversal::Compute)
         : m_context(context),
-          m_bvh(vkpath::bvh::uploadBvh(context, build, byAddress)),
-          m_closest(context, kernel("bvh_closest", build), options(build, byAddress)),
-          m_anyHit(context, kernel("bvh_anyhit", build), options(build, byAddress)) {}
+          m_bvh(upload(context, build, byAddress, traversal)),
+          m_closest(context, kernel("bvh_closest", build, traversal), options(build, byAddress)),
+          m_anyHit(context, kernel("bvh_anyhit", build, traversal), options(build, byAddress)) {}
 
     std::vector<Hit> closest(const std::vector<Ray>& rays) {
         vk::Buffer rayBuffer = vk::Buffer::fromSpan(m_context, std::span(rays));
@@ -390,10 +452,18 @@ class GpuTracer {
     double lastMilliseconds() const { return m_lastMilliseconds; }
 
   private:
-    // The trace kernel for the tree: its `_instanced` variant where the tree
-    // has instances (cmake/shaders.cmake).
-    static std::string kernel(const char* name, const vkpath::bvh::BvhBuild& build) {
-        return build.stats.instances > 0 ? std::string(name) + "_instanced" : std::string(name);
+    static vkpath::bvh::GpuBvh upload(vk::Context& context, const vkpath::bvh::BvhBuild& build,
+                                      bool byAddress, vkpath::bvh::Traversal traversal) {
+        vkpath::bvh::GpuBvh gpu = vkpath::bvh::uploadBvh(context, build, byAddress);
+        if (traversal == vkpath::bvh::Traversal::RayQuery)
+            vkpath::bvh::addAccelerationStructures(context, gpu, build, {});
+        return gpu;
+    }
+
+    // The trace kernel for the tree and the traversal (cmake/shaders.cmake).
+    static std::string kernel(const char* name, const vkpath::bvh::BvhBuild& build,
+                              vkpath::bvh::Traversal traversal) {
+        return vkpath::bvh::tracingKernel(name, traversal, build.stats.instances > 0);
     }
 
     // Specialised as a render's kernels are to the tree's depth (whether the

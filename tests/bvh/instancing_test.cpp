@@ -45,62 +45,6 @@ constexpr double MAX_DIFFERING_SHARE = 0.001;
 // bounded at 2^-18 (32 ulps).
 constexpr float POSITION_TOLERANCE = 0x1p-18f;
 
-// Placements of the object: rotations about tilted axes, uniform and uneven
-// scales, one mirror, on a grid.
-std::vector<glm::dmat4> placements(int count) {
-    std::vector<glm::dmat4> out;
-    for (int k = 0; k < count; ++k) {
-        glm::dmat4 m(1.0);
-        m = glm::translate(m, glm::dvec3((k % 4) * 2.5 - 3.75, (k / 4) * 2.5 - 2.5, -0.5 * k));
-        m = glm::rotate(m, 0.3 + 0.7 * k,
-                        glm::normalize(glm::dvec3(std::cos(k), 1.0, std::sin(k))));
-        glm::dvec3 scale(0.6 + 0.15 * (k % 5));
-        if (k % 3 == 1) scale *= glm::dvec3(1.4, 1.0, 0.7);
-        if (k == 5) scale.x = -scale.x;  // a mirror image
-        out.push_back(glm::scale(m, scale));
-    }
-    return out;
-}
-
-// The scene with the two meshes of one object placed `count` times, plus a
-// world-space triangle soup and spheres: instanced, or flattened (each
-// placement a copy with its vertices placed in double and, under a mirror,
-// its winding swapped, as host/scene/gltf_meshes.cpp does).
-scene::Scene placedScene(int count, bool instanced) {
-    scene::Scene s = emptyScene();
-    addTriangleSoup(s, 300, 0.4f, 7);
-    addSphereField(s, 20, 0.1f, 0.3f, 11);
-    const scene::Mesh parts[2] = {icosphere(3, 1.0f, vec3(0.0f)), tessellatedCube(6)};
-    const std::vector<glm::dmat4> where = placements(count);
-    if (instanced) {
-        // Two objects: the sphere and the cube together, and the cube alone
-        // (every third placement).
-        const auto first = uint32_t(s.meshes.size());
-        for (scene::Mesh part : parts) {
-            part.instanced = true;
-            s.meshes.push_back(std::move(part));
-        }
-        for (int k = 0; k < count; ++k) {
-            const bool cubeOnly = k % 3 == 2;
-            s.instances.push_back({"instance " + std::to_string(k), first + (cubeOnly ? 1u : 0u),
-                                   cubeOnly ? 1u : 2u, where[size_t(k)]});
-        }
-        return s;
-    }
-    for (size_t k = 0; k < where.size(); ++k) {
-        const glm::dmat4& m = where[k];
-        const bool mirror = glm::determinant(glm::dmat3(m)) < 0.0;
-        for (size_t i = k % 3 == 2 ? 1 : 0; i < 2; ++i) {
-            scene::Mesh part = parts[i];
-            for (glm::vec3& p : part.positions) p = glm::vec3(m * glm::dvec4(glm::dvec3(p), 1.0));
-            if (mirror)
-                for (glm::uvec3& t : part.triangles) std::swap(t.y, t.z);
-            s.meshes.push_back(std::move(part));
-        }
-    }
-    return s;
-}
-
 bool sameHit(const Hit& a, const Hit& b) {
     return std::memcmp(&a, &b, sizeof(Hit)) == 0;
 }

@@ -61,6 +61,25 @@ TEST(Cli, InfoSaysWhetherTheDeviceHasRayQueries) {
     if (mesa != std::string::npos && chosen["driver"].get<std::string>() == "llvmpipe" &&
         std::atoi(info.c_str() + mesa + 5) >= 25) {
         EXPECT_TRUE(chosen["rayQuery"].get<bool>()) << info;
+        // Measured slower there than the kernels' own traversal (docs/BENCHMARKS.md).
+        EXPECT_EQ(chosen["defaultTraversal"], "compute");
+    }
+    EXPECT_NE(text.out.find("traversal         " + chosen["defaultTraversal"].get<std::string>()),
+              std::string::npos)
+        << text.out;
+}
+
+// --traversal chooses how GPU kernels trace: one line with the CPU
+// reference, and one for a name it does not know.
+TEST(Cli, TraversalIsAGpuChoice) {
+    const vkpath::test::TempDir dir;
+    for (const char* args : {"--traversal rayquery --device cpu", "--traversal hardware"}) {
+        SCOPED_TRACE(args);
+        const auto r = runVkpath(std::string("render ") + VKPATH_SOURCE_DIR +
+                                 "/assets/cornell_box.gltf -d 8x8 -s 1 -o " +
+                                 (dir.path() / "out.exr").string() + " " + args);
+        EXPECT_EQ(r.exitCode, 2) << r.err;
+        EXPECT_EQ(lineCount(r.err), 1) << r.err;
     }
 }
 

@@ -45,6 +45,7 @@ PROBE(TextureSlot, 19)
 PROBE(MaterialAlpha, 20)
 PROBE(PathAov, 21)
 PROBE(FilmAovPixel, 22)
+PROBE(RayQueryGeometry, 23)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
@@ -71,4 +72,5 @@ void main() {
     items20[0] = items20[1];
     items21[0] = items21[1];
     items22[0] = items22[1];
+    items23[0] = items23[1];
 }
