@@ -85,6 +85,7 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         return false;
     }
     BvhPrimitive primitive = bvhPrimitive(hit.primitive);
+    BvhPrimitive objectTriangle = primitive;
     bool instanced = hasFeature(VKP_FEATURE_INSTANCES) && hit.instance != VKP_NO_INSTANCE;
     InstanceTransform x;
     if (instanced) {
@@ -97,6 +98,8 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         shading.material = regularizedMaterial(shading.material, sceneInfo().regularizeAlpha);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     if (instanced) {
+        shading.surface.spawnOffset =
+            instanceSpawnOffset(x, shading.surface.position, objectTriangle);
         if (instanceMirrors(x)) {
             shading.surface.normal = -shading.surface.normal;
             shading.surface.shadingNormal = shading.surface.normal;

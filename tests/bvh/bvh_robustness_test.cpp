@@ -129,7 +129,7 @@ TEST(BvhRobustness, RaysStartingOnASurface) {
         // The same start spawned off the lower square, on the side d leaves to.
         const vec3 p0 = build.primitives[lower].p0, p1 = build.primitives[lower].p1,
                    p2 = build.primitives[lower].p2;
-        shared::SurfacePoint sp;
+        shared::SurfacePoint sp{};
         sp.position = origin;
         sp.normal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
         sp.magnitude = 1.0f;
