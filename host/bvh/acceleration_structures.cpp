@@ -77,9 +77,8 @@ void addTriangles(const BvhBuild& bvh, uint32_t begin, uint32_t end,
                   const std::vector<bool>& alphaTested, Layout& layout,
                   std::vector<Geometry>& level) {
     for (const bool opaque : {true, false}) {
-        Geometry g{.triangles = true,
-                   .opaque = opaque,
-                   .firstIndex = uint32_t(layout.indices.size())};
+        Geometry g{
+            .triangles = true, .opaque = opaque, .firstIndex = uint32_t(layout.indices.size())};
         for (uint32_t k = begin; k < end; ++k) {
             const shared::BvhPrimitive& p = bvh.primitives[k];
             if (p.kind != VKP_PRIMITIVE_TRIANGLE) continue;
@@ -94,7 +93,8 @@ void addTriangles(const BvhBuild& bvh, uint32_t begin, uint32_t end,
 
 // The placement of BLAS `level` with `instance` as its hits' Hit::instance:
 // its geometries' table entries, from its custom index on.
-void place(Layout& layout, uint32_t level, uint32_t instance, const VkTransformMatrixKHR& transform) {
+void place(Layout& layout, uint32_t level, uint32_t instance,
+           const VkTransformMatrixKHR& transform) {
     if (layout.bottomLevels[level].empty()) return;
     const uint32_t customIndex = uint32_t(layout.table.size());
     if (customIndex > MAX_CUSTOM_INDEX)
@@ -129,8 +129,7 @@ Layout makeLayout(const BvhBuild& bvh, const std::vector<bool>& alphaTested) {
         // Padded outward, as the BVH's boxes are: a grazing hit the sphere
         // test finds lies inside.
         layout.boxes.push_back({padBelow(p.p0.x - r), padBelow(p.p0.y - r), padBelow(p.p0.z - r),
-                                padAbove(p.p0.x + r), padAbove(p.p0.y + r),
-                                padAbove(p.p0.z + r)});
+                                padAbove(p.p0.x + r), padAbove(p.p0.y + r), padAbove(p.p0.z + r)});
         layout.indices.push_back(k);
         ++spheres.count;
     }
@@ -173,8 +172,8 @@ AccelerationStructures::AccelerationStructures(vk::Context& context, const BvhBu
                                                const std::vector<bool>& alphaTested)
     : m_context(context) {
     if (!context.info().rayQuery)
-        throw InputError(fmt::format("--traversal rayquery: {} has no ray queries",
-                                     context.info().name));
+        throw InputError(
+            fmt::format("--traversal rayquery: {} has no ray queries", context.info().name));
     const Commands vkr(context.device());
     const VkDevice device = context.device();
     constexpr VkBufferUsageFlags INPUT =
@@ -207,7 +206,8 @@ AccelerationStructures::AccelerationStructures(vk::Context& context, const BvhBu
             VkDeviceSize scratchOffset = 0;
         };
         std::vector<Pending> pending;
-        std::vector<uint32_t> built(layout.bottomLevels.size(), UINT32_MAX);  // level -> m_bottomLevels
+        std::vector<uint32_t> built(layout.bottomLevels.size(),
+                                    UINT32_MAX);  // level -> m_bottomLevels
         VkDeviceSize scratchBytes = 0;
         auto sizeAndCreate = [&](Pending& p, VkAccelerationStructureTypeKHR type,
                                  Structure& structure, const char* name) {
@@ -348,7 +348,8 @@ void AccelerationStructures::setAddresses(shared::BvhAddresses& addresses) const
     VkAccelerationStructureDeviceAddressInfoKHR of{
         VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
     of.accelerationStructure = m_topLevel.handle;
-    addresses.accelerationStructure = split(Commands(m_context.device()).address(m_context.device(), &of));
+    addresses.accelerationStructure =
+        split(Commands(m_context.device()).address(m_context.device(), &of));
     addresses.rayQueryGeometries = split(m_geometries.deviceAddress());
     addresses.rayQueryIndices = split(m_indices.deviceAddress());
 }

@@ -40,8 +40,8 @@ class AccelerationStructures {
     // with ray queries). `alphaTested`: per scene material, whether its
     // triangles are alpha-tested (empty: none is). Needs a context whose
     // device has ray queries (DeviceInfo::rayQuery).
-    AccelerationStructures(vk::Context& context, const BvhBuild& bvh,
-                           const vk::Buffer& primitives, const std::vector<bool>& alphaTested);
+    AccelerationStructures(vk::Context& context, const BvhBuild& bvh, const vk::Buffer& primitives,
+                           const std::vector<bool>& alphaTested);
     ~AccelerationStructures();
     AccelerationStructures(const AccelerationStructures&) = delete;
     AccelerationStructures& operator=(const AccelerationStructures&) = delete;

@@ -28,7 +28,8 @@
 
 #extension GL_EXT_ray_query : require
 
-layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer RayQueryGeometryArray {
+layout(buffer_reference, scalar,
+       buffer_reference_align = 16) readonly buffer RayQueryGeometryArray {
     RayQueryGeometry v[];
 };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer RayQueryIndexArray {
@@ -40,8 +41,8 @@ layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Ray
 uvec2 rayQueryLeaf(uint customIndex, uint geometry, uint primitive) {
     RayQueryGeometry g =
         RayQueryGeometryArray(VKP_BVH_ADDRESSES.rayQueryGeometries).v[customIndex + geometry];
-    uint entry =
-        RayQueryIndexArray(VKP_BVH_ADDRESSES.rayQueryIndices).v[g.firstIndex + g.stride * primitive];
+    uint entry = RayQueryIndexArray(VKP_BVH_ADDRESSES.rayQueryIndices)
+                     .v[g.firstIndex + g.stride * primitive];
     return uvec2(entry / g.stride, g.instance);
 }
 
@@ -52,7 +53,8 @@ TriangleRay rayQueryTriangleRay(Ray ray, uint instance) {
     uint record = bvhPrimitive(instance).id;
     vec4 rows[3];
     for (uint k = 0u; k < 3u; ++k) rows[k] = uintBitsToFloat(bvhNodeTexel(record + k));
-    return makeTriangleRay(transformPoint(rows, ray.origin), transformDirection(rows, ray.direction));
+    return makeTriangleRay(transformPoint(rows, ray.origin),
+                           transformDirection(rows, ray.direction));
 }
 
 // anyHit: stop at the first hit in [0, ray.tMax) (it need not be the closest).

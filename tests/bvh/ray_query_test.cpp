@@ -136,10 +136,10 @@ std::vector<std::pair<std::string, bvh::BvhBuild>> scenes() {
     out.emplace_back("placed, instanced", buildChecked(placedScene(12, true)));
     scene::LoadOptions on;
     on.instancing = scene::Instancing::On;
-    out.emplace_back("instances.gltf",
-                     wavefront::buildSceneTables(
-                         scene::loadScene(test::sourcePath("assets/instances.gltf"), on))
-                         .bvh);
+    out.emplace_back(
+        "instances.gltf",
+        wavefront::buildSceneTables(scene::loadScene(test::sourcePath("assets/instances.gltf"), on))
+            .bvh);
     return out;
 }
 

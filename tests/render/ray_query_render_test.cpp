@@ -46,8 +46,8 @@ struct Case {
 
 std::vector<Case> cases() {
     std::vector<Case> out;
-    out.push_back({"cornell_box.gltf", scene::loadScene(test::sourcePath("assets/cornell_box.gltf")),
-                   true, true});
+    out.push_back({"cornell_box.gltf",
+                   scene::loadScene(test::sourcePath("assets/cornell_box.gltf")), true, true});
     scene::LoadOptions on;
     on.instancing = scene::Instancing::On;
     out.push_back({"instances.gltf",
