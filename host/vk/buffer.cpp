@@ -177,10 +177,11 @@ void Buffer::clear() {
 }
 
 BufferLimits bufferLimits(const DeviceInfo& device) {
-    // A bound array is read as a storage buffer or as a texel buffer of
-    // 16-byte texels (Buffer::texelView), so it must fit both.
-    const uint64_t binding = std::min<uint64_t>(device.maxStorageBufferRange,
-                                                uint64_t(device.maxTexelBufferElements) * 16);
+    // A bound scene array is read as a texel buffer of 16-byte texels
+    // (Buffer::texelView; no kernel binds one as a storage buffer, whose
+    // range, maxStorageBufferRange, is 128 MiB on lavapipe against its
+    // texel buffers' 2 GiB).
+    const uint64_t binding = uint64_t(device.maxTexelBufferElements) * 16;
     BufferLimits limits{binding, std::min(device.maxBufferSize, device.maxMemoryAllocationSize),
                         binding};
     if (const std::optional<uint64_t> set = environmentBytes("VKPATH_MAX_BINDING_BYTES"))

@@ -88,9 +88,8 @@ class Buffer {
 // The largest array a kernel may read, in bytes, in each of the two ways
 // kernels read scene data (shared/bvh_buffers.h):
 struct BufferLimits {
-    uint64_t
-        binding;  // bound: as a storage buffer and as a texel buffer of 16-byte texels,
-                  // min(maxStorageBufferRange, 16 maxTexelBufferElements) (128 MiB on lavapipe)
+    uint64_t binding;        // bound: as a texel buffer of 16-byte texels,
+                             // 16 maxTexelBufferElements (2 GiB on lavapipe)
     uint64_t address;        // through its device address: one buffer, min(maxBufferSize,
                              // maxMemoryAllocationSize)
     uint64_t deviceBinding;  // `binding` as the device has it, whatever VKPATH_MAX_BINDING_BYTES

@@ -99,9 +99,8 @@ struct GpuScene {
 uint64_t deviceBytes(const SceneTables& tables);
 
 // Uploads the tables. The arrays are read by address when any of them is
-// larger than one binding may span (vk::bufferLimits: the device's
-// maxStorageBufferRange and 16 x maxTexelBufferElements, or
-// VKPATH_MAX_BINDING_BYTES when lower);
+// larger than one binding may span (vk::bufferLimits: 16 x the device's
+// maxTexelBufferElements, or VKPATH_MAX_BINDING_BYTES when lower);
 // throws InputError, naming the array, when one is larger than a buffer may be.
 // With bvh::Traversal::RayQuery the device's acceleration structures are built
 // too (InputError where it has no ray queries).

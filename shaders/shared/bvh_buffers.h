@@ -5,9 +5,9 @@
 //
 //   bound (false, the default): two uniform texel buffer bindings (below).
 //     Scenes are bound while each array fits one binding
-//     (vk::bufferLimits: maxStorageBufferRange and 16 x
-//     maxTexelBufferElements bytes; 128 MiB on lavapipe, about 2.8 million
-//     primitives), the limit every other scene array is bound under;
+//     (vk::bufferLimits: 16 x maxTexelBufferElements bytes; 2 GiB on
+//     lavapipe, about 44 million primitives), the limit every other scene
+//     array is bound under;
 //   by address (true): buffer references (GL_EXT_buffer_reference) to the
 //     same arrays, limited only by the size of one buffer. Slower than
 //     storage-buffer bindings on lavapipe, which are slower again than the
