@@ -63,13 +63,18 @@ bench: build
 # render the same, then plots error against time (PEER_ARGS=--size 800x600 etc.;
 # docs/TRADEOFFS.md), then races both on the scene suite (bench-suite), then races
 # render --auto against converge's fixed settings on the suite (AUTO_ARGS=--scenes a,b etc.;
-# docs/TRADEOFFS.md, "Settings chosen by measurement").
+# docs/TRADEOFFS.md, "Settings chosen by measurement"), then races Blender's Cycles on the
+# suite's glTF scenes, each renderer to its own image by the two-seed estimate (a venv in
+# build-peer/cycles-venv with bpy from PyPI; CYCLES_ARGS=--quick, --size 128 etc.;
+# docs/SUITE.md, "Against Blender's Cycles").
 PEER_ARGS ?=
 AUTO_ARGS ?=
+CYCLES_ARGS ?=
 bench-peer: build
 	@tools/bench/peer-bench --vkpath $(VKPATH) $(PEER_ARGS)
 	@tools/bench/suite-race --vkpath $(VKPATH) --mitsuba on $(SUITE_ARGS)
 	@tools/bench/auto-race --vkpath $(VKPATH) $(AUTO_ARGS)
+	@tools/bench/cycles-race --vkpath $(VKPATH) $(CYCLES_ARGS)
 
 # The scene suite (tools/bench/suite/suite.json): per scene, vkpath's time to a relMSE on
 # lavapipe and --device cpu and Mitsuba 3's, their ratio and the geometric mean; references
