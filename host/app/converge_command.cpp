@@ -350,8 +350,7 @@ int runConverge(const GlobalOptions& global, const ConvergeOptions& o) {
         });
     }
     return withContext(global, [&](vk::Context& context) {
-        wavefront::admitOnDevice(
-            o.scene, wavefront::estimateFootprint(scene.countGeometry(), false), context.info());
+        admitRenderOnDevice(o, scene, context.info());
         auto make = [&](const wavefront::RenderSettings& s) {
             return std::make_unique<wavefront::GpuRenderer>(context, scene, s);
         };

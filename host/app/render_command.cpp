@@ -550,8 +550,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags,
                             choice, hooks.writeFiles);
     }
     auto renderOnDevice = [&](vk::Context& context) {
-        wavefront::admitOnDevice(
-            o.scene, wavefront::estimateFootprint(scene.countGeometry(), false), context.info());
+        admitRenderOnDevice(o, scene, context.info());
         if (o.autoSettings && !tables) tables = wavefront::buildSceneTables(scene);
         if (o.autoSettings && !choice) {
             const bool cpuDevice = context.info().type == "cpu";

@@ -15,6 +15,7 @@
 #include "scene/load.h"
 #include "shared/dimensions.h"
 #include "wavefront/scene_footprint.h"
+#include "wavefront/wave_sizing.h"
 
 namespace vkpath::app {
 
@@ -245,6 +246,16 @@ std::pair<std::string, std::string> firstSettingDifference(const std::string& x,
     for (const auto& [key, value] : a.items())
         if (!b.contains(key)) return {keyValue(key, value), "nothing"};
     return {};
+}
+
+void admitRenderOnDevice(const RenderOptions& o, const scene::Scene& scene,
+                         const vk::DeviceInfo& device) {
+    const bvh::Traversal traversal = o.traversal.empty() ? wavefront::defaultTraversal(device)
+                                                         : bvh::parseTraversal(o.traversal).value();
+    wavefront::admitOnDevice(o.scene,
+                             wavefront::estimateFootprint(scene.countGeometry(), false,
+                                                          traversal == bvh::Traversal::RayQuery),
+                             device);
 }
 
 scene::Scene loadRenderScene(const RenderOptions& o) {

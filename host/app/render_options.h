@@ -14,6 +14,10 @@
 #include "scene/scene.h"
 #include "wavefront/render_types.h"
 
+namespace vkpath::vk {
+struct DeviceInfo;
+}
+
 namespace CLI {
 class App;
 }
@@ -64,6 +68,12 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o);
 // The scene file with the flags' environment and camera applied. Throws
 // InputError on bad input.
 scene::Scene loadRenderScene(const RenderOptions& o);
+
+// Refuses, in one line, a scene whose arrays would not fit `device`
+// (wavefront::admitOnDevice), counting the acceleration structures where
+// the render traces by ray queries.
+void admitRenderOnDevice(const RenderOptions& o, const scene::Scene& scene,
+                         const vk::DeviceInfo& device);
 
 // What makes renders samples of one image, written into each EXR so that
 // `vkpath merge` and `--resume` can refuse parts of different images: a

@@ -33,8 +33,11 @@ struct SceneFootprint {
 
 // The estimate for the GPU renderer (cpuReference false: the tables, their
 // staging copies and the BVH build) or the CPU reference (the tables and
-// its eight-wide tree).
-SceneFootprint estimateFootprint(const scene::GeometryCounts& counts, bool cpuReference);
+// its eight-wide tree). rayQuery: the GPU renderer also builds the device's
+// acceleration structures (--traversal rayquery), whose size is lavapipe's,
+// measured (docs/BENCHMARKS.md, "Ray queries"); other drivers' are smaller.
+SceneFootprint estimateFootprint(const scene::GeometryCounts& counts, bool cpuReference,
+                                 bool rayQuery = false);
 
 // The host memory a new allocation may take now: /proc/meminfo's
 // MemAvailable (physical memory where that is missing), or

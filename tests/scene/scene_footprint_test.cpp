@@ -128,6 +128,38 @@ TEST(SceneFootprint, DeviceEstimateIsTheBuiltTablesGeometry) {
     }
 }
 
+// With --traversal rayquery the estimate counts the device's acceleration
+// structures: against what uploadScene builds on the test device (lavapipe's
+// sizes, which the estimate's constant is), the same bounds as the tables'.
+TEST(SceneFootprint, RayQueryEstimateCountsTheAccelerationStructures) {
+    if (!test::context().info().rayQuery) GTEST_SKIP() << "the test device has no ray queries";
+    const test::TempDir dir;
+    test::GltfBuilder b;
+    b.node({{"mesh", b.uvSphere(100, false)}});
+    b.camera();
+    for (const fs::path& path :
+         {test::sourcePath("assets/normal_maps.gltf"), b.writeGltf(dir / "ball.gltf")}) {
+        SCOPED_TRACE(path.filename().string());
+        scene::GeometryCounts counted;
+        const scene::Scene s = loadCounting(path, counted);
+        const wavefront::SceneTables t = wavefront::buildSceneTables(s);
+        const uint64_t compute =
+            wavefront::uploadScene(test::context(), t, bvh::Traversal::Compute).bytes();
+        const uint64_t rayQuery =
+            wavefront::uploadScene(test::context(), t, bvh::Traversal::RayQuery).bytes();
+        const uint64_t estimated = wavefront::estimateFootprint(counted, false, true).deviceBytes -
+                                   wavefront::estimateFootprint(counted, false).deviceBytes;
+        const double ratio = double(estimated) / double(rayQuery - compute);
+        std::printf(
+            "%s: acceleration structures %llu bytes, %.1f per triangle; estimate / built "
+            "%.2f\n",
+            path.filename().string().c_str(), (unsigned long long)(rayQuery - compute),
+            double(rayQuery - compute) / double(counted.triangles), ratio);
+        EXPECT_GE(ratio, 0.9);
+        EXPECT_LE(ratio, 1.15);
+    }
+}
+
 // A glTF of 100 000 nodes that all reference one 39 600-triangle mesh is a
 // 4 MB file of 4 billion triangles flattened, hundreds of GiB to build on any
 // machine: with `--instancing off` refused in one line from the counts,
