@@ -175,6 +175,7 @@ AccelerationStructures::AccelerationStructures(vk::Context& context, const BvhBu
         throw InputError(
             fmt::format("--traversal rayquery: {} has no ray queries", context.info().name));
     const Commands vkr(context.device());
+    m_destroy = vkr.destroy;
     const VkDevice device = context.device();
     constexpr VkBufferUsageFlags INPUT =
         VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR;
@@ -309,6 +310,10 @@ AccelerationStructures::AccelerationStructures(vk::Context& context, const BvhBu
         }
         top.info.scratchData.deviceAddress = scratchBase + top.scratchOffset;
         const VkAccelerationStructureBuildRangeInfoKHR* topRanges = top.ranges.data();
+        VkAccelerationStructureDeviceAddressInfoKHR of{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+        of.accelerationStructure = m_topLevel.handle;
+        m_topLevelAddress = vkr.address(device, &of);
         context.submit([&](VkCommandBuffer cmd) {
             VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
             barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
@@ -335,21 +340,16 @@ AccelerationStructures::~AccelerationStructures() {
 }
 
 void AccelerationStructures::destroy() {
-    const Commands vkr(m_context.device());
     for (Structure& s : m_bottomLevels)
-        if (s.handle) vkr.destroy(m_context.device(), s.handle, nullptr);
+        if (s.handle) m_destroy(m_context.device(), s.handle, nullptr);
     m_bottomLevels.clear();
-    if (m_topLevel.handle) vkr.destroy(m_context.device(), m_topLevel.handle, nullptr);
+    if (m_topLevel.handle) m_destroy(m_context.device(), m_topLevel.handle, nullptr);
     m_topLevel.handle = VK_NULL_HANDLE;
 }
 
 void AccelerationStructures::setAddresses(shared::BvhAddresses& addresses) const {
     auto split = [](VkDeviceAddress a) { return glm::uvec2(uint32_t(a), uint32_t(a >> 32)); };
-    VkAccelerationStructureDeviceAddressInfoKHR of{
-        VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
-    of.accelerationStructure = m_topLevel.handle;
-    addresses.accelerationStructure =
-        split(Commands(m_context.device()).address(m_context.device(), &of));
+    addresses.accelerationStructure = split(m_topLevelAddress);
     addresses.rayQueryGeometries = split(m_geometries.deviceAddress());
     addresses.rayQueryIndices = split(m_indices.deviceAddress());
 }

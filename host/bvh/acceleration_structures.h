@@ -61,8 +61,10 @@ class AccelerationStructures {
     void destroy();
 
     vk::Context& m_context;
+    PFN_vkDestroyAccelerationStructureKHR m_destroy = nullptr;
     std::vector<Structure> m_bottomLevels;
     Structure m_topLevel;
+    VkDeviceAddress m_topLevelAddress = 0;
     vk::Buffer m_indices, m_geometries, m_boxes, m_instances;
 };
 

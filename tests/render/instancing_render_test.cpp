@@ -50,12 +50,7 @@ struct Rounding {
 };
 Rounding roundingAgainstNoise(const scene::Scene& instanced, const scene::Scene& copied, bool gpu,
                               const std::string& what) {
-    wavefront::RenderSettings settings;
-    settings.width = 64;
-    settings.height = 48;
-    settings.samplesPerPixel = 16;
-    settings.maxDepth = 4;
-    settings.seed = 1;
+    const wavefront::RenderSettings settings = test::filmSettings(64, 48, 16, 4, 1);
     wavefront::RenderSettings otherSeed = settings;
     otherSeed.seed = 2;
     auto render = [&](const scene::Scene& s, const wavefront::RenderSettings& r) {

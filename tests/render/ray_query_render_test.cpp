@@ -72,12 +72,7 @@ TEST(RayQueryRender, TheComputeTraversalsImageUpToDifferingHits) {
              {wavefront::KernelForm::Wavefront, wavefront::KernelForm::Megakernel}) {
             if (form == wavefront::KernelForm::Megakernel && !c.megakernel) continue;
             SCOPED_TRACE(wavefront::kernelFormName(form));
-            wavefront::RenderSettings settings;
-            settings.width = 64;
-            settings.height = 48;
-            settings.samplesPerPixel = 16;
-            settings.maxDepth = 4;
-            settings.seed = 1;
+            wavefront::RenderSettings settings = test::filmSettings(64, 48, 16, 4, 1);
             settings.kernel = form;
             settings.traversal = bvh::Traversal::Compute;
             wavefront::RenderSettings rayQuery = settings;

@@ -19,18 +19,25 @@ inline wavefront::RenderResult renderGpu(const scene::Scene& s,
     return renderer.render();
 }
 
-// A size x size film of `spp` samples and at most `maxDepth` bounces; every
-// other setting at RenderSettings' default.
-inline wavefront::RenderSettings squareSettings(uint32_t size, uint32_t spp, uint32_t maxDepth,
-                                                uint32_t seed = 1, uint32_t lightSamples = 1) {
+// A width x height film of `spp` samples and at most `maxDepth` bounces;
+// every other setting at RenderSettings' default.
+inline wavefront::RenderSettings filmSettings(uint32_t width, uint32_t height, uint32_t spp,
+                                              uint32_t maxDepth, uint32_t seed = 1,
+                                              uint32_t lightSamples = 1) {
     wavefront::RenderSettings settings;
-    settings.width = size;
-    settings.height = size;
+    settings.width = width;
+    settings.height = height;
     settings.samplesPerPixel = spp;
     settings.maxDepth = maxDepth;
     settings.seed = seed;
     settings.lightSamples = lightSamples;
     return settings;
+}
+
+// filmSettings of a size x size film.
+inline wavefront::RenderSettings squareSettings(uint32_t size, uint32_t spp, uint32_t maxDepth,
+                                                uint32_t seed = 1, uint32_t lightSamples = 1) {
+    return filmSettings(size, size, spp, maxDepth, seed, lightSamples);
 }
 
 // squareSettings on the GPU, with `sampler` where given (else the default).
