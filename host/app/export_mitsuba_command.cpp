@@ -5,11 +5,13 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 
 #include "app/commands.h"
 #include "app/render_options.h"
 #include "scene/mitsuba_export.h"
+#include "shared/microfacet.h"
 
 namespace vkpath::app {
 namespace {
@@ -41,6 +43,15 @@ int runExport(const ExportOptions& o) {
     if (settings.clampRadiance > 0)
         warnings.push_back(
             "--clamp: Mitsuba's path tracer does not clamp; the exported scene renders unclamped");
+    const auto rough = [](const scene::Material& m) {
+        return (scene::materialKindInfo(m.kind).flags & VKP_KIND_MICROFACET) != 0 &&
+               m.roughness * m.roughness >= VKP_MICROFACET_SMOOTH_ALPHA;
+    };
+    if (settings.microfacetCompensation &&
+        std::any_of(scene.materials.begin(), scene.materials.end(), rough))
+        warnings.push_back(
+            "Mitsuba's rough conductors and dielectrics scatter once: they render darker than "
+            "vkpath's compensated lobes; compare with `vkpath render --single-scattering`");
     if (settings.regularize > 0)
         warnings.push_back(
             "--regularize: Mitsuba's path tracer does not regularise; the exported scene renders "

@@ -190,6 +190,7 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
         {"vkpath:clamp", o.clamp > 0 ? fmt::format("{}", o.clamp) : std::string("off")},
         {"vkpath:regularize",
          o.regularize > 0 ? fmt::format("{}", o.regularize) : std::string("off")},
+        {"vkpath:microfacet", o.singleScattering ? "single-scattering" : "compensated"},
         {"vkpath:guideSpheres",
          o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
         {"vkpath:scene", o.scene}};

@@ -60,6 +60,11 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "fireflies; 0: off)")
         ->check(realIn<float>(0, 1))
         ->capture_default_str();
+    cmd.add_flag(
+        "--single-scattering", o.singleScattering,
+        "GGX lobes (rough metal, rough glass, glTF's materials) without multiple-scattering "
+        "compensation, as Mitsuba 3 and pbrt-v4 render them: they lose the light that "
+        "meets the microsurface again and darken as roughness grows");
     cmd.add_option("--guide-spheres", o.guideSpheres,
                    "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass "
                    "spheres it sees, in "
@@ -208,6 +213,7 @@ RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHa
     settings["sampler"] = o.sampler;
     settings["clamp"] = shortest(o.clamp);
     settings["regularize"] = shortest(o.regularize);
+    settings["microfacet"] = o.singleScattering ? "single-scattering" : "compensated";
     settings["guide-spheres"] = shortest(o.guideSpheres);
     settings["env"] = o.environment.empty() ? "none" : "file";
     settings["env-color"] = color;
@@ -305,6 +311,7 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.sampler = *sampler;
     settings.clampRadiance = o.clamp;
     settings.regularize = o.regularize;
+    settings.microfacetCompensation = !o.singleScattering;
     settings.guideFraction = o.guideSpheres;
     if (!o.kernel.empty() && o.device == "cpu")
         throw InputError("--kernel chooses a GPU kernel form: not with --device cpu");

@@ -38,7 +38,8 @@ struct RenderOptions {
     std::string sampler =
         "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
     float clamp = 0;
-    float regularize = 0;  // path regularisation's least GGX alpha; 0: off
+    float regularize = 0;           // path regularisation's least GGX alpha; 0: off
+    bool singleScattering = false;  // --single-scattering: no multiple-scattering compensation
     float guideSpheres = wavefront::RenderSettings{}.guideFraction;  // --guide-spheres
     std::string environment;
     std::vector<float> environmentColor;

@@ -64,6 +64,9 @@ SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const Sce
         require(t.width > 0 && t.height > 0 &&
                     uint64_t(t.firstTexel) + uint64_t(t.width) * t.height <= m_texels.size(),
                 "texture texels out of range");
+    require(info.microfacetCompensation == 0u || m_microfacetAlbedo.size() == VKP_ALBEDO_TABLE_SIZE,
+            fmt::format("{} microfacet albedo entries, expected {}", m_microfacetAlbedo.size(),
+                        VKP_ALBEDO_TABLE_SIZE));
     require(info.environmentLight == VKP_NO_LIGHT || info.environmentLight < info.lightCount,
             "environment light index out of range");
     if (info.hasEnvironment != 0u && info.environment.width > 0) {

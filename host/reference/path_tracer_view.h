@@ -37,6 +37,7 @@
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
+#include "shared/microfacet_albedo.h"
 #include "shared/path_state.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -83,6 +84,7 @@ struct SceneTablesView {
     }
     MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
     vec4 sceneGuideSphere(uint index) const { return m_guideSpheres[index]; }
+    float sceneMicrofacetAlbedo(uint index) const { return m_microfacetAlbedo[index]; }
 
     const bvh::WideBvh& wideBvh() const { return m_wide; }
 

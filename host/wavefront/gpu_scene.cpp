@@ -9,6 +9,7 @@
 #include <numbers>
 #include <span>
 
+#include "albedo/albedo_tables.h"
 #include "input_error.h"
 #include "scene/alias_table.h"
 #include "scene/environment_table.h"
@@ -228,6 +229,17 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
     t.materialAlpha = buildMaterialAlpha(scene, t.textures);
     t.info.alphaTested = t.materialAlpha.empty() ? 0u : 1u;
+    // The albedo tables of multiple-scattering compensation, for a scene with
+    // a GGX lobe that is not a delta (a texture scales the roughness by at
+    // most 1: shared/path/textures.h).
+    const auto rough = [](const shared::Material& m) {
+        return (shared::materialKindFlags(m.kind) & VKP_KIND_MICROFACET) != 0 &&
+               !shared::microfacetIsSmooth(shared::materialAlpha(m));
+    };
+    if (std::any_of(t.materials.begin(), t.materials.end(), rough)) {
+        const std::span<const float> table = albedo::microfacetAlbedoTable();
+        t.microfacetAlbedo.assign(table.begin(), table.end());
+    }
 
     std::vector<double> power;
     auto addLight = [&](const LightEntry& e) {

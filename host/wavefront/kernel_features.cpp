@@ -45,6 +45,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_SPHERE_GUIDING, "sphere-guiding"},
     {VKP_FEATURE_AOVS, "aovs"},
     {VKP_FEATURE_INSTANCES, "instances"},
+    {VKP_FEATURE_MICROFACET_COMPENSATION, "microfacet-compensation"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -123,6 +124,8 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
         }
         if (roughened != 0) f |= VKP_FEATURE_REGULARIZE | regularized;
     }
+    // (set only for a scene with a rough GGX lobe: renderSceneInfo)
+    if (info.microfacetCompensation != 0) f |= VKP_FEATURE_MICROFACET_COMPENSATION;
     return f;
 }
 

@@ -45,6 +45,8 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.fireflyThreshold = float(settings.samplesPerPixel);
     info.sampleStreams = sampleStreams(settings);
     info.aovs = settings.surfaceAovs ? 1u : 0u;
+    info.microfacetCompensation =
+        settings.microfacetCompensation && !tables.microfacetAlbedo.empty() ? 1u : 0u;
     return info;
 }
 

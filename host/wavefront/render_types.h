@@ -59,6 +59,10 @@ struct RenderSettings {
     // path's first non-delta scattering, lobes of GGX alpha below this get it
     // (biased; 0: off)
     float regularize = 0;
+    // Multiple-scattering compensation of the GGX lobes
+    // (shaders/shared/microfacet_albedo.h); false: single scattering, as
+    // Mitsuba 3 and pbrt-v4 render (render --single-scattering)
+    bool microfacetCompensation = true;
     // The share of a Lambertian vertex's BSDF samples drawn toward the smooth
     // specular spheres it sees (SceneTables::guideSpheres; shared/path_tracer.h
     // sampleGuidedDiffuse), in [0, 1); 0: off. Unbiased at any value; the

@@ -12,6 +12,7 @@
 #include "shared/material.h"
 #include "shared/metallic_roughness.h"
 #include "shared/microfacet.h"
+#include "shared/microfacet_albedo.h"
 #include "shared/sampling.h"
 
 VKP_NAMESPACE_BEGIN
@@ -198,6 +199,7 @@ VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
     c.f0 = material.reflectance;
     c.eta = material.reflectance;
     c.k = material.transmittance;
+    c.multipleScattering = material.multipleScattering;
     return c;
 }
 VKP_FN BsdfSample sampleConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
@@ -239,6 +241,7 @@ VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
     d.ior = material.ior;
     d.reflectance = material.reflectance;
     d.transmittance = material.transmittance;
+    d.multipleScattering = material.multipleScattering;
     return d;
 }
 VKP_FN BsdfSample sampleRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
@@ -277,6 +280,7 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.alpha = materialAlpha(material);
     p.specularF0 = material.transmittance;
     p.specularF90 = material.specular;
+    p.multipleScattering = material.multipleScattering;
     return p;
 }
 VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo,

@@ -59,7 +59,11 @@
 // A mesh stored once and placed by instances (shared/bvh.h): the scene's
 // tree has instance primitives, whose bottom-level trees traversal enters
 #define VKP_FEATURE_INSTANCES (1u << 29)
-#define VKP_FEATURE_COUNT 30u
+// Multiple-scattering compensation of the microfacet lobes
+// (SceneInfo::microfacetCompensation, shared/microfacet_albedo.h): a kind
+// with a GGX lobe may occur and the render compensates
+#define VKP_FEATURE_MICROFACET_COMPENSATION (1u << 30)
+#define VKP_FEATURE_COUNT 31u
 
 #define VKP_FEATURES_ALL 0xffffffffu
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.

@@ -93,9 +93,10 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         x = instanceTransform(hit.instance);
         primitive = placedTriangle(primitive, x);
     }
-    shading.material = materialAt(sceneMaterial(primitive.material), primitive, hit);
+    Material own = materialAt(sceneMaterial(primitive.material), primitive, hit);
+    shading.material = own;
     if (hasFeature(VKP_FEATURE_REGULARIZE) && path.afterNonDelta)
-        shading.material = regularizedMaterial(shading.material, sceneInfo().regularizeAlpha);
+        shading.material = regularizedMaterial(own, sceneInfo().regularizeAlpha);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     if (instanced) {
         shading.surface.spawnOffset =
@@ -110,6 +111,11 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         path.throughput *= mediumTransmittance(shading.material, shading.surface, path.ray, hit);
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
+    // Compensation follows the material's own roughness: a lobe that path
+    // regularisation roughened keeps its own (none for a mirror or smooth glass).
+    if (hasFeature(VKP_FEATURE_MICROFACET_COMPENSATION) && sceneInfo().microfacetCompensation != 0u)
+        shading.material.multipleScattering =
+            multipleScattering(own, dot(shading.surface.shadingNormal, shading.wo));
     if (aovsWanted()) recordAov(path.aov, shading);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
         path.radiance +=

@@ -57,8 +57,10 @@ VKP_NAMESPACE_BEGIN
     /* glass, rough glass: absorption coefficient of the inside, per metre (Beer-Lambert; */     \
     /* KHR_materials_volume); 0: clear */                                                        \
     F(vec3, attenuation, 16)                                                                     \
-    /* 0: fills the fifth texel */                                                               \
-    F(uint, padding, 19)
+    /* conductor, rough glass, metallic-roughness: multiple-scattering compensation's */         \
+    /* (1 - E) / E at the hit's wo, set per hit (shared/path/energy_compensation.h); 0 in the */ \
+    /* scene's array */                                                                          \
+    F(float, multipleScattering, 19)
 struct Material {
     VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };

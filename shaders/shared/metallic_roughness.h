@@ -44,6 +44,11 @@ struct MetallicRoughness {
     vec2 alpha;         // GGX roughness (alpha = roughness^2)
     vec3 specularF0;    // the dielectric layer's Fresnel at normal incidence, weight included
     float specularF90;  // ... and at grazing incidence (the layer's weight)
+    // (1 - E(mu_o)) / E(mu_o) for this wo, E the white GGX lobe's albedo: the
+    // specular lobe is scaled by 1 + F(1) x this, F its Fresnel factor
+    // (multiple-scattering compensation, shared/microfacet_albedo.h, as the
+    // conductor); 0: single scattering
+    float multipleScattering;
 };
 
 VKP_FN float largestComponent(vec3 v) {
@@ -99,7 +104,10 @@ VKP_FN vec3 evalMetallicRoughnessUpper(MetallicRoughness p, vec3 o, vec3 i) {
     // D G2 / (4 zo zi) x zi = D zi / (2 (zi Lo + zo Li)), as evalConductor.
     float d = i.z * ggxStretchedLength(o, p.alpha) + o.z * ggxStretchedLength(i, p.alpha);
     float specular = ggxD(h, p.alpha) * i.z / (2.0f * d);
-    return f + metallicRoughnessSpecularFresnel(p, c) * specular;
+    vec3 fresnel = metallicRoughnessSpecularFresnel(p, c);
+    if (p.multipleScattering > 0.0f)
+        fresnel *= vec3(1.0f) + metallicRoughnessSpecularFresnel(p, 1.0f) * p.multipleScattering;
+    return f + fresnel * specular;
 }
 
 // The mixture's density of i for o (upper hemisphere, pSpec from specularProbability).

@@ -5,6 +5,11 @@
 // BsdfSample and the smooth glass of the delta case are shared/lobes.h's;
 // shared/bsdf.h dispatches materials to these lobes.
 //
+// The lobes scatter once: light that meets the microsurface again is lost.
+// Multiple-scattering compensation scales them by a factor of wo alone
+// (Conductor::multipleScattering and the others; shared/microfacet_albedo.h
+// says how it is made), which leaves sampling and pdfs as they are.
+//
 // Everything here works in the LOCAL shading frame: the macro-surface normal
 // is +z, wo and wi are unit vectors pointing away from the surface (wo toward
 // the viewer, wi toward the light or the next vertex), and BsdfSample's
@@ -199,12 +204,24 @@ struct Conductor {
     vec3 eta;      // complex index, real part per RGB channel, relative to the outside
     vec3 k;        // complex index, imaginary part (absorption) per channel
     uint fresnel;  // VKP_FRESNEL_*
+    // (1 - E(mu_o)) / E(mu_o) for this wo, E the white lobe's albedo: the lobe
+    // is scaled by 1 + F(1) x this (multiple-scattering compensation,
+    // shared/microfacet_albedo.h); 0: single scattering
+    float multipleScattering;
 };
 
 VKP_FN vec3 conductorFresnel(Conductor c, float cosTheta) {
     if (c.fresnel == VKP_FRESNEL_COMPLEX) return fresnelComplex3(cosTheta, c.eta, c.k);
     if (c.fresnel == VKP_FRESNEL_CONSTANT) return c.f0;
     return fresnelSchlick(c.f0, cosTheta);
+}
+
+// The factor multiple-scattering compensation puts on the conductor's lobe,
+// 1 + F(1) (1 - E) / E (Turquin 2019, eq. 8 with F0 the Fresnel term at
+// normal incidence): exactly 1 / E for a white conductor.
+VKP_FN vec3 conductorCompensation(Conductor c) {
+    if (!(c.multipleScattering > 0.0f)) return vec3(1.0f);
+    return vec3(1.0f) + conductorFresnel(c, 1.0f) * c.multipleScattering;
 }
 
 VKP_FN BsdfSample sampleConductor(Conductor c, vec3 wo, vec2 u) {
@@ -232,7 +249,7 @@ VKP_FN BsdfSample sampleConductor(Conductor c, vec3 wo, vec2 u) {
     s.direction = side * i;
     // D_wo(m) / (4 wo.m) = D / (2 (zo + Lo)).
     s.pdf = ggxD(m, c.alpha) / (2.0f * (o.z + ggxStretchedLength(o, c.alpha)));
-    s.weight = conductorFresnel(c, om) * ggxG2OverG1(o, i, c.alpha);
+    s.weight = conductorFresnel(c, om) * ggxG2OverG1(o, i, c.alpha) * conductorCompensation(c);
     return s;
 }
 
@@ -245,7 +262,8 @@ VKP_FN vec3 evalConductor(Conductor c, vec3 wo, vec3 wi) {
     vec3 i = side * wi;
     vec3 m = normalize(o + i);
     float d = i.z * ggxStretchedLength(o, c.alpha) + o.z * ggxStretchedLength(i, c.alpha);
-    return conductorFresnel(c, dot(o, m)) * (ggxD(m, c.alpha) * i.z / (2.0f * d));
+    return conductorFresnel(c, dot(o, m)) * (ggxD(m, c.alpha) * i.z / (2.0f * d)) *
+           conductorCompensation(c);
 }
 
 VKP_FN float conductorPdf(Conductor c, vec3 wo, vec3 wi) {
@@ -282,6 +300,10 @@ struct RoughDielectric {
     float ior;           // n_inside / n_outside; the inside is -z
     vec3 reflectance;    // tint of reflected light (1 for physical glass)
     vec3 transmittance;  // tint of refracted light
+    // (1 - E) / E for this wo, E the white lobe's flux albedo from wo's side:
+    // reflection and refraction are scaled by 1 / E (multiple-scattering
+    // compensation, shared/microfacet_albedo.h); 0: single scattering
+    float multipleScattering;
 };
 
 // u picks the visible normal, uc the reflect/refract choice.
@@ -309,7 +331,7 @@ VKP_FN BsdfSample sampleRoughDielectric(RoughDielectric d, vec3 wo, vec2 u, floa
         if (i.z <= 0.0f) return invalidBsdfSample();
         s.direction = side * i;
         s.pdf = fresnel * visiblePdf / (4.0f * om);
-        s.weight = d.reflectance * ggxG2OverG1(o, i, d.alpha);
+        s.weight = d.reflectance * (ggxG2OverG1(o, i, d.alpha) * (1.0f + d.multipleScattering));
         s.etaSquared = 1.0f;
         return s;
     }
@@ -323,7 +345,8 @@ VKP_FN BsdfSample sampleRoughDielectric(RoughDielectric d, vec3 wo, vec2 u, floa
     float denom = om + eta * im;
     s.direction = side * i;
     s.pdf = (1.0f - fresnel) * visiblePdf * eta * eta * abs(im) / (denom * denom);
-    s.weight = d.transmittance * (ggxG2OverG1(o, i, d.alpha) / (eta * eta));
+    s.weight = d.transmittance *
+               (ggxG2OverG1(o, i, d.alpha) * (1.0f + d.multipleScattering) / (eta * eta));
     s.etaSquared = eta * eta;
     return s;
 }
@@ -358,7 +381,7 @@ VKP_FN vec3 evalRoughDielectric(RoughDielectric d, vec3 wo, vec3 wi) {
     float om = dot(o, m);
     float fresnel = fresnelDielectric(om, eta);
     float dm = ggxD(m, d.alpha);
-    float g2 = ggxG2(o, i, d.alpha);
+    float g2 = ggxG2(o, i, d.alpha) * (1.0f + d.multipleScattering);
     if (i.z > 0.0f) return d.reflectance * (fresnel * dm * g2 / (4.0f * o.z));
     float im = dot(i, m);
     float denom = om + eta * im;

@@ -20,6 +20,8 @@
 //   sceneTexture(uint index);           // shared/texture.h TextureSlot sceneTextureSlot(uint
 //   index); vec4 sceneTexel(uint index);                    // linear RGBA MaterialAlpha
 //   sceneMaterialAlpha(uint index);   // shared/alpha.h; read only when SceneInfo::alphaTested
+//   float sceneMicrofacetAlbedo(uint index);  // shared/microfacet_albedo.h; read only when
+//                                             // SceneInfo::microfacetCompensation
 //
 // It defines the alpha test that shared/bvh_traverse.h asks (bvhAlphaTest).
 //
@@ -70,6 +72,7 @@ VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
 #include "shared/path/shading_normals.h"
 #include "shared/path/alpha_test.h"
 #include "shared/path/absorption.h"
+#include "shared/path/energy_compensation.h"
 #include "shared/path/sphere_guiding.h"
 #include "shared/path/emission.h"
 #include "shared/path/next_event.h"

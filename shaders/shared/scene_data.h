@@ -50,12 +50,16 @@ struct SceneInfo {
     // 1: the render keeps each path's albedo and normal AOVs (--aov albedo,normal;
     // shared/integrator.h recordAov, with VKP_FEATURE_AOVS); 0: no AOV code runs
     uint aovs;
+    // 1: the microfacet lobes get their multiple scattering back
+    // (shared/microfacet_albedo.h; with VKP_FEATURE_MICROFACET_COMPENSATION);
+    // 0: single scattering, as Mitsuba 3 and pbrt-v4 (render --single-scattering)
+    uint microfacetCompensation;
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 112);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 116);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

@@ -47,6 +47,9 @@
 #define VKP_WF_FILM_ODD 31  // FilmStreamPixel[width height]: the odd stream's sums (two streams)
 #define VKP_WF_PATH_AOV 32  // PathAov[W]: each path's AOVs (SceneInfo::aovs)
 #define VKP_WF_FILM_AOV 33  // FilmAovPixel[width height]: the AOVs' sums (SceneInfo::aovs)
+#define VKP_WF_MICROFACET_ALBEDO \
+    34  // float[]: the albedo tables of shared/microfacet_albedo.h
+        // (SceneInfo::microfacetCompensation)
 
 VKP_NAMESPACE_BEGIN
 

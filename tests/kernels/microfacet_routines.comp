@@ -39,6 +39,7 @@ void main() {
             c.eta = push.eta;
             c.k = push.k;
             c.fresnel = push.fresnel;
+            c.multipleScattering = 0.0;
             s = sampleConductor(c, push.wo, u);
             if (s.valid) {
                 r.eval = evalConductor(c, push.wo, s.direction);
@@ -50,6 +51,7 @@ void main() {
             d.ior = push.ior;
             d.reflectance = vec3(1.0);
             d.transmittance = vec3(1.0);
+            d.multipleScattering = 0.0;
             s = sampleRoughDielectric(d, push.wo, u, uc);
             if (s.valid) {
                 r.eval = evalRoughDielectric(d, push.wo, s.direction);

@@ -253,7 +253,7 @@ TEST(GgxVisibleNormals, WarpedGridFitsTheCosineAndRejectsUniform) {
 // ---- rough conductor -------------------------------------------------------------------
 
 shared::Conductor conductorOf(const MicrofacetPush& p) {
-    shared::Conductor c;
+    shared::Conductor c{};
     c.alpha = p.alpha;
     c.f0 = p.f0;
     c.eta = p.eta;
@@ -364,7 +364,7 @@ TEST(RoughConductor, Reciprocity) {
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     int compared = 0;
     for (int n = 0; n < 20000; ++n) {
-        shared::Conductor c;
+        shared::Conductor c{};
         c.alpha = glm::vec2(0.02f + uniform(rng), 0.02f + uniform(rng));
         c.f0 = glm::vec3(0.95f, 0.64f, 0.54f);
         c.eta = GOLD_ETA;
@@ -526,7 +526,7 @@ TEST(RoughConductor, ApproachesTheMirrorAsAlphaGoesToZero) {
 // ---- rough dielectric --------------------------------------------------------------------
 
 shared::RoughDielectric dielectricOf(const MicrofacetPush& p) {
-    shared::RoughDielectric d;
+    shared::RoughDielectric d{};
     d.alpha = p.alpha;
     d.ior = p.ior;
     d.reflectance = glm::vec3(1.0f);
@@ -659,7 +659,7 @@ TEST(RoughDielectric, Reciprocity) {
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     int reflections = 0, transmissions = 0, edgeOn = 0;
     for (int n = 0; n < 40000; ++n) {
-        shared::RoughDielectric d;
+        shared::RoughDielectric d{};
         d.alpha = glm::vec2(0.02f + uniform(rng), 0.02f + uniform(rng));
         d.ior = 1.1f + 1.5f * uniform(rng);
         d.reflectance = d.transmittance = glm::vec3(1.0f);

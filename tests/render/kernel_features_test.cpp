@@ -9,6 +9,7 @@
 
 #include "scene/scene.h"
 #include "shared/features.h"
+#include "shared/microfacet_albedo.h"
 #include "shared/ray.h"
 #include "support/test_context.h"
 #include "support/test_scenes.h"
@@ -49,6 +50,30 @@ TEST(KernelFeatures, ExactlyWhatTheSceneAndSettingsHold) {
     EXPECT_EQ(featuresOf(dark, settings) &
                   (VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES |
                    VKP_FEATURES_ENVIRONMENT),
+              0u);
+}
+
+// Multiple-scattering compensation costs a scene without a rough GGX lobe
+// nothing: no albedo tables, no feature bit (a smooth conductor, roughness 0,
+// is the mirror-like delta); a rough one gets both unless --single-scattering,
+// and path regularisation does not bring them to a mirror (compensation
+// follows the material's own roughness: shared/integrator.h shadeHit).
+TEST(KernelFeatures, MicrofacetCompensationOnlyWithARoughLobe) {
+    wavefront::RenderSettings settings;
+    scene::Scene smooth = sphereUnderSky(scene::MaterialKind::Conductor);
+    smooth.materials[0].roughness = 0.0f;
+    EXPECT_TRUE(wavefront::buildSceneTables(smooth).microfacetAlbedo.empty());
+    EXPECT_EQ(featuresOf(smooth, settings) & VKP_FEATURE_MICROFACET_COMPENSATION, 0u);
+    scene::Scene rough = smooth;
+    rough.materials[0].roughness = 0.5f;
+    EXPECT_EQ(wavefront::buildSceneTables(rough).microfacetAlbedo.size(), VKP_ALBEDO_TABLE_SIZE);
+    EXPECT_NE(featuresOf(rough, settings) & VKP_FEATURE_MICROFACET_COMPENSATION, 0u);
+    settings.microfacetCompensation = false;
+    EXPECT_EQ(featuresOf(rough, settings) & VKP_FEATURE_MICROFACET_COMPENSATION, 0u);
+    settings.microfacetCompensation = true;
+    settings.regularize = 0.1f;
+    EXPECT_EQ(featuresOf(sphereUnderSky(scene::MaterialKind::Mirror), settings) &
+                  VKP_FEATURE_MICROFACET_COMPENSATION,
               0u);
 }
 

@@ -92,6 +92,12 @@ AliasEntry sceneLightAlias(uint i) {
     if (sceneByAddress) return AliasArray(sceneAddresses.lightAlias).v[i];
     return aliasEntry(texelFetch(lightAliasTexels, int(i)));
 }
+// Four floats to a texel.
+float sceneMicrofacetAlbedo(uint i) {
+    uvec4 t = texelFetch(microfacetAlbedoTexels, int(i >> 2u));
+    uint j = i & 3u;
+    return uintBitsToFloat(j == 0u ? t.x : j == 1u ? t.y : j == 2u ? t.z : t.w);
+}
 uint scenePrimitiveLight(uint i) {
     if (sceneByAddress) return UintArray(sceneAddresses.primitiveLight).v[i];
     uvec4 t = texelFetch(primitiveLightTexels, int(i >> 2u));
