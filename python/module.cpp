@@ -135,7 +135,7 @@ nb::dict progressDict(const wavefront::RenderProgress& p) {
 }
 
 // A scene loaded once (with the flags that change it: -e, --env-*, --camera,
-// --instancing)
+// --instancing, --variant)
 // and rendered many times; its tables (BVH included) are built at the first
 // render and kept.
 class Scene {

@@ -195,6 +195,7 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
          o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
         {"vkpath:scene", o.scene}};
     image::Metadata full = metadata;
+    if (!o.variant.empty()) full.emplace_back("vkpath:variant", o.variant);
     if (result.estimatedRelMse)
         full.emplace_back("vkpath:estimatedRelMse", fmt::format("{:.6g}", *result.estimatedRelMse));
     if (o.targetError) {

@@ -86,6 +86,9 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "Environment rotation about +Y, degrees (default: the scene's, or 0)")
         ->check(finiteReal<float>());
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
+    cmd.add_option("--variant", o.variant,
+                   "glTF: render the materials of this KHR_materials_variants variant (scene-info "
+                   "lists them; default: the primitives' own)");
     cmd.add_option("--instancing", o.instancing,
                    "glTF: keep a mesh that several nodes place once, placed by instances (on), "
                    "copy it per node (off), or instance where the copies would add 2^20 "
@@ -220,6 +223,8 @@ RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHa
     settings["env-strength"] = optional(o.environmentStrength);
     settings["env-rotate"] = optional(o.environmentRotation);
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
+    // Recorded only when chosen, so that checkpoints from before variants resume.
+    if (!o.variant.empty()) settings["variant"] = o.variant;
     // Instanced and copied meshes give the same image up to rounding:
     // recorded only when chosen, so that checkpoints from before instancing resume.
     if (o.instancing != "auto") settings["instancing"] = o.instancing;
@@ -267,6 +272,7 @@ void admitRenderOnDevice(const RenderOptions& o, const scene::Scene& scene,
 scene::Scene loadRenderScene(const RenderOptions& o) {
     scene::LoadOptions loadOptions;
     loadOptions.cameraName = o.camera;
+    loadOptions.materialVariant = o.variant;
     loadOptions.instancing = o.instancing == "on"    ? scene::Instancing::On
                              : o.instancing == "off" ? scene::Instancing::Off
                                                      : scene::Instancing::Auto;

@@ -40,6 +40,7 @@ struct RenderOptions {
     float clamp = 0;
     float regularize = 0;           // path regularisation's least GGX alpha; 0: off
     bool singleScattering = false;  // --single-scattering: no multiple-scattering compensation
+    std::string variant;            // --variant: a glTF material variant; empty: none
     float guideSpheres = wavefront::RenderSettings{}.guideFraction;  // --guide-spheres
     std::string environment;
     std::vector<float> environmentColor;

@@ -155,6 +155,7 @@ nlohmann::json sceneJson(const std::string& file, const scene::Scene& s, const S
                      : nlohmann::json(nullptr)},
         {"textures",
          {{"images", s.images.size()}, {"textures", s.textures.size()}, {"texels", c.texels}}},
+        {"materialVariants", s.materialVariants},
         {"features", features},
         {"kernelFeatures", wavefront::describeFeatures(k.features)},
         {"deviceBytes",
@@ -180,6 +181,12 @@ void printScene(const std::string& file, const scene::Scene& s, const SceneCount
                              c.byKind[uint32_t(kind.kind)]);
     std::printf("materials   %zu (%s; emissive %zu)\n", s.materials.size(), kinds.c_str(),
                 c.emissive);
+    if (!s.materialVariants.empty()) {
+        std::string names;
+        for (const std::string& name : s.materialVariants)
+            names += (names.empty() ? "'" : ", '") + name + "'";
+        std::printf("variants    %s (render --variant NAME)\n", names.c_str());
+    }
     std::printf("emitters    %zu (meshes %zu, spheres %zu; emissive triangles %zu)\n",
                 c.emissiveMeshes + c.emissiveSpheres, c.emissiveMeshes, c.emissiveSpheres,
                 c.emissiveTriangles);

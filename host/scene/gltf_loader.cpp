@@ -25,6 +25,7 @@
 #include "scene/gltf_container.h"
 #include "scene/gltf_materials.h"
 #include "scene/gltf_meshes.h"
+#include "scene/gltf_variants.h"
 #include "scene/import_warnings.h"
 #include "scene/load.h"
 
@@ -573,7 +574,10 @@ class Importer {
 
 Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options) {
     gltf::Document document = gltf::readDocument(path);
+    std::vector<std::string> variants =
+        gltf::applyMaterialVariant(document.model, options.materialVariant, path.string());
     Scene scene = Importer(path.string(), document, options).run();
+    scene.materialVariants = std::move(variants);
     scene.referencedFiles.insert(scene.referencedFiles.begin(), document.filesRead.begin(),
                                  document.filesRead.end());
     return scene;

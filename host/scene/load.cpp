@@ -41,6 +41,11 @@ void checkReadableFile(const std::filesystem::path& path) {
 Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
     checkReadableFile(path);
     const std::string ext = lowercaseExtension(path);
+    if (ext == ".dae" && !options.materialVariant.empty())
+        throw InputError(
+            fmt::format("{}: no material variants to choose '{}' from: COLLADA has none (glTF's "
+                        "KHR_materials_variants)",
+                        path.string(), options.materialVariant));
     if (ext == ".dae") return loadCollada(path, options);
     if (ext == ".gltf" || ext == ".glb") return loadGltf(path, options);
     throw InputError(fmt::format("{}: unknown scene format '{}' (expected .gltf, .glb or .dae)",

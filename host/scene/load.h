@@ -26,6 +26,9 @@ inline constexpr uint64_t INSTANCING_MIN_TRIANGLES = uint64_t(1) << 20;
 
 struct LoadOptions {
     std::string cameraName;  // glTF: choose this camera instead of the first
+    // glTF: render the materials of this KHR_materials_variants variant
+    // (scene/gltf_variants.h); empty: the primitives' own
+    std::string materialVariant;
     // glTF: meshes placed by several nodes. Emissive meshes are copied
     // whatever this says (their triangles are lights).
     Instancing instancing = Instancing::Auto;

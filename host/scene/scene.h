@@ -280,6 +280,9 @@ struct Scene {
     // images, an environment map), in the order read: with the scene file,
     // what a render's identity hashes (app::renderIdentity).
     std::vector<std::filesystem::path> referencedFiles;
+    // The material variants the file declares (glTF's KHR_materials_variants;
+    // LoadOptions::materialVariant chooses one)
+    std::vector<std::string> materialVariants;
 
     FeatureSummary features() const;
     // Triangles stored: an instanced mesh's once.

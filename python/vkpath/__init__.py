@@ -41,9 +41,9 @@ __all__ = [
 ]
 
 # The keywords that change the scene itself (its environment, its camera,
-# whether meshes several nodes place are instanced):
+# whether meshes several nodes place are instanced, a glTF material variant):
 # given to Scene(), which loads the file with them once.
-SCENE_KEYWORDS = ("env", "env_color", "env_strength", "env_rotate", "camera", "instancing")
+SCENE_KEYWORDS = ("env", "env_color", "env_strength", "env_rotate", "camera", "instancing", "variant")
 # The device is also the scene's: a CPU render is admitted against the host's
 # memory alone (wavefront/scene_footprint.h).
 _LOAD_KEYWORDS = SCENE_KEYWORDS + ("device",)
@@ -137,7 +137,7 @@ class Scene:
 
     Keywords: the flags that change the scene (env, env_color, env_strength,
     env_rotate, camera: a glTF camera's name, instancing: "auto", "on" or
-    "off") and device ("gpu" or "cpu", the
+    "off", variant: a glTF KHR_materials_variants name) and device ("gpu" or "cpu", the
     memory the scene is admitted against; a render may name either)."""
 
     def __init__(self, path: Union[str, os.PathLike], **keywords: Any):

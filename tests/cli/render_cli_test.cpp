@@ -1,7 +1,7 @@
 // `vkpath render` as a user meets it: Scotty3D's -w, the EXR's metadata, the
 // PNG preview and its exposure, the summary line and the progress bar,
 // bit-identical reruns, --time-budget, waves made smaller by --max-wave-ms
-// and --max-device-memory, the CPU reference's builds, and --single-scattering.
+// and --max-device-memory, the CPU reference's builds, --single-scattering and --variant.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -20,6 +20,7 @@
 
 #include "image/image.h"
 #include "support/exr_metadata.h"
+#include "support/gltf_builder.h"
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
@@ -122,6 +123,51 @@ TEST(RenderCli, SingleScatteringIsRecordedAndDarkensTheRoughLobes) {
                     device.c_str(), compensated, single, compensated / single);
         EXPECT_GT(compensated, 1.02 * single);
     }
+}
+
+// --variant renders a glTF material variant (KHR_materials_variants) and
+// records it; a name the file does not declare is one line, exit 2, nothing
+// written. The file: a red triangle whose variant "green" is green, under a
+// white sky, filling the middle of the film.
+TEST(RenderCli, VariantChoosesTheMaterialsAndAnUnknownOneIsOneLine) {
+    const test::TempDir dir;
+    test::GltfBuilder b;
+    b.material(
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0}}}});
+    b.material(
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 1, 0, 1}}, {"metallicFactor", 0}}}});
+    b.node({{"mesh", b.triangle(0)}});
+    b.doc["cameras"].push_back(
+        {{"type", "perspective"}, {"perspective", {{"yfov", 0.2}, {"znear", 0.01}}}});
+    b.node({{"camera", 0}, {"translation", {0.3, 0.3, 5}}});
+    b.doc["extensions"]["KHR_materials_variants"]["variants"] = {{{"name", "green"}}};
+    b.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"] = {
+        {{"material", 1}, {"variants", {0}}}};
+    const std::string scene = b.writeGltf(dir / "variants.gltf").string();
+    const auto colour = [&](const std::string& flags) {
+        const std::string exr = (dir / "v.exr").string();
+        const auto r = test::runVkpath("render " + scene + " -d 8x8 -s 4 --env-color 1,1,1 " +
+                                       flags + " -o " + exr);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        const image::Image image = image::readImage(exr);
+        const glm::vec3 centre = image.pixels[4 * 8 + 4];
+        return std::pair{centre, vkpathMetadata(exr)["vkpath:variant"]};
+    };
+    const auto [own, ownRecorded] = colour("");
+    EXPECT_GT(own.x, 10 * own.y) << "red";
+    EXPECT_EQ(ownRecorded, "");
+    const auto [green, recorded] = colour("--variant green");
+    EXPECT_GT(green.y, 10 * green.x) << "green";
+    EXPECT_EQ(recorded, "green");
+
+    const std::string exr = (dir / "x.exr").string();
+    const auto r = test::runVkpath("render " + scene + " -d 8x8 --variant blue -o " + exr);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("no material variant named 'blue' (the file's: 'green')"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(exr));
 }
 
 // The preview is the EXR, scaled by 2^exposure and sRGB-encoded to 8 bits.

@@ -250,6 +250,33 @@ def test_instancing_is_a_scene_keyword_and_keeps_the_image():
         vkpath.Scene(path, instancing="sometimes")
 
 
+def test_a_material_variant_is_a_scene_keyword(tmp_path):
+    """The dark triangle made red, with a variant "green" (KHR_materials_variants)."""
+    import json
+
+    path = dark_triangle(tmp_path)
+    gltf = json.loads(path.read_text())
+    diffuse = {"KHR_materials_specular": {"specularFactor": 0}}  # Lambertian (docs/SCENES.md)
+    gltf["materials"] = [
+        {"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1], "metallicFactor": 0}, "extensions": diffuse},
+        {"pbrMetallicRoughness": {"baseColorFactor": [0, 1, 0, 1], "metallicFactor": 0}, "extensions": diffuse},
+    ]
+    primitive = gltf["meshes"][0]["primitives"][0]
+    primitive["material"] = 0
+    primitive["extensions"] = {"KHR_materials_variants": {"mappings": [{"material": 1, "variants": [0]}]}}
+    gltf["extensions"] = {"KHR_materials_variants": {"variants": [{"name": "green"}]}}
+    path.write_text(json.dumps(gltf))
+    sky = (1, 1, 1)
+    own, green = vkpath.Scene(path, env_color=sky), vkpath.Scene(path, env_color=sky, variant="green")
+    assert own.info()["materialVariants"] == ["green"]
+    a = own.render(size=(8, 8), spp=2).image[..., :3].reshape(-1, 3).sum(axis=0)
+    b = green.render(size=(8, 8), spp=2).image[..., :3].reshape(-1, 3).sum(axis=0)
+    # The white sky behind adds to every channel; the triangle to its colour's.
+    assert a[0] - a[1] > 5 and b[1] - b[0] > 5
+    with pytest.raises(ValueError, match="no material variant named 'blue'"):
+        vkpath.Scene(path, variant="blue")
+
+
 # ---- the shared routines over arrays -----------------------------------------------------
 
 
