@@ -25,13 +25,24 @@ inline glm::vec3 outgoing(float cosTheta) {
     return glm::vec3(std::sqrt(std::max(0.0f, 1.0f - c * c)), 0.0f, c);
 }
 
-// The visible-normal sampler's u for cell (x, t): u.x = the cell's midpoint,
-// u.y = 1 - t^2, whose density 2 t the integrals weigh by. Near u.y = 1, the
-// rim of the spherical cap (shared::sampleGgxVisibleNormal), the normals turn
-// from the lobe to grazing within a strip of width ~alpha; the substitution
-// puts the grid's points there.
-inline glm::vec2 gridPoint(int x, float t, int side) {
-    return glm::vec2((x + 0.5f) / side, 1.0f - t * t);
+// The mean of weight(o, m) over the visible normals m of wo at cosine
+// cosTheta, on a side x side grid: u.x the cells' midpoints, u.y = 1 - t^2
+// with t the cells' midpoints, weighed by that substitution's density 2 t.
+// Near u.y = 1, the rim of the spherical cap (shared::sampleGgxVisibleNormal),
+// the normals turn from the lobe to grazing within a strip of width ~alpha:
+// the substitution puts the grid's points there.
+template <typename Weight>
+double visibleNormalMean(float cosTheta, glm::vec2 alpha, int side, Weight weight) {
+    const glm::vec3 o = outgoing(cosTheta);
+    double sum = 0.0;
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) {
+            const float t = (y + 0.5f) / side;
+            const glm::vec2 u((x + 0.5f) / side, 1.0f - t * t);
+            const glm::vec3 m = shared::sampleGgxVisibleNormal(o, alpha, u);
+            if (glm::dot(o, m) > 0.0f) sum += 2.0 * t * weight(o, m);
+        }
+    return sum / (double(side) * side);
 }
 
 // E(mu_o, alpha) of the rough conductor with F = 1: the mean of
@@ -40,17 +51,10 @@ inline glm::vec2 gridPoint(int x, float t, int side) {
 inline double conductorAlbedo(float cosTheta, float roughness, int side = GRID_SIDE) {
     const glm::vec2 alpha(roughness * roughness);
     if (shared::microfacetIsSmooth(alpha)) return 1.0;
-    const glm::vec3 o = outgoing(cosTheta);
-    double sum = 0.0;
-    for (int y = 0; y < side; ++y)
-        for (int x = 0; x < side; ++x) {
-            const float t = (y + 0.5f) / side;
-            const glm::vec3 m = shared::sampleGgxVisibleNormal(o, alpha, gridPoint(x, t, side));
-            const float om = glm::dot(o, m);
-            const glm::vec3 i = 2.0f * om * m - o;
-            if (om > 0.0f && i.z > 0.0f) sum += 2.0f * t * shared::ggxG2OverG1(o, i, alpha);
-        }
-    return sum / (double(side) * side);
+    return visibleNormalMean(cosTheta, alpha, side, [&](glm::vec3 o, glm::vec3 m) {
+        const glm::vec3 i = 2.0f * glm::dot(o, m) * m - o;
+        return i.z > 0.0f ? double(shared::ggxG2OverG1(o, i, alpha)) : 0.0;
+    });
 }
 
 // E(mu_o, alpha, eta) of the white rough dielectric, eta the relative index
@@ -61,25 +65,19 @@ inline double conductorAlbedo(float cosTheta, float roughness, int side = GRID_S
 inline double dielectricAlbedo(float cosTheta, float roughness, float eta, int side = GRID_SIDE) {
     const glm::vec2 alpha(roughness * roughness);
     if (shared::microfacetIsSmooth(alpha)) return 1.0;
-    const glm::vec3 o = outgoing(cosTheta);
-    double sum = 0.0;
-    for (int y = 0; y < side; ++y)
-        for (int x = 0; x < side; ++x) {
-            const float t = (y + 0.5f) / side;
-            const glm::vec3 m = shared::sampleGgxVisibleNormal(o, alpha, gridPoint(x, t, side));
-            const float om = glm::dot(o, m);
-            if (om <= 0.0f) continue;
-            const float fresnel = shared::fresnelDielectric(om, eta);
-            const glm::vec3 r = 2.0f * om * m - o;
-            if (r.z > 0.0f) sum += 2.0f * t * fresnel * shared::ggxG2OverG1(o, r, alpha);
-            if (fresnel >= 1.0f) continue;
-            // Snell's law about m, as sampleRoughDielectric.
-            const float sin2T = (1.0f - om * om) / (eta * eta);
-            const float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
-            const glm::vec3 w = glm::normalize(-o / eta + (om / eta - cosT) * m);
-            if (w.z < 0.0f) sum += 2.0f * t * (1.0f - fresnel) * shared::ggxG2OverG1(o, w, alpha);
-        }
-    return sum / (double(side) * side);
+    return visibleNormalMean(cosTheta, alpha, side, [&](glm::vec3 o, glm::vec3 m) {
+        const float om = glm::dot(o, m);
+        const float fresnel = shared::fresnelDielectric(om, eta);
+        const glm::vec3 r = 2.0f * om * m - o;
+        double weight = r.z > 0.0f ? fresnel * shared::ggxG2OverG1(o, r, alpha) : 0.0f;
+        if (fresnel >= 1.0f) return weight;
+        // Snell's law about m, as sampleRoughDielectric.
+        const float sin2T = (1.0f - om * om) / (eta * eta);
+        const float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
+        const glm::vec3 w = glm::normalize(-o / eta + (om / eta - cosT) * m);
+        if (w.z < 0.0f) weight += (1.0f - fresnel) * shared::ggxG2OverG1(o, w, alpha);
+        return weight;
+    });
 }
 
 }  // namespace vkpath::albedo
