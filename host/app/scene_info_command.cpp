@@ -35,7 +35,7 @@ struct SceneCounts {
 // feature set of its kernels and the device memory it takes, by group
 // (the same functions as the renderer's; no device needed).
 struct KernelPlan {
-    uint32_t features = 0;
+    uint64_t features = 0;
     uint64_t sceneBytes = 0;
     uint64_t wavefrontPathBytes = 0;  // per path in flight
     uint64_t megakernelPathBytes = 0;

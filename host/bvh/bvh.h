@@ -101,7 +101,7 @@ struct BvhBuild {
 // VKP_FEATURE_DEEP_BVH when a leaf lies below VKP_BVH_SHALLOW_DEPTH, so that
 // the kernels' stack can spill to an array (shared/bvh_traverse.h), and
 // VKP_FEATURE_INSTANCES when the scene's tree places instances.
-inline uint32_t traversalFeatures(const BvhBuild& bvh) {
+inline uint64_t traversalFeatures(const BvhBuild& bvh) {
     return (bvh.stats.maxDepth > VKP_BVH_SHALLOW_DEPTH ? VKP_FEATURE_DEEP_BVH : 0u) |
            (bvh.stats.instances > 0 ? VKP_FEATURE_INSTANCES : 0u);
 }

@@ -27,7 +27,7 @@ std::span<const CpuProfile> cpuProfiles() {
 }
 
 std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& tables,
-                                             const shared::SceneInfo& info, uint32_t features,
+                                             const shared::SceneInfo& info, uint64_t features,
                                              bool specialize) {
     if (specialize)
         for (const CpuProfile& profile : PROFILES)

@@ -28,7 +28,7 @@ class PathSampler {
     virtual ~PathSampler() = default;
     // The features its code was compiled for: VKP_FEATURES_ALL for the
     // general build.
-    virtual uint32_t features() const = 0;
+    virtual uint64_t features() const = 0;
     // "general" or the profile's name.
     virtual const char* name() const = 0;
     // The radiance of path `sampleIndex` of `pixel` (y * width + x of the
@@ -45,7 +45,7 @@ using MakePathSampler = std::unique_ptr<PathSampler> (*)(const char* name,
 
 struct CpuProfile {
     const char* name;
-    uint32_t features;
+    uint64_t features;
     MakePathSampler make;
 };
 
@@ -57,7 +57,7 @@ std::span<const CpuProfile> cpuProfiles();
 // profile whose features hold them all; else, or when none does, the general
 // build. `tables` must outlive it.
 std::unique_ptr<PathSampler> makePathSampler(const wavefront::SceneTables& tables,
-                                             const shared::SceneInfo& info, uint32_t features,
+                                             const shared::SceneInfo& info, uint64_t features,
                                              bool specialize);
 
 }  // namespace vkpath::reference

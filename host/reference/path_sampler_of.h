@@ -10,14 +10,14 @@
 
 namespace vkpath::reference {
 
-template <uint32_t Features>
+template <uint64_t Features>
 class PathSamplerOf final : public PathSampler {
   public:
     PathSamplerOf(const char* name, const wavefront::SceneTables& tables,
                   const shared::SceneInfo& info)
         : m_name(name), m_view(tables, info) {}
 
-    uint32_t features() const override { return Features; }
+    uint64_t features() const override { return Features; }
     const char* name() const override { return m_name; }
 
     // The whole path in one function: `flatten` inlines every call in it

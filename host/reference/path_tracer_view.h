@@ -100,7 +100,7 @@ struct SceneTablesView {
     std::span<const vec4> m_guideSpheres;
 };
 
-template <uint Features>
+template <FeatureMask Features>
 struct PathTracerViewOf : SceneTablesView {
     static_assert(
         Features == kernelFeatures,

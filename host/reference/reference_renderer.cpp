@@ -101,7 +101,7 @@ uint32_t ReferenceRenderer::threads() const {
 }
 
 std::string ReferenceRenderer::describe() const {
-    constexpr uint32_t defined = (1u << VKP_FEATURE_COUNT) - 1u;
+    constexpr uint64_t defined = VKP_FEATURE_BIT(VKP_FEATURE_COUNT) - 1;
     std::string build;
     if (m_sampler->features() != VKP_FEATURES_ALL)
         build =

@@ -76,7 +76,7 @@ class ReferenceRenderer {
     // no profile covers the scene) or a profile of reference/cpu_profiles.h.
     const PathSampler& sampler() const { return *m_sampler; }
     // The render's features (wavefront::renderFeatures).
-    uint32_t features() const { return m_features; }
+    uint64_t features() const { return m_features; }
     // One line for a user: the threads, the build and the scene's features.
     std::string describe() const;
 
@@ -84,7 +84,7 @@ class ReferenceRenderer {
     wavefront::RenderSettings m_settings;
     wavefront::SceneTables m_tables;
     shared::Camera m_camera;
-    uint32_t m_features;
+    uint64_t m_features;
     std::unique_ptr<const PathSampler> m_sampler;  // reads m_tables: declared after it
 };
 

@@ -35,7 +35,7 @@ struct MaterialKindInfo {
     MaterialKind kind;
     const char* key;           // scene-info's JSON key and FeatureSummary's field
     const char* label;         // its name in scene-info's text and the kernels' feature list
-    uint32_t feature;          // VKP_FEATURE_* (shaders/shared/features.h)
+    uint64_t feature;          // VKP_FEATURE_* (shaders/shared/features.h)
     uint32_t flags;            // VKP_KIND_*
     MaterialKind regularized;  // the kind path regularisation turns it into
 };

@@ -183,6 +183,8 @@ std::string unsuitableReason(const DeviceInfo& info) {
     // The BVH kernels declare buffer references (GL_EXT_buffer_reference) for
     // scenes larger than a storage-buffer binding (shared/bvh_buffers.h).
     if (!info.bufferDeviceAddress) return "bufferDeviceAddress is required";
+    // The kernels' feature bits are a 64-bit integer (shared/features.h).
+    if (!info.shaderInt64) return "shaderInt64 is required";
     // Without it a compiler may assume no NaN or infinity exists and fold away
     // the kernels' non-finite checks.
     if (!info.signedZeroInfNanPreserveFloat32)
@@ -281,8 +283,8 @@ uint32_t preferredDeviceIndex(const std::vector<DeviceInfo>& devices) {
     }
     if (!best)
         throw std::runtime_error(
-            "no Vulkan 1.2 device with scalarBlockLayout and shaderSignedZeroInfNanPreserveFloat32 "
-            "was found");
+            "no Vulkan 1.2 device with scalarBlockLayout, bufferDeviceAddress, shaderInt64 and "
+            "shaderSignedZeroInfNanPreserveFloat32 was found");
     return *best;
 }
 

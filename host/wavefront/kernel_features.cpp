@@ -16,7 +16,7 @@ namespace {
 
 // Each feature's name in the logs; a material kind's is its registry label
 // (shaders/shared/material_kinds.h).
-constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATURE_NAMES = {{
+constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATURE_NAMES = {{
     {VKP_FEATURE_TRIANGLES, "triangles"},
     {VKP_FEATURE_SPHERES, "spheres"},
 #define VKP_KIND_FEATURE_NAME(id, NAME, Type, key, label, feature, flags, regularized) \
@@ -49,7 +49,7 @@ constexpr std::array<std::pair<uint32_t, const char*>, VKP_FEATURE_COUNT> FEATUR
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
-constexpr const char* featureName(uint32_t bit) {
+constexpr const char* featureName(uint64_t bit) {
     for (const auto& [feature, name] : FEATURE_NAMES)
         if (feature == bit) return name;
     return nullptr;
@@ -57,15 +57,15 @@ constexpr const char* featureName(uint32_t bit) {
 
 constexpr bool namesEveryBit() {
     for (uint32_t i = 0; i < VKP_FEATURE_COUNT; ++i)
-        if (featureName(1u << i) == nullptr) return false;
+        if (featureName(VKP_FEATURE_BIT(i)) == nullptr) return false;
     return true;
 }
 static_assert(namesEveryBit(), "a VKP_FEATURE_* bit without a name");
 
 }  // namespace
 
-uint32_t sceneFeatures(const SceneTables& t) {
-    uint32_t f = 0;
+uint64_t sceneFeatures(const SceneTables& t) {
+    uint64_t f = 0;
     for (const shared::BvhPrimitive& p : t.bvh.primitives) {
         if (p.kind == VKP_PRIMITIVE_INSTANCE) continue;  // traversalFeatures, below
         f |= p.kind == VKP_PRIMITIVE_SPHERE ? VKP_FEATURE_SPHERES : VKP_FEATURE_TRIANGLES;
@@ -96,8 +96,8 @@ uint32_t sceneFeatures(const SceneTables& t) {
     return f;
 }
 
-uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info) {
-    uint32_t f = sceneFeatures(tables);
+uint64_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info) {
+    uint64_t f = sceneFeatures(tables);
     f |= info.samplerKind == VKP_SAMPLER_SOBOL ? VKP_FEATURE_SAMPLER_SOBOL
                                                : VKP_FEATURE_SAMPLER_INDEPENDENT;
     if (info.lightSamples > 0) f |= VKP_FEATURE_LIGHT_SAMPLES;
@@ -115,7 +115,7 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     // (or roughens: the microfacet kinds) make the feature.
     if (info.aovs != 0) f |= VKP_FEATURE_AOVS;
     if (info.regularizeAlpha > 0.0f) {
-        uint32_t regularized = 0, roughened = 0;
+        uint64_t regularized = 0, roughened = 0;
         for (const scene::MaterialKindInfo& kind : scene::MATERIAL_KINDS) {
             if (!(f & kind.feature)) continue;
             regularized |= scene::materialKindInfo(kind.regularized).feature;
@@ -129,7 +129,7 @@ uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     return f;
 }
 
-uint32_t shadowRaysPerVertex(uint32_t features, uint32_t lightSamples) {
+uint32_t shadowRaysPerVertex(uint64_t features, uint32_t lightSamples) {
     // shared/bsdf.h hasNonDeltaLobe: the kinds flagged VKP_KIND_NON_DELTA
     // (a microfacet kind only unless smooth: a set bit means "may occur").
     const bool traces =
@@ -137,15 +137,29 @@ uint32_t shadowRaysPerVertex(uint32_t features, uint32_t lightSamples) {
     return traces ? lightSamples : 0;
 }
 
-std::string describeFeatures(uint32_t features) {
+std::string describeFeatures(uint64_t features) {
     if (features == VKP_FEATURES_ALL) return "general";
     std::string text;
     for (uint32_t i = 0; i < VKP_FEATURE_COUNT; ++i) {  // in the order of the bits
-        if (!(features & (1u << i))) continue;
+        if (!(features & VKP_FEATURE_BIT(i))) continue;
         if (!text.empty()) text += ' ';
-        text += featureName(1u << i);
+        text += featureName(VKP_FEATURE_BIT(i));
     }
     return text.empty() ? "(none)" : text;
+}
+
+std::array<vk::SpecializationConstant, 2> featureConstants(uint64_t features) {
+    return {{{VKP_SPEC_FEATURES, uint32_t(features)},
+             {VKP_SPEC_FEATURES_HIGH, uint32_t(features >> 32)}}};
+}
+
+uint64_t specializedFeatures(std::span<const vk::SpecializationConstant> constants) {
+    uint64_t low = uint32_t(VKP_FEATURES_ALL), high = uint32_t(VKP_FEATURES_ALL);
+    for (const vk::SpecializationConstant& c : constants) {
+        if (c.id == VKP_SPEC_FEATURES) low = c.value;
+        if (c.id == VKP_SPEC_FEATURES_HIGH) high = c.value;
+    }
+    return high << 32 | low;
 }
 
 }  // namespace vkpath::wavefront

@@ -4,11 +4,14 @@
 // no memory beyond the placeholder Vulkan needs to bind.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "shared/features.h"
 #include "shared/scene_data.h"
+#include "vk/kernel.h"
 #include "wavefront/gpu_scene.h"
 
 namespace vkpath::wavefront {
@@ -16,20 +19,27 @@ namespace vkpath::wavefront {
 // From the tables: the primitive kinds, the materials of the primitives (not
 // of every material in the file), emission, the light types in the light
 // list and the kind of environment.
-uint32_t sceneFeatures(const SceneTables& tables);
+uint64_t sceneFeatures(const SceneTables& tables);
 
 // sceneFeatures plus the render's settings in `info` (renderSceneInfo): the
 // sampler, how many light samples, whether roulette can end a path, the AOVs.
-uint32_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info);
+uint64_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info);
 
 // Shadow rays per path vertex that a kernel with these features can queue
 // (`lightSamples`: SceneInfo::lightSamples): none unless there is something
 // to sample and a surface with a non-delta lobe to sample it from.
-uint32_t shadowRaysPerVertex(uint32_t features, uint32_t lightSamples);
+uint32_t shadowRaysPerVertex(uint64_t features, uint32_t lightSamples);
 
 // The names of the set bits in declaration order, e.g. "triangles diffuse
 // emissive-surfaces independent-sampler light-samples roulette"; "general"
 // for VKP_FEATURES_ALL.
-std::string describeFeatures(uint32_t features);
+std::string describeFeatures(uint64_t features);
+
+// The two 32-bit specialisation constants that hold `features`
+// (shared/bindings.h VKP_SPEC_FEATURES, VKP_SPEC_FEATURES_HIGH), and the
+// features that a list of constants specialises to (a word it leaves out is
+// all ones, the kernels' default).
+std::array<vk::SpecializationConstant, 2> featureConstants(uint64_t features);
+uint64_t specializedFeatures(std::span<const vk::SpecializationConstant> constants);
 
 }  // namespace vkpath::wavefront

@@ -8,6 +8,7 @@
 #include "shared/bindings.h"
 #include "shared/features.h"
 #include "vk/context.h"
+#include "wavefront/kernel_features.h"
 
 namespace vkpath::wavefront {
 namespace {
@@ -19,9 +20,8 @@ std::span<const std::byte> bytes(const shared::WavePush& p) {
 // A kernel that traces rays, as its variant for the traversal and for
 // features that may include instances (bvh::tracingKernel).
 std::string tracing(const char* kernel, const PipelineSetup& setup) {
-    bool instances = false;
-    for (const vk::SpecializationConstant& c : setup.sceneSpecialization)
-        if (c.id == VKP_SPEC_FEATURES && (c.value & VKP_FEATURE_INSTANCES) != 0u) instances = true;
+    const bool instances =
+        (specializedFeatures(setup.sceneSpecialization) & VKP_FEATURE_INSTANCES) != 0;
     return bvh::tracingKernel(kernel, setup.traversal, instances);
 }
 

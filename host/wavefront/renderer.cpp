@@ -169,13 +169,14 @@ void GpuRenderer::setUp() {
     bindPathBuffers(r->paths, r->placeholder, bindings);
 
     const auto start = Clock::now();
-    PipelineSetup setup{.form = m_form,
-                        .shadowStage = r->shadowStage,
-                        .workgroupSize = settings.workgroupSize,
-                        .sceneSpecialization = {bvh::sceneAccessConstant(m_scene.byAddress),
-                                                {VKP_SPEC_FEATURES, m_features}},
-                        .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation,
-                        .traversal = m_traversal};
+    PipelineSetup setup{
+        .form = m_form,
+        .shadowStage = r->shadowStage,
+        .workgroupSize = settings.workgroupSize,
+        .sceneSpecialization = {bvh::sceneAccessConstant(m_scene.byAddress),
+                                featureConstants(m_features)[0], featureConstants(m_features)[1]},
+        .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation,
+        .traversal = m_traversal};
     r->pipelines = std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->filmOdd,
                                                  r->filmAov, r->counters);
     m_pipelines = r->pipelines->count();

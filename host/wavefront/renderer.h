@@ -66,7 +66,7 @@ class GpuRenderer {
     const GpuScene& scene() const { return m_scene; }
     KernelForm form() const { return m_form; }
     bvh::Traversal traversal() const { return m_traversal; }
-    uint32_t features() const { return m_features; }  // VKP_FEATURE_* bits of the pipelines
+    uint64_t features() const { return m_features; }  // VKP_FEATURE_* bits of the pipelines
     double pipelineMilliseconds() const {
         return m_pipelineMilliseconds;
     }  // creating them (cached or not)
@@ -89,7 +89,7 @@ class GpuRenderer {
     GpuScene m_scene;
     KernelForm m_form = KernelForm::Wavefront;
     bvh::Traversal m_traversal = bvh::Traversal::Compute;
-    uint32_t m_features = 0;
+    uint64_t m_features = 0;
     uint32_t m_pipelines = 0;
     double m_pipelineMilliseconds = 0;
     double m_setupMilliseconds = 0;

@@ -12,7 +12,9 @@
 // read it through buffer device addresses instead of texel-buffer bindings:
 // for scenes whose arrays exceed one binding (shared/bvh_buffers.h).
 #define VKP_SPEC_SCENE_BY_ADDRESS 2
-// uint: the VKP_FEATURE_* bits a kernel may meet (shared/features.h).
+// uint: the VKP_FEATURE_* bits a kernel may meet (shared/features.h), bits 0
+// to 31 in the first, 32 to 63 in the second.
 #define VKP_SPEC_FEATURES 3
+#define VKP_SPEC_FEATURES_HIGH 4
 
 #endif  // VKPATH_SHARED_BINDINGS_H

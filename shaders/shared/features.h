@@ -23,63 +23,93 @@
 
 #include "shared/bindings.h"
 #include "shared/compat.h"
+
+// A set of feature bits, 64 of them: FeatureMask (uint64_t), bit n
+// VKP_FEATURE_BIT(n). GLSL's 64-bit integers need the extension below and the
+// device feature shaderInt64 (vk/context.cpp requires it); with them every
+// feature test stays one scalar expression of specialisation constants, as
+// with the 32-bit mask before (a uvec2 mask would fold a vector == into
+// OpAll, which a specialisation constant may not use).
+#ifdef __cplusplus
+#define VKP_FEATURE_BIT(n) (uint64_t{1} << (n))
+#define VKP_NO_FEATURES \
+    uint64_t {          \
+        0               \
+    }
+#define VKP_FEATURES_ALL (~uint64_t{0})
+// A named feature mask at file scope (VKP_CONSTANT's for masks).
+#define VKP_FEATURE_CONSTANT(name, value) inline constexpr uint64_t name = value;
+#else
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#define FeatureMask uint64_t
+#define VKP_FEATURE_BIT(n) (1ul << (n))
+#define VKP_NO_FEATURES 0ul
+#define VKP_FEATURES_ALL 0xfffffffffffffffful
+#define VKP_FEATURE_CONSTANT(name, value) const uint64_t name = value;
+#endif
+
 #include "shared/material_kinds.h"
 
-#define VKP_FEATURE_TRIANGLES (1u << 0)
-#define VKP_FEATURE_SPHERES (1u << 1)
+#define VKP_FEATURE_TRIANGLES VKP_FEATURE_BIT(0)
+#define VKP_FEATURE_SPHERES VKP_FEATURE_BIT(1)
 // Bits 2, 3, 4, 20, 21 and 22: the material kinds' (shared/material_kinds.h),
 // VKP_FEATURE_DIFFUSE, _MIRROR, _DIELECTRIC, _CONDUCTOR, _ROUGH_DIELECTRIC and
 // _METALLIC_ROUGHNESS, defined below from the registry.
-#define VKP_FEATURE_EMISSIVE_SURFACES (1u << 5)  // a primitive with a material that emits
-#define VKP_FEATURE_POINT_LIGHTS (1u << 6)
-#define VKP_FEATURE_SPOT_LIGHTS (1u << 7)
-#define VKP_FEATURE_DIRECTIONAL_LIGHTS (1u << 8)
-#define VKP_FEATURE_ENVIRONMENT_COLOR (1u << 9)  // a constant environment
-#define VKP_FEATURE_ENVIRONMENT_MAP (1u << 10)   // an environment map
-#define VKP_FEATURE_SAMPLER_INDEPENDENT (1u << 11)
-#define VKP_FEATURE_SAMPLER_SOBOL (1u << 12)
-#define VKP_FEATURE_LIGHT_SAMPLES (1u << 13)  // SceneInfo::lightSamples > 0: next-event estimation
-#define VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES (1u << 14)  // SceneInfo::lightSamples > 1
-#define VKP_FEATURE_ROULETTE (1u << 15)  // rouletteDepth <= maxDepth: roulette can end a path
-#define VKP_FEATURE_SHADING_NORMALS (1u << 16)  // a triangle with interpolated vertex normals
-#define VKP_FEATURE_TEXTURES (1u << 17)         // a material with a texture
-#define VKP_FEATURE_VERTEX_COLORS (1u << 18)    // a triangle with vertex colours
-#define VKP_FEATURE_NORMAL_MAPS (1u << 19)      // a triangle with a normal map and tangents
-#define VKP_FEATURE_ALPHA (1u << 23)       // a triangle whose material may leave holes (alphaMode)
-#define VKP_FEATURE_REGULARIZE (1u << 24)  // path regularisation (SceneInfo::regularizeAlpha > 0)
+#define VKP_FEATURE_EMISSIVE_SURFACES VKP_FEATURE_BIT(5)  // a primitive with a material that emits
+#define VKP_FEATURE_POINT_LIGHTS VKP_FEATURE_BIT(6)
+#define VKP_FEATURE_SPOT_LIGHTS VKP_FEATURE_BIT(7)
+#define VKP_FEATURE_DIRECTIONAL_LIGHTS VKP_FEATURE_BIT(8)
+#define VKP_FEATURE_ENVIRONMENT_COLOR VKP_FEATURE_BIT(9)  // a constant environment
+#define VKP_FEATURE_ENVIRONMENT_MAP VKP_FEATURE_BIT(10)   // an environment map
+#define VKP_FEATURE_SAMPLER_INDEPENDENT VKP_FEATURE_BIT(11)
+#define VKP_FEATURE_SAMPLER_SOBOL VKP_FEATURE_BIT(12)
+#define VKP_FEATURE_LIGHT_SAMPLES \
+    VKP_FEATURE_BIT(13)  // SceneInfo::lightSamples > 0: next-event estimation
+#define VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES VKP_FEATURE_BIT(14)  // SceneInfo::lightSamples > 1
+#define VKP_FEATURE_ROULETTE \
+    VKP_FEATURE_BIT(15)  // rouletteDepth <= maxDepth: roulette can end a path
+#define VKP_FEATURE_SHADING_NORMALS \
+    VKP_FEATURE_BIT(16)                           // a triangle with interpolated vertex normals
+#define VKP_FEATURE_TEXTURES VKP_FEATURE_BIT(17)  // a material with a texture
+#define VKP_FEATURE_VERTEX_COLORS VKP_FEATURE_BIT(18)  // a triangle with vertex colours
+#define VKP_FEATURE_NORMAL_MAPS VKP_FEATURE_BIT(19)    // a triangle with a normal map and tangents
+#define VKP_FEATURE_ALPHA \
+    VKP_FEATURE_BIT(23)  // a triangle whose material may leave holes (alphaMode)
+#define VKP_FEATURE_REGULARIZE \
+    VKP_FEATURE_BIT(24)  // path regularisation (SceneInfo::regularizeAlpha > 0)
 #define VKP_FEATURE_ABSORPTION \
-    (1u << 25)  // a primitive of glass that absorbs inside (attenuation > 0)
+    VKP_FEATURE_BIT(25)  // a primitive of glass that absorbs inside (attenuation > 0)
 #define VKP_FEATURE_DEEP_BVH \
-    (1u << 26)  // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
+    VKP_FEATURE_BIT(         \
+        26)  // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
 #define VKP_FEATURE_SPHERE_GUIDING \
-    (1u << 27)  // diffuse samples guided toward smooth specular spheres
+    VKP_FEATURE_BIT(27)  // diffuse samples guided toward smooth specular spheres
 // --aov albedo,normal (SceneInfo::aovs): each path keeps the albedo and
 // shading normal of its first non-delta hit (shared/integrator.h recordAov)
-#define VKP_FEATURE_AOVS (1u << 28)
+#define VKP_FEATURE_AOVS VKP_FEATURE_BIT(28)
 // A mesh stored once and placed by instances (shared/bvh.h): the scene's
 // tree has instance primitives, whose bottom-level trees traversal enters
-#define VKP_FEATURE_INSTANCES (1u << 29)
+#define VKP_FEATURE_INSTANCES VKP_FEATURE_BIT(29)
 // Multiple-scattering compensation of the microfacet lobes
 // (SceneInfo::microfacetCompensation, shared/microfacet_albedo.h): a kind
 // with a GGX lobe may occur and the render compensates
-#define VKP_FEATURE_MICROFACET_COMPENSATION (1u << 30)
-#define VKP_FEATURE_COUNT 31u
+#define VKP_FEATURE_MICROFACET_COMPENSATION VKP_FEATURE_BIT(30)
+#define VKP_FEATURE_COUNT 31u  // bits 31 to 63 are free
 
-#define VKP_FEATURES_ALL 0xffffffffu
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \
-    VKP_CONSTANT(VKP_FEATURE_##NAME, feature)
+    VKP_FEATURE_CONSTANT(VKP_FEATURE_##NAME, feature)
 VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_CONSTANT)
 #undef VKP_KIND_FEATURE_CONSTANT
 // The material kinds' bits, from their registry (shared/material_kinds.h).
-#define VKP_FEATURES_MATERIALS (0u VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_TERM))
+#define VKP_FEATURES_MATERIALS (VKP_NO_FEATURES VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_TERM))
 // The materials with a GGX lobe: they read Material::roughness (and the metallic-roughness
 // texture).
-#define VKP_FEATURES_MICROFACET (0u VKP_MATERIAL_KINDS(VKP_KIND_MICROFACET_TERM))
+#define VKP_FEATURES_MICROFACET (VKP_NO_FEATURES VKP_MATERIAL_KINDS(VKP_KIND_MICROFACET_TERM))
 // The materials that may have a non-delta lobe: light samples may be traced from them.
-#define VKP_FEATURES_NON_DELTA (0u VKP_MATERIAL_KINDS(VKP_KIND_NON_DELTA_TERM))
+#define VKP_FEATURES_NON_DELTA (VKP_NO_FEATURES VKP_MATERIAL_KINDS(VKP_KIND_NON_DELTA_TERM))
 // The glass kinds: they read Material::ior and transmittance.
-#define VKP_FEATURES_TRANSMITS (0u VKP_MATERIAL_KINDS(VKP_KIND_TRANSMITS_TERM))
+#define VKP_FEATURES_TRANSMITS (VKP_NO_FEATURES VKP_MATERIAL_KINDS(VKP_KIND_TRANSMITS_TERM))
 #define VKP_FEATURES_PRIMITIVES \
     (VKP_FEATURE_TRIANGLES | VKP_FEATURE_SPHERES | VKP_FEATURE_INSTANCES)
 #define VKP_FEATURES_ENVIRONMENT (VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_ENVIRONMENT_MAP)
@@ -87,28 +117,32 @@ VKP_MATERIAL_KINDS(VKP_KIND_FEATURE_CONSTANT)
 VKP_NAMESPACE_BEGIN
 
 #ifdef __cplusplus
+using FeatureMask = uint64_t;
 // C++ compiles the general code (each test a branch on data) unless the
 // translation unit defines VKP_CPU_FEATURES before its first include: the
 // CPU reference's integrator compiled for a feature profile
 // (host/reference/cpu_profiles.h), whose functions are then its own
 // (shared/compat.h VKP_FN).
 #ifdef VKP_CPU_FEATURES
-constexpr uint kernelFeatures = VKP_CPU_FEATURES;
+constexpr FeatureMask kernelFeatures = VKP_CPU_FEATURES;
 #else
-constexpr uint kernelFeatures = VKP_FEATURES_ALL;
+constexpr FeatureMask kernelFeatures = VKP_FEATURES_ALL;
 #endif
 #else
-layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeatures = VKP_FEATURES_ALL;
+// Two 32-bit constants, so that the host's specialisation entries stay 4 bytes.
+layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeaturesLow = 0xffffffffu;
+layout(constant_id = VKP_SPEC_FEATURES_HIGH) const uint kernelFeaturesHigh = 0xffffffffu;
+const uint64_t kernelFeatures = uint64_t(kernelFeaturesHigh) << 32 | uint64_t(kernelFeaturesLow);
 #endif
 
 // Whether any of `features` may occur.
-VKP_FN bool hasFeature(uint features) {
-    return (kernelFeatures & features) != 0u;
+VKP_FN bool hasFeature(FeatureMask features) {
+    return (kernelFeatures & features) != VKP_NO_FEATURES;
 }
 
 // Whether `feature` is the only one of `group` that may occur (so a test
 // between the members of the group is known without reading data).
-VKP_FN bool onlyFeature(uint group, uint feature) {
+VKP_FN bool onlyFeature(FeatureMask group, FeatureMask feature) {
     return (kernelFeatures & group) == feature;
 }
 

@@ -17,7 +17,7 @@
 //   FEATURE  the feature bits (shared/features.h) under which a kernel may
 //            meet it: kernels without any compile none of its code
 //   SHAPE    for area lights, the primitive's feature bit, also required;
-//            0 for the others
+//            VKP_NO_FEATURES for the others
 //   FLAGS    VKP_LIGHT_IS_* below
 //
 // Adding a type: a row here (the next ID), its feature bit in
@@ -38,12 +38,12 @@
       VKP_LIGHT_IS_AREA)                                                                        \
     X(1u, SPHERE, Sphere, "sphere", VKP_FEATURE_EMISSIVE_SURFACES, VKP_FEATURE_SPHERES,         \
       VKP_LIGHT_IS_AREA)                                                                        \
-    X(2u, POINT, Point, "point", VKP_FEATURE_POINT_LIGHTS, 0u, VKP_LIGHT_IS_DELTA)              \
-    X(3u, SPOT, Spot, "spot", VKP_FEATURE_SPOT_LIGHTS, 0u, VKP_LIGHT_IS_DELTA)                  \
-    X(4u, DIRECTIONAL, Directional, "directional", VKP_FEATURE_DIRECTIONAL_LIGHTS, 0u,          \
-      VKP_LIGHT_IS_DELTA)                                                                       \
+    X(2u, POINT, Point, "point", VKP_FEATURE_POINT_LIGHTS, VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA) \
+    X(3u, SPOT, Spot, "spot", VKP_FEATURE_SPOT_LIGHTS, VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA)     \
+    X(4u, DIRECTIONAL, Directional, "directional", VKP_FEATURE_DIRECTIONAL_LIGHTS,              \
+      VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA)                                                      \
     /* sampled by its caller, which holds its table (shared/environment_sampling.h) */          \
-    X(5u, ENVIRONMENT, Environment, "environment", VKP_FEATURES_ENVIRONMENT, 0u, 0u)
+    X(5u, ENVIRONMENT, Environment, "environment", VKP_FEATURES_ENVIRONMENT, VKP_NO_FEATURES, 0u)
 
 #define VKP_LIGHT_TYPE_COUNT 6u
 

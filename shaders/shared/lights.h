@@ -70,15 +70,16 @@ struct LightSample {
 // its features: surfaces light only where they emit.
 VKP_FN uint possibleLightTypes() {
     uint types = 0u;
-#define VKP_LIGHT_POSSIBLE(id, NAME, Type, label, feature, shape, flags) \
-    if (hasFeature(feature) && ((shape) == 0u || hasFeature(shape))) types |= 1u << (id);
+#define VKP_LIGHT_POSSIBLE(id, NAME, Type, label, feature, shape, flags)          \
+    if (hasFeature(feature) && ((shape) == VKP_NO_FEATURES || hasFeature(shape))) \
+        types |= 1u << (id);
     VKP_LIGHT_TYPES(VKP_LIGHT_POSSIBLE)
 #undef VKP_LIGHT_POSSIBLE
     return types;
 }
 
 // The feature bits under which a kernel may meet light type `type`.
-VKP_FN uint lightTypeFeature(uint type) {
+VKP_FN FeatureMask lightTypeFeature(uint type) {
     switch (type) {
 #define VKP_LIGHT_CASE(id, NAME, Type, label, feature, shape, flags) \
     case id:                                                         \
@@ -86,7 +87,7 @@ VKP_FN uint lightTypeFeature(uint type) {
         VKP_LIGHT_TYPES(VKP_LIGHT_CASE)
 #undef VKP_LIGHT_CASE
         default:
-            return 0u;
+            return VKP_NO_FEATURES;
     }
 }
 

@@ -66,7 +66,7 @@ struct Material {
 };
 
 // The feature bit of material kind `kind` (shared/features.h).
-VKP_FN uint materialFeature(uint kind) {
+VKP_FN FeatureMask materialFeature(uint kind) {
     switch (kind) {
 #define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
     case id:                                                                   \
@@ -74,7 +74,7 @@ VKP_FN uint materialFeature(uint kind) {
         VKP_MATERIAL_KINDS(VKP_KIND_CASE)
 #undef VKP_KIND_CASE
         default:
-            return 0u;
+            return VKP_NO_FEATURES;
     }
 }
 
@@ -107,7 +107,7 @@ VKP_FN uint materialKind(VKP_IN(Material) material) {
 // Whether `material` is of kind `kind`; known without reading it when the
 // kernel meets no material of that kind, or no other.
 VKP_FN bool materialIs(VKP_IN(Material) material, uint kind) {
-    uint feature = materialFeature(kind);
+    FeatureMask feature = materialFeature(kind);
     if (!hasFeature(feature)) return false;
     if (onlyFeature(VKP_FEATURES_MATERIALS, feature)) return true;
     return material.kind == kind;
@@ -117,7 +117,7 @@ VKP_FN bool materialIs(VKP_IN(Material) material, uint kind) {
 // reading it when the kernel meets no glass, or only glass.
 VKP_FN bool materialTransmits(VKP_IN(Material) material) {
     if (!hasFeature(VKP_FEATURES_TRANSMITS)) return false;
-    if ((kernelFeatures & VKP_FEATURES_MATERIALS & ~VKP_FEATURES_TRANSMITS) == 0u) return true;
+    if (!hasFeature(VKP_FEATURES_MATERIALS & ~VKP_FEATURES_TRANSMITS)) return true;
     return (materialKindFlags(material.kind) & VKP_KIND_TRANSMITS) != 0u;
 }
 

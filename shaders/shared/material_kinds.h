@@ -46,25 +46,26 @@
         // Material::transmittance)
 #define VKP_KIND_LOBE_CHOICE 8u  // sampleTypeMaterial reads its own number uc to choose a lobe
 
-#define VKP_MATERIAL_KINDS(X)                                                                      \
-    /* Lambertian of albedo reflectance */                                                         \
-    X(0u, DIFFUSE, Diffuse, diffuse, "diffuse", (1u << 2), VKP_KIND_NON_DELTA, DIFFUSE)            \
-    /* perfect specular reflection scaled by reflectance */                                        \
-    X(1u, MIRROR, Mirror, mirror, "mirror", (1u << 3), 0u, CONDUCTOR)                              \
-    /* smooth glass: exact Fresnel between index 1 and ior, tinted by reflectance and              \
-     * transmittance */                                                                            \
-    X(2u, DIELECTRIC, Dielectric, glass, "glass", (1u << 4), VKP_KIND_TRANSMITS, ROUGH_DIELECTRIC) \
-    /* GGX reflection of roughness (shared/microfacet.h): Schlick's Fresnel of F0 reflectance, or  \
-       the exact Fresnel of a complex index */                                                     \
-    X(3u, CONDUCTOR, Conductor, conductor, "conductor", (1u << 20),                                \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET, CONDUCTOR)                                         \
-    /* GGX reflection and refraction of roughness between index 1 and ior (Walter et al. 2007) */  \
-    X(4u, ROUGH_DIELECTRIC, RoughDielectric, roughGlass, "rough-glass", (1u << 21),                \
-      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_TRANSMITS | VKP_KIND_LOBE_CHOICE,        \
-      ROUGH_DIELECTRIC)                                                                            \
-    /* glTF 2.0's material (Appendix B, shared/metallic_roughness.h) */                            \
-    X(5u, METALLIC_ROUGHNESS, MetallicRoughness, metallicRoughness, "metallic-roughness",          \
-      (1u << 22), VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_LOBE_CHOICE,                 \
+#define VKP_MATERIAL_KINDS(X)                                                                     \
+    /* Lambertian of albedo reflectance */                                                        \
+    X(0u, DIFFUSE, Diffuse, diffuse, "diffuse", VKP_FEATURE_BIT(2), VKP_KIND_NON_DELTA, DIFFUSE)  \
+    /* perfect specular reflection scaled by reflectance */                                       \
+    X(1u, MIRROR, Mirror, mirror, "mirror", VKP_FEATURE_BIT(3), 0u, CONDUCTOR)                    \
+    /* smooth glass: exact Fresnel between index 1 and ior, tinted by reflectance and             \
+     * transmittance */                                                                           \
+    X(2u, DIELECTRIC, Dielectric, glass, "glass", VKP_FEATURE_BIT(4), VKP_KIND_TRANSMITS,         \
+      ROUGH_DIELECTRIC)                                                                           \
+    /* GGX reflection of roughness (shared/microfacet.h): Schlick's Fresnel of F0 reflectance, or \
+       the exact Fresnel of a complex index */                                                    \
+    X(3u, CONDUCTOR, Conductor, conductor, "conductor", VKP_FEATURE_BIT(20),                      \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET, CONDUCTOR)                                        \
+    /* GGX reflection and refraction of roughness between index 1 and ior (Walter et al. 2007) */ \
+    X(4u, ROUGH_DIELECTRIC, RoughDielectric, roughGlass, "rough-glass", VKP_FEATURE_BIT(21),      \
+      VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_TRANSMITS | VKP_KIND_LOBE_CHOICE,       \
+      ROUGH_DIELECTRIC)                                                                           \
+    /* glTF 2.0's material (Appendix B, shared/metallic_roughness.h) */                           \
+    X(5u, METALLIC_ROUGHNESS, MetallicRoughness, metallicRoughness, "metallic-roughness",         \
+      VKP_FEATURE_BIT(22), VKP_KIND_NON_DELTA | VKP_KIND_MICROFACET | VKP_KIND_LOBE_CHOICE,       \
       METALLIC_ROUGHNESS)
 
 #define VKP_MATERIAL_KIND_COUNT 6u
@@ -73,10 +74,10 @@
 // with F expanding to `| term` per row.
 #define VKP_KIND_FEATURE_TERM(id, NAME, Type, key, label, feature, flags, regularized) | (feature)
 #define VKP_KIND_NON_DELTA_TERM(id, NAME, Type, key, label, feature, flags, regularized) \
-    | (((flags)&VKP_KIND_NON_DELTA) != 0u ? (feature) : 0u)
+    | (((flags)&VKP_KIND_NON_DELTA) != 0u ? (feature) : VKP_NO_FEATURES)
 #define VKP_KIND_MICROFACET_TERM(id, NAME, Type, key, label, feature, flags, regularized) \
-    | (((flags)&VKP_KIND_MICROFACET) != 0u ? (feature) : 0u)
+    | (((flags)&VKP_KIND_MICROFACET) != 0u ? (feature) : VKP_NO_FEATURES)
 #define VKP_KIND_TRANSMITS_TERM(id, NAME, Type, key, label, feature, flags, regularized) \
-    | (((flags)&VKP_KIND_TRANSMITS) != 0u ? (feature) : 0u)
+    | (((flags)&VKP_KIND_TRANSMITS) != 0u ? (feature) : VKP_NO_FEATURES)
 
 #endif  // VKPATH_SHARED_MATERIAL_KINDS_H

@@ -27,6 +27,7 @@
 #include "support/test_context.h"
 #include "vk/buffer.h"
 #include "vk/kernel.h"
+#include "wavefront/kernel_features.h"
 
 namespace vkpath::test::bvh {
 
@@ -469,11 +470,12 @@ class GpuTracer {
     // Specialised as a render's kernels are to the tree's depth (whether the
     // stack may spill to an array) and its instances; every other feature bit set.
     static vk::KernelOptions options(const vkpath::bvh::BvhBuild& build, bool byAddress) {
-        const uint32_t features =
+        const uint64_t features =
             (VKP_FEATURES_ALL & ~(VKP_FEATURE_DEEP_BVH | VKP_FEATURE_INSTANCES)) |
             vkpath::bvh::traversalFeatures(build);
+        const auto constants = vkpath::wavefront::featureConstants(features);
         return vk::KernelOptions{.specialization = {vkpath::bvh::sceneAccessConstant(byAddress),
-                                                    {VKP_SPEC_FEATURES, features}}};
+                                                    constants[0], constants[1]}};
     }
 
     vk::Context& m_context;

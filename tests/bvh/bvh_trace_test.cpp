@@ -77,7 +77,7 @@ TEST(BvhTraceStack, TheStackInVariablesAtItsFullDepth) {
     const scene::Scene s = makeScene({"Mixed", 170, 86});
     const bvh::BvhBuild deep = buildChecked(s);
     EXPECT_GT(deep.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH);
-    EXPECT_EQ(bvh::traversalFeatures(deep), uint32_t(VKP_FEATURE_DEEP_BVH));
+    EXPECT_EQ(bvh::traversalFeatures(deep), VKP_FEATURE_DEEP_BVH);
 
     const bvh::BvhBuild shallow = buildChecked(s, {.maxDepth = VKP_BVH_SHALLOW_DEPTH});
     ASSERT_EQ(shallow.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH);
@@ -122,7 +122,7 @@ TEST(BvhTraceStack, TheStackSpillsPastEightEntriesAndRefills) {
             {.name = "bead", .center = vec3(float(i), across(rng), across(rng)), .radius = RADIUS});
     const bvh::BvhBuild build = buildChecked(s);
     ASSERT_GE(build.stats.maxDepth, VKP_BVH_SHALLOW_DEPTH + 3) << "the stack would not spill";
-    ASSERT_EQ(bvh::traversalFeatures(build), uint32_t(VKP_FEATURE_DEEP_BVH));
+    ASSERT_EQ(bvh::traversalFeatures(build), VKP_FEATURE_DEEP_BVH);
 
     std::vector<Ray> rays;
     for (int i = 0; i < 4000; ++i) {

@@ -60,8 +60,7 @@ TEST(Instancing, OneTreePerObjectWhateverThePlacements) {
         // 1280, the cube's 6 x 72 (once with the sphere, once alone).
         EXPECT_EQ(build.stats.triangles, 300u + 1280u + 6u * 72u + (count >= 3 ? 6u * 72u : 0u));
         EXPECT_EQ(build.objects[0].primitiveCount, 1280u + 6u * 72u);
-        EXPECT_EQ(bvh::traversalFeatures(build) & VKP_FEATURE_INSTANCES,
-                  uint32_t(VKP_FEATURE_INSTANCES));
+        EXPECT_EQ(bvh::traversalFeatures(build) & VKP_FEATURE_INSTANCES, VKP_FEATURE_INSTANCES);
     }
 }
 

@@ -23,7 +23,8 @@ using namespace vkpath;
 struct LightRow {
     uint32_t id;
     const char* label;
-    uint32_t feature, shape, flags;
+    uint64_t feature, shape;
+    uint32_t flags;
 };
 
 constexpr LightRow LIGHT_ROWS[] = {
@@ -82,7 +83,7 @@ TEST(LightRegistry, RowsAreNumberedInOrderWithUniqueLabels) {
 
 TEST(LightRegistry, TheHostMakesEveryTypeAndItsFeatures) {
     const wavefront::SceneTables tables = wavefront::buildSceneTables(everyLight());
-    const uint32_t features = wavefront::sceneFeatures(tables);
+    const uint64_t features = wavefront::sceneFeatures(tables);
     for (const LightRow& row : LIGHT_ROWS) {
         SCOPED_TRACE(row.label);
         int count = 0;

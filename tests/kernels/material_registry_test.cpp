@@ -83,7 +83,7 @@ std::string importedFrom(scene::MaterialKind kind, std::string& why) {
 
 TEST(MaterialRegistry, RowsAreNumberedInOrderWithUniqueNamesAndBits) {
     std::set<std::string> keys, labels;
-    uint32_t features = 0;
+    uint64_t features = 0;
     for (uint32_t i = 0; i < VKP_MATERIAL_KIND_COUNT; ++i) {
         const scene::MaterialKindInfo& row = scene::MATERIAL_KINDS[i];
         SCOPED_TRACE(row.label);
@@ -105,7 +105,7 @@ TEST(MaterialRegistry, RowsAreNumberedInOrderWithUniqueNamesAndBits) {
         EXPECT_EQ((VKP_FEATURES_TRANSMITS & row.feature) != 0,
                   (row.flags & VKP_KIND_TRANSMITS) != 0);
     }
-    EXPECT_EQ(features, uint32_t(VKP_FEATURES_MATERIALS));
+    EXPECT_EQ(features, VKP_FEATURES_MATERIALS);
 }
 
 // Through the dispatch, on 4096 directions toward the surface from each
@@ -183,7 +183,7 @@ TEST(MaterialRegistry, RegularizationMakesTheKindItsRowNames) {
         const wavefront::SceneTables tables = sphereTables(exampleMaterial(row.kind));
         shared::SceneInfo info = tables.info;
         info.regularizeAlpha = 0.3f;
-        const uint32_t features = wavefront::renderFeatures(tables, info);
+        const uint64_t features = wavefront::renderFeatures(tables, info);
         EXPECT_NE(features & scene::materialKindInfo(row.regularized).feature, 0u);
     }
 }

@@ -18,7 +18,7 @@ namespace {
 
 using namespace vkpath;
 
-constexpr uint32_t DEFINED = (1u << VKP_FEATURE_COUNT) - 1u;
+constexpr uint64_t DEFINED = VKP_FEATURE_BIT(VKP_FEATURE_COUNT) - 1;
 
 TEST(CpuProfiles, AreProperSubsetsFewestFeaturesFirst) {
     const auto profiles = reference::cpuProfiles();
@@ -50,7 +50,7 @@ TEST(CpuProfiles, ARenderRunsTheProfileThatHoldsItsFeatures) {
         test::sphereInEnvironment(scene::MaterialKind::Conductor, glm::vec3(0.5f));
     const reference::ReferenceRenderer rough(conductor, settings);
     EXPECT_NE(rough.features() & VKP_FEATURE_CONDUCTOR, 0u);
-    EXPECT_EQ(rough.sampler().features(), uint32_t(VKP_FEATURES_ALL));
+    EXPECT_EQ(rough.sampler().features(), VKP_FEATURES_ALL);
     EXPECT_NE(rough.describe().find("no profile holds"), std::string::npos) << rough.describe();
 
     settings.regularize = 0.2f;
@@ -58,7 +58,7 @@ TEST(CpuProfiles, ARenderRunsTheProfileThatHoldsItsFeatures) {
         test::sphereInEnvironment(scene::MaterialKind::Mirror, glm::vec3(0.5f));
     const reference::ReferenceRenderer regularized(mirror, settings);
     EXPECT_NE(regularized.features() & VKP_FEATURE_REGULARIZE, 0u);
-    EXPECT_EQ(regularized.sampler().features(), uint32_t(VKP_FEATURES_ALL));
+    EXPECT_EQ(regularized.sampler().features(), VKP_FEATURES_ALL);
 
     settings.regularize = 0.0f;
     settings.specialize = false;

@@ -189,7 +189,7 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
         settings.kernel = wavefront::KernelForm::Wavefront;
         wavefront::GpuRenderer reference(test::context(), s, settings);
         const auto expected = reference.render();
-        EXPECT_NE(reference.features(), uint32_t(VKP_FEATURES_ALL));
+        EXPECT_NE(reference.features(), VKP_FEATURES_ALL);
         for (const auto form :
              {wavefront::KernelForm::Wavefront, wavefront::KernelForm::Megakernel})
             for (const bool specialize : {true, false}) {
@@ -200,7 +200,7 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
                 settings.specialize = specialize;
                 wavefront::GpuRenderer renderer(test::context(), s, settings);
                 EXPECT_EQ(renderer.features(),
-                          specialize ? reference.features() : uint32_t(VKP_FEATURES_ALL));
+                          specialize ? reference.features() : VKP_FEATURES_ALL);
                 expectSameRender(renderer.render(), expected);
             }
     }
@@ -218,16 +218,16 @@ TEST_P(AllScenes, TheCpuProfileGivesTheSameImage) {
         wavefront::RenderSettings settings = sameImageSettings(defaults);
         settings.specialize = false;
         const reference::ReferenceRenderer general(s, settings);
-        EXPECT_EQ(general.sampler().features(), uint32_t(VKP_FEATURES_ALL));
+        EXPECT_EQ(general.sampler().features(), VKP_FEATURES_ALL);
         settings.specialize = true;
         const reference::ReferenceRenderer specialised(s, settings);
-        const uint32_t features = specialised.features();
+        const uint64_t features = specialised.features();
         const auto profiles = reference::cpuProfiles();
         const auto holding = std::find_if(
             profiles.begin(), profiles.end(),
             [&](const reference::CpuProfile& p) { return (features & ~p.features) == 0; });
         EXPECT_EQ(specialised.sampler().features(),
-                  holding == profiles.end() ? uint32_t(VKP_FEATURES_ALL) : holding->features);
+                  holding == profiles.end() ? VKP_FEATURES_ALL : holding->features);
         SCOPED_TRACE(specialised.describe());
 
         expectSameRender(specialised.render(), general.render());

@@ -24,7 +24,7 @@ scene::Scene sphereUnderSky(scene::MaterialKind kind) {
     return test::sphereInEnvironment(kind, glm::vec3(0.5f));
 }
 
-uint32_t featuresOf(const scene::Scene& s, const wavefront::RenderSettings& settings) {
+uint64_t featuresOf(const scene::Scene& s, const wavefront::RenderSettings& settings) {
     const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
     return wavefront::renderFeatures(tables, wavefront::renderSceneInfo(tables, settings));
 }
@@ -33,14 +33,14 @@ TEST(KernelFeatures, ExactlyWhatTheSceneAndSettingsHold) {
     wavefront::RenderSettings settings;  // Sobol', one light sample, roulette from 5 at -m 8
     EXPECT_EQ(
         featuresOf(sphereUnderSky(scene::MaterialKind::Diffuse), settings),
-        uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ENVIRONMENT_COLOR |
+        uint64_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIFFUSE | VKP_FEATURE_ENVIRONMENT_COLOR |
                  VKP_FEATURE_SAMPLER_SOBOL | VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_ROULETTE));
 
     settings.sampler = wavefront::SamplerKind::Independent;
     settings.lightSamples = 3;
     settings.rouletteDepth = settings.maxDepth + 1;  // roulette can never apply
     EXPECT_EQ(featuresOf(sphereUnderSky(scene::MaterialKind::Dielectric), settings),
-              uint32_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIELECTRIC |
+              uint64_t(VKP_FEATURE_SPHERES | VKP_FEATURE_DIELECTRIC |
                        VKP_FEATURE_ENVIRONMENT_COLOR | VKP_FEATURE_SAMPLER_INDEPENDENT |
                        VKP_FEATURE_LIGHT_SAMPLES | VKP_FEATURE_MULTIPLE_LIGHT_SAMPLES));
 
