@@ -190,6 +190,12 @@ class Search {
         m_incumbentWall = wallSeconds;
     }
     double pilotSeconds() const { return m_incumbentWall; }
+    // The wall seconds of one pilot of a candidate whose paths cost
+    // `costFactor` times the incumbent's: what a render costs besides its
+    // paths (m_overhead) does not grow with them.
+    double candidateSeconds(double costFactor) const {
+        return m_overhead + std::max(m_incumbentWall - m_overhead, 0.0) * costFactor;
+    }
     // The pilot pairs planned from `knob` on (VARIANCE_KNOBS' counts).
     int comparisonsFrom(const char* knob) const {
         int count = 0;
@@ -273,7 +279,7 @@ bool Search::descend(const char* knob, size_t candidates, const Apply& apply) {
         Knobs k = m_best;
         double costFactor = 1;
         if (!apply(i, k, costFactor)) continue;  // the same render as the incumbent
-        if (!affordable(2 * pilotSeconds() * costFactor)) {
+        if (!affordable(2 * candidateSeconds(costFactor))) {
             if (measured) setSource(knob, KnobSource::Measured);
             return false;
         }
