@@ -351,7 +351,8 @@ class Scene {
                 const shared::LightRoutineInput& a = inputs[i];
                 const shared::RngKey key =
                     shared::makeRngKey(uint32_t(i), sampleIndex, seed, uint32_t(*kind));
-                const auto chosen = view.sampleSceneLight(a.point, key, 0);
+                const auto chosen =
+                    view.sampleSceneLight(a.point, glm::vec3(0.0f), key, 0);  // no surface
                 shared::LightRoutineOutput& r = outputs[i];
                 r.direction = chosen.lightSample.direction;
                 r.distance = chosen.lightSample.distance;

@@ -74,6 +74,14 @@ const std::vector<Knob> KNOBS = {
          s.sampler = *sampler;
      },
      false},
+    {"light-sampler", "auto, power or tree",
+     [](wavefront::RenderSettings& s, const std::string& v) {
+         const auto sampling = wavefront::parseLightSampling(v);
+         if (!sampling)
+             throw InputError(fmt::format("light-sampler: '{}' is none of auto, power, tree", v));
+         s.lightSampling = *sampling;
+     },
+     false},
     {"clamp", "off or numbers > 0",
      [](wavefront::RenderSettings& s, const std::string& v) {
          s.clampRadiance = offOrNumber("clamp", v, "a number > 0",

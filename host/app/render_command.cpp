@@ -191,6 +191,7 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
         {"vkpath:regularize",
          o.regularize > 0 ? fmt::format("{}", o.regularize) : std::string("off")},
         {"vkpath:microfacet", o.singleScattering ? "single-scattering" : "compensated"},
+        {"vkpath:lightSampler", o.lightSampler},
         {"vkpath:guideSpheres",
          o.guideSpheres > 0 ? fmt::format("{}", o.guideSpheres) : std::string("off")},
         {"vkpath:scene", o.scene}};

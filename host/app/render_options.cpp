@@ -65,6 +65,15 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
         "GGX lobes (rough metal, rough glass, glTF's materials) without multiple-scattering "
         "compensation, as Mitsuba 3 and pbrt-v4 render them: they lose the light that "
         "meets the microsurface again and darken as roughness grows");
+    cmd.add_option("--light-sampler", o.lightSampler,
+                   "How a light sample chooses its light: power: by power alone; tree: through a "
+                   "tree over the lights by what each part of it may send the shaded point; "
+                   "auto: the tree where the scene has at least " +
+                       std::to_string(wavefront::LIGHT_TREE_MIN_LIGHTS) +
+                       " lights with a position (emissive triangles and spheres, point and spot "
+                       "lights)")
+        ->check(CLI::IsMember({"auto", "power", "tree"}))
+        ->capture_default_str();
     cmd.add_option("--guide-spheres", o.guideSpheres,
                    "Share of a diffuse vertex's BSDF samples drawn toward the mirror and glass "
                    "spheres it sees, in "
@@ -217,6 +226,7 @@ RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHa
     settings["clamp"] = shortest(o.clamp);
     settings["regularize"] = shortest(o.regularize);
     settings["microfacet"] = o.singleScattering ? "single-scattering" : "compensated";
+    settings["light-sampler"] = o.lightSampler;
     settings["guide-spheres"] = shortest(o.guideSpheres);
     settings["env"] = o.environment.empty() ? "none" : "file";
     settings["env-color"] = color;
@@ -318,6 +328,11 @@ wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t sample
     settings.clampRadiance = o.clamp;
     settings.regularize = o.regularize;
     settings.microfacetCompensation = !o.singleScattering;
+    const auto lightSampling = wavefront::parseLightSampling(o.lightSampler);
+    if (!lightSampling)
+        throw InputError(
+            fmt::format("--light-sampler: '{}' is none of auto, power, tree", o.lightSampler));
+    settings.lightSampling = *lightSampling;
     settings.guideFraction = o.guideSpheres;
     if (!o.kernel.empty() && o.device == "cpu")
         throw InputError("--kernel chooses a GPU kernel form: not with --device cpu");

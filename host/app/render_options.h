@@ -38,9 +38,10 @@ struct RenderOptions {
     std::string sampler =
         "sobol";  // wavefront::parseSampler's names (the default: RenderSettings's)
     float clamp = 0;
-    float regularize = 0;           // path regularisation's least GGX alpha; 0: off
-    bool singleScattering = false;  // --single-scattering: no multiple-scattering compensation
-    std::string variant;            // --variant: a glTF material variant; empty: none
+    float regularize = 0;               // path regularisation's least GGX alpha; 0: off
+    bool singleScattering = false;      // --single-scattering: no multiple-scattering compensation
+    std::string lightSampler = "auto";  // wavefront::parseLightSampling's names
+    std::string variant;                // --variant: a glTF material variant; empty: none
     float guideSpheres = wavefront::RenderSettings{}.guideFraction;  // --guide-spheres
     std::string environment;
     std::vector<float> environmentColor;

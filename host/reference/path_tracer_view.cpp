@@ -26,9 +26,21 @@ SceneTablesView::SceneTablesView(const wavefront::SceneTables& tables, const Sce
     for (const BvhPrimitive& p : m_primitives)
         require(p.kind == VKP_PRIMITIVE_INSTANCE || p.material < m_materials.size(),
                 fmt::format("material {} of {}", p.material, m_materials.size()));
-    require(m_lights.size() == info.lightCount && m_lightAlias.size() == info.lightCount,
+    // With a tree, the alias table's second part: the tree, then each light after its range.
+    const size_t aliasEntries =
+        info.lightCount +
+        (tables.lightTree.nodes.empty() ? 0 : 1 + info.lightCount - tables.lightTree.trails.size());
+    require(m_lights.size() == info.lightCount && m_lightAlias.size() == aliasEntries,
             fmt::format("{} lights and {} alias entries for lightCount {}", m_lights.size(),
                         m_lightAlias.size(), info.lightCount));
+    require(info.treeLights == 0u || (info.treeLights == m_lightTreeTrail.size() &&
+                                      info.treeLights <= info.lightCount && !m_lightTree.empty()),
+            fmt::format("treeLights {} with {} trails and {} tree nodes", info.treeLights,
+                        m_lightTreeTrail.size(), m_lightTree.size()));
+    for (const LightTreeNode& n : m_lightTree)
+        require((n.flags & VKP_LIGHT_NODE_LEAF) != 0u ? n.index < m_lightTreeTrail.size()
+                                                      : n.index < m_lightTree.size(),
+                fmt::format("light tree node index {} out of range", n.index));
     require(m_primitiveLight.empty() || m_primitiveLight.size() == m_primitives.size(),
             fmt::format("{} primitive-light entries for {} primitives", m_primitiveLight.size(),
                         m_primitives.size()));

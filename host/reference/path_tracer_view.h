@@ -34,6 +34,7 @@
 #include "shared/constants.h"
 #include "shared/environment_sampling.h"
 #include "shared/features.h"
+#include "shared/light_tree.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
@@ -85,6 +86,8 @@ struct SceneTablesView {
     MaterialAlpha sceneMaterialAlpha(uint index) const { return m_materialAlpha[index]; }
     vec4 sceneGuideSphere(uint index) const { return m_guideSpheres[index]; }
     float sceneMicrofacetAlbedo(uint index) const { return m_microfacetAlbedo[index]; }
+    LightTreeNode sceneLightTreeNode(uint index) const { return m_lightTree[index]; }
+    uint sceneLightTreeTrail(uint light) const { return m_lightTreeTrail[light]; }
 
     const bvh::WideBvh& wideBvh() const { return m_wide; }
 

@@ -207,6 +207,25 @@ std::vector<glm::vec4> guideSpheres(const std::vector<shared::BvhPrimitive>& pri
     return spheres;
 }
 
+// The light tree over the bounded lights, which come first, and the alias
+// table's second part: the tree as a whole, then each light at infinity.
+void addLightTree(SceneTables& t, std::span<const double> power) {
+    const auto infinite = [](const shared::Light& l) {
+        return (shared::lightTypeFlags(l.type) & VKP_LIGHT_IS_INFINITE) != 0u;
+    };
+    const auto firstInfinite = std::find_if(t.lights.begin(), t.lights.end(), infinite);
+    if (!std::all_of(firstInfinite, t.lights.end(), infinite))
+        throw std::logic_error("buildSceneTables: a bounded light after one at infinity");
+    const size_t bounded = size_t(firstInfinite - t.lights.begin());
+    t.lightTree = buildLightTree(std::span(t.lights).first(bounded), power.first(bounded));
+    if (t.lightTree.nodes.empty()) return;
+    std::vector<double> outside{0.0};
+    for (size_t i = 0; i < power.size(); ++i)
+        (i < bounded ? outside[0] : outside.emplace_back()) += power[i];
+    const std::vector<shared::AliasEntry> second = scene::buildAliasTable(outside);
+    t.lightAlias.insert(t.lightAlias.end(), second.begin(), second.end());
+}
+
 }  // namespace
 
 void placeCamera(SceneTables& tables, const scene::Camera& world) {
@@ -325,6 +344,7 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
         t.lights.clear();
         t.primitiveLight.clear();
     }
+    addLightTree(t, power);
     t.info.lightCount = uint32_t(t.lights.size());
     if (t.lights.empty()) t.info.environmentLight = VKP_NO_LIGHT;
     // Guiding finds emissive surfaces through specular spheres, so it is

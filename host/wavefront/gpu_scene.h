@@ -22,6 +22,7 @@
 #include "shared/scene_data.h"
 #include "vk/buffer.h"
 #include "wavefront/alpha_tables.h"
+#include "wavefront/light_tree.h"
 #include "wavefront/surface_tables.h"
 #include "wavefront/texture_tables.h"
 
@@ -33,7 +34,13 @@ struct SceneTables {
     bvh::BvhBuild bvh;
     std::vector<shared::Material> materials;
     std::vector<shared::Light> lights;
+    // The alias table over the lights' power; with a light tree, followed by
+    // a second part over the tree as a whole and each light after its range
+    // (shared/path/light_choice.h).
     std::vector<shared::AliasEntry> lightAlias;
+    // Over the bounded lights [0, lightTree.trails.size()) (light types not
+    // VKP_LIGHT_IS_INFINITE come first); empty unless two or more have power.
+    LightTree lightTree;
     std::vector<uint32_t> primitiveLight;  // per leaf primitive; empty when nothing is emissive
     std::vector<shared::AliasEntry> envAlias;
     std::vector<glm::vec4> envRadiance;  // the map's texels, w 0: one 16-byte texel each

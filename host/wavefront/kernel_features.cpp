@@ -46,6 +46,7 @@ constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_AOVS, "aovs"},
     {VKP_FEATURE_INSTANCES, "instances"},
     {VKP_FEATURE_MICROFACET_COMPENSATION, "microfacet-compensation"},
+    {VKP_FEATURE_LIGHT_TREE, "light-tree"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -126,6 +127,7 @@ uint64_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
     }
     // (set only for a scene with a rough GGX lobe: renderSceneInfo)
     if (info.microfacetCompensation != 0) f |= VKP_FEATURE_MICROFACET_COMPENSATION;
+    if (info.treeLights != 0) f |= VKP_FEATURE_LIGHT_TREE;
     return f;
 }
 

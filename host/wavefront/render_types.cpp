@@ -20,12 +20,32 @@ std::optional<KernelForm> parseKernelForm(const std::string& name) {
     return std::nullopt;
 }
 
+std::optional<LightSampling> parseLightSampling(const std::string& name) {
+    if (name == "auto") return LightSampling::Auto;
+    if (name == "power") return LightSampling::Power;
+    if (name == "tree") return LightSampling::Tree;
+    return std::nullopt;
+}
+
+const char* lightSamplingName(LightSampling sampling) {
+    return sampling == LightSampling::Power  ? "power"
+           : sampling == LightSampling::Tree ? "tree"
+                                             : "auto";
+}
+
 const char* kernelFormName(KernelForm form) {
     return form == KernelForm::Megakernel ? "megakernel" : "wavefront";
 }
 
 uint32_t sampleStreams(const RenderSettings& settings) {
     return settings.targetError && settings.sampler == SamplerKind::Sobol ? 2 : 1;
+}
+
+bool usesLightTree(const SceneTables& tables, const RenderSettings& settings) {
+    if (tables.lightTree.nodes.empty() || settings.lightSampling == LightSampling::Power)
+        return false;
+    return settings.lightSampling == LightSampling::Tree ||
+           tables.lightTree.trails.size() >= LIGHT_TREE_MIN_LIGHTS;
 }
 
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings) {
@@ -47,6 +67,8 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.aovs = settings.surfaceAovs ? 1u : 0u;
     info.microfacetCompensation =
         settings.microfacetCompensation && !tables.microfacetAlbedo.empty() ? 1u : 0u;
+    info.treeLights =
+        usesLightTree(tables, settings) ? uint32_t(tables.lightTree.trails.size()) : 0u;
     return info;
 }
 

@@ -32,6 +32,17 @@ enum class SamplerKind : uint32_t {
 // nullopt for any other name.
 std::optional<SamplerKind> parseSampler(const std::string& name);
 
+// How a light sample chooses its light (shared/path/light_choice.h): by
+// power alone, or through the light tree (shared/light_tree.h) by what each
+// part of it may send the point; Auto: the tree where the scene has at least
+// LIGHT_TREE_MIN_LIGHTS bounded lights.
+enum class LightSampling { Auto, Power, Tree };
+inline constexpr size_t LIGHT_TREE_MIN_LIGHTS = 8;
+
+// "auto", "power" or "tree" (--light-sampler); nullopt for any other name.
+std::optional<LightSampling> parseLightSampling(const std::string& name);
+const char* lightSamplingName(LightSampling sampling);
+
 // How the GPU runs the integrator's loop (shared/integrator.h): cut into
 // stages with queues between them, or one invocation per whole path.
 enum class KernelForm { Wavefront, Megakernel };
@@ -63,6 +74,7 @@ struct RenderSettings {
     // (shaders/shared/microfacet_albedo.h); false: single scattering, as
     // Mitsuba 3 and pbrt-v4 render (render --single-scattering)
     bool microfacetCompensation = true;
+    LightSampling lightSampling = LightSampling::Auto;
     // The share of a Lambertian vertex's BSDF samples drawn toward the smooth
     // specular spheres it sees (SceneTables::guideSpheres; shared/path_tracer.h
     // sampleGuidedDiffuse), in [0, 1); 0: off. Unbiased at any value; the
@@ -295,6 +307,10 @@ struct RenderResult {
 // depth, seed, sampler, film size); lightSamples is 0 when the scene has no light to
 // sample, so emission then counts fully.
 shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSettings& settings);
+
+// Whether the render chooses its lights through the scene's light tree
+// (settings.lightSampling, where the tables have one).
+bool usesLightTree(const SceneTables& tables, const RenderSettings& settings);
 
 // The albedo and normal images from per-pixel AOV sums (both renderers keep
 // them as shared::FilmAovPixel, added in sample order): each sum over its

@@ -27,7 +27,7 @@ void main() {
     if (i >= push.count) return;
     LightRoutineInput a = inputs[i];
     RngKey key = makeRngKey(i, push.sampleIndex, push.seed, push.samplerKind);
-    SceneLightSample chosen = sampleSceneLight(a.point, key, 0u);
+    SceneLightSample chosen = sampleSceneLight(a.point, vec3(0.0f), key, 0u);  // no surface
     LightRoutineOutput r;
     r.direction = chosen.lightSample.direction;
     r.distance = chosen.lightSample.distance;

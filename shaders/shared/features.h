@@ -94,7 +94,10 @@
 // (SceneInfo::microfacetCompensation, shared/microfacet_albedo.h): a kind
 // with a GGX lobe may occur and the render compensates
 #define VKP_FEATURE_MICROFACET_COMPENSATION VKP_FEATURE_BIT(30)
-#define VKP_FEATURE_COUNT 31u  // bits 31 to 63 are free
+// Lights chosen through the light tree (SceneInfo::treeLights,
+// shared/light_tree.h), not by power alone
+#define VKP_FEATURE_LIGHT_TREE VKP_FEATURE_BIT(31)
+#define VKP_FEATURE_COUNT 32u  // bits 32 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

@@ -118,10 +118,10 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
             multipleScattering(own, dot(shading.surface.shadingNormal, shading.wo));
     if (aovsWanted()) recordAov(path.aov, shading);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
-        path.radiance +=
-            path.throughput * emittedRadiance(shading.material, primitive, hit.primitive,
-                                              shading.surface, path.ray.direction,
-                                              path.previousPosition, path.specular, path.bsdfPdf);
+        path.radiance += path.throughput *
+                         emittedRadiance(shading.material, primitive, hit.primitive,
+                                         shading.surface, path.ray.direction, path.previousPosition,
+                                         path.previousNormal, path.specular, path.bsdfPdf);
     if (bounce >= sceneInfo().maxDepth) return false;
     // A last vertex whose light samples stand alone draws no BSDF sample and
     // weighs them against none: it needs no guide spheres.
@@ -143,6 +143,7 @@ VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey k
     path.throughput = step.throughput;
     path.etaScale = step.etaScale;
     path.previousPosition = shading.surface.position;
+    path.previousNormal = lightTreeOn() ? encodeUnitVector(shading.surface.normal) : 0u;
     path.bsdfPdf = step.bsdfPdf;
     path.specular = step.specular;
     path.afterNonDelta = path.afterNonDelta || !step.specular;

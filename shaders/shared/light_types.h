@@ -32,6 +32,9 @@
 #define VKP_LIGHT_IS_AREA 1u  // an emissive primitive: sampled by area, hit by BSDF samples (MIS)
 #define VKP_LIGHT_IS_DELTA \
     2u  // a point or a direction: never hit, no MIS; listed in the scene's lights
+// Light at infinity: no position, so outside the light tree (shared/light_tree.h); listed after
+// every bounded light
+#define VKP_LIGHT_IS_INFINITE 4u
 
 #define VKP_LIGHT_TYPES(X)                                                                      \
     X(0u, TRIANGLE, Triangle, "triangle", VKP_FEATURE_EMISSIVE_SURFACES, VKP_FEATURE_TRIANGLES, \
@@ -41,9 +44,10 @@
     X(2u, POINT, Point, "point", VKP_FEATURE_POINT_LIGHTS, VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA) \
     X(3u, SPOT, Spot, "spot", VKP_FEATURE_SPOT_LIGHTS, VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA)     \
     X(4u, DIRECTIONAL, Directional, "directional", VKP_FEATURE_DIRECTIONAL_LIGHTS,              \
-      VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA)                                                      \
+      VKP_NO_FEATURES, VKP_LIGHT_IS_DELTA | VKP_LIGHT_IS_INFINITE)                              \
     /* sampled by its caller, which holds its table (shared/environment_sampling.h) */          \
-    X(5u, ENVIRONMENT, Environment, "environment", VKP_FEATURES_ENVIRONMENT, VKP_NO_FEATURES, 0u)
+    X(5u, ENVIRONMENT, Environment, "environment", VKP_FEATURES_ENVIRONMENT, VKP_NO_FEATURES,   \
+      VKP_LIGHT_IS_INFINITE)
 
 #define VKP_LIGHT_TYPE_COUNT 6u
 

@@ -34,8 +34,11 @@ struct PathState {
     float etaScale;         // product of eta'^2 over the refractions so far (Russian roulette)
     vec3 radiance;          // gathered so far
     vec3 previousPosition;  // world space: the last scattering point (the camera for the first ray)
-    float bsdfPdf;          // density of the direction sampled there (MIS at the next hit)
-    bool specular;          // the camera or a delta BSDF produced the ray (no MIS)
+    // Its geometric normal (shared/unit_vector.h), kept with the light tree
+    // (SceneInfo::treeLights), else 0
+    uint previousNormal;
+    float bsdfPdf;       // density of the direction sampled there (MIS at the next hit)
+    bool specular;       // the camera or a delta BSDF produced the ray (no MIS)
     bool afterNonDelta;  // a non-delta lobe scattered the path before (path regularisation applies)
     PathAov aov;         // read and written only with VKP_FEATURE_AOVS and SceneInfo::aovs
 };
@@ -80,6 +83,7 @@ VKP_FN PathState startPath(VKP_IN(Camera) camera, uint pixel, RngKey key) {
     path.etaScale = 1.0f;
     path.radiance = vec3(0.0f);
     path.previousPosition = camera.origin;
+    path.previousNormal = 0u;
     path.bsdfPdf = 0.0f;
     path.specular = true;
     path.afterNonDelta = false;

@@ -22,6 +22,8 @@
 //   sceneMaterialAlpha(uint index);   // shared/alpha.h; read only when SceneInfo::alphaTested
 //   float sceneMicrofacetAlbedo(uint index);  // shared/microfacet_albedo.h; read only when
 //                                             // SceneInfo::microfacetCompensation
+//   LightTreeNode sceneLightTreeNode(uint index);  // shared/light_tree.h; read only when
+//   uint sceneLightTreeTrail(uint light);          // SceneInfo::treeLights > 0
 //
 // It defines the alpha test that shared/bvh_traverse.h asks (bvhAlphaTest).
 //
@@ -74,6 +76,7 @@ VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
 #include "shared/path/absorption.h"
 #include "shared/path/energy_compensation.h"
 #include "shared/path/sphere_guiding.h"
+#include "shared/path/light_choice.h"
 #include "shared/path/emission.h"
 #include "shared/path/next_event.h"
 #include "shared/path/continuation.h"

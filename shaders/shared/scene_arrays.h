@@ -52,7 +52,9 @@
     X(VKP_WF_TEXTURES, textures, TextureInfo, BOUND, textures.textures)                    \
     X(VKP_WF_TEXTURE_SLOTS, textureSlots, TextureSlot, BOUND, textures.slots)              \
     X(VKP_WF_MATERIAL_ALPHA, materialAlpha, MaterialAlpha, BOUND, materialAlpha)           \
-    X(VKP_WF_MICROFACET_ALBEDO, microfacetAlbedo, float, BOUND, microfacetAlbedo)
+    X(VKP_WF_MICROFACET_ALBEDO, microfacetAlbedo, float, BOUND, microfacetAlbedo)          \
+    X(VKP_WF_LIGHT_TREE, lightTree, LightTreeNode, SPANS, lightTree.nodes)                 \
+    X(VKP_WF_LIGHT_TREE_TRAIL, lightTreeTrail, uint32_t, SPANS, lightTree.trails)
 
 // `VKP_SCENE_ARRAY_IF_SPANS_##access(x)` keeps x (without commas: GLSL's
 // preprocessor has no variadic macros) for SPANS rows and drops it for BOUND

@@ -18,7 +18,7 @@ VKP_NAMESPACE_BEGIN
 struct SceneInfo {
     EnvironmentInfo environment;  // width 0: constant `color` (when hasEnvironment)
     uint hasEnvironment;          // 0: rays that escape see black
-    uint lightCount;              // entries in the light list and its alias table
+    uint lightCount;              // entries in the light list and in its alias table's first part
     uint environmentLight;        // index of the environment in the light list, or VKP_NO_LIGHT
     uint lightSamples;            // light samples per non-specular vertex (-l)
     uint maxDepth;                // bounces, pbrt-v4's meaning: 0 = emitters seen directly only
@@ -54,12 +54,17 @@ struct SceneInfo {
     // (shared/microfacet_albedo.h; with VKP_FEATURE_MICROFACET_COMPENSATION);
     // 0: single scattering, as Mitsuba 3 and pbrt-v4 (render --single-scattering)
     uint microfacetCompensation;
+    // > 0: lights [0, treeLights) are chosen through the light tree
+    // (shared/light_tree.h; with VKP_FEATURE_LIGHT_TREE), and the light alias
+    // table's entries from lightCount on choose between the tree and each
+    // light after it; 0: every light by the alias table over their power
+    uint treeLights;
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 116);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 120);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

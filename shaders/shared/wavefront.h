@@ -15,7 +15,7 @@
 #define VKP_WF_BVH_PRIMITIVES 2      // BvhPrimitive[]
 #define VKP_WF_MATERIALS 3           // Material[]
 #define VKP_WF_LIGHTS 4              // Light[]
-#define VKP_WF_LIGHT_ALIAS 5         // AliasEntry[lightCount]
+#define VKP_WF_LIGHT_ALIAS 5         // AliasEntry[lightCount (+ lights outside the tree + 1)]
 #define VKP_WF_PRIMITIVE_LIGHT 6     // uint[primitives]: light index of an emissive leaf primitive
 #define VKP_WF_ENV_ALIAS 7           // AliasEntry[texels]
 #define VKP_WF_ENV_RADIANCE 8        // vec3[texels]
@@ -48,8 +48,12 @@
 #define VKP_WF_PATH_AOV 32  // PathAov[W]: each path's AOVs (SceneInfo::aovs)
 #define VKP_WF_FILM_AOV 33  // FilmAovPixel[width height]: the AOVs' sums (SceneInfo::aovs)
 #define VKP_WF_MICROFACET_ALBEDO \
-    34  // float[]: the albedo tables of shared/microfacet_albedo.h
-        // (SceneInfo::microfacetCompensation)
+    34                        // float[]: the albedo tables of shared/microfacet_albedo.h
+                              // (SceneInfo::microfacetCompensation)
+#define VKP_WF_LIGHT_TREE 35  // LightTreeNode[] (shared/light_tree.h), when SceneInfo::treeLights
+#define VKP_WF_LIGHT_TREE_TRAIL \
+    36  // uint[lightCount]: each light's path from the light tree's root, when
+        // SceneInfo::treeLights
 
 VKP_NAMESPACE_BEGIN
 
@@ -62,6 +66,7 @@ struct PathVertex {
                     // non-delta lobe scattered the path before (PathState::afterNonDelta)
     float specularEtaScale;  // PathState::etaScale, negated when the ray is specular (the camera or
                              // a delta BSDF produced it: no MIS)
+    uint normal;             // PathState::previousNormal
 };
 
 // Counters of the queues and the indirect-dispatch arguments computed from them.
@@ -149,7 +154,7 @@ VKP_FN uvec2 wavePathOf(WavePush wave, uint slot, uint pixels) {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::PathVertex) == 20);
+static_assert(sizeof(vkpath::shared::PathVertex) == 24);
 static_assert(sizeof(vkpath::shared::QueueCounters) == 72);
 static_assert(sizeof(vkpath::shared::FilmPixel) == 48);
 static_assert(sizeof(vkpath::shared::FilmStreamPixel) == 24);

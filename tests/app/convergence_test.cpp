@@ -44,10 +44,12 @@ TEST(Convergence, SweepsNameAKnobAndValuesItAccepts) {
     EXPECT_EQ(s.rouletteDepth, 8u);
     app::parseSweep("sampler=independent,sobol").knob->apply(s, "sobol");
     EXPECT_EQ(s.sampler, wavefront::SamplerKind::Sobol);
+    app::parseSweep("light-sampler=power,tree").knob->apply(s, "tree");
+    EXPECT_EQ(s.lightSampling, wavefront::LightSampling::Tree);
 
     for (const char* bad :
          {"max-depth", "no-such-knob=1", "max-depth=", "max-depth=1,,2", "max-depth=two", "clamp=0",
-          "clamp=-1", "clamp=inf", "rr-depth=1.5", "sampler=halton"})
+          "clamp=-1", "clamp=inf", "rr-depth=1.5", "sampler=halton", "light-sampler=bvh"})
         EXPECT_THROW(app::parseSweep(bad), InputError) << bad;
 }
 

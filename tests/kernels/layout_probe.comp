@@ -9,6 +9,7 @@
 #include "shared/alpha.h"
 #include "shared/bvh.h"
 #include "shared/camera.h"
+#include "shared/light_tree.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
@@ -46,6 +47,7 @@ PROBE(MaterialAlpha, 20)
 PROBE(PathAov, 21)
 PROBE(FilmAovPixel, 22)
 PROBE(RayQueryGeometry, 23)
+PROBE(LightTreeNode, 24)
 
 void main() {
     // Touch every array so the compiler keeps the declarations.
@@ -73,4 +75,5 @@ void main() {
     items21[0] = items21[1];
     items22[0] = items22[1];
     items23[0] = items23[1];
+    items24[0] = items24[1];
 }

@@ -254,9 +254,10 @@ TEST(StatisticalComparison, RejectsATenPercentPdfError) {
 
     wavefront::SceneTables broken = wavefront::buildSceneTables(s);
     ASSERT_GE(broken.lightAlias.size(), 1u);
-    // The light chosen most often: its error shows the most.
+    // The light chosen most often: its error shows the most. (Among the power
+    // table's entries, one per light: a light tree's part follows them.)
     size_t light = 0;
-    for (size_t i = 1; i < broken.lightAlias.size(); ++i)
+    for (size_t i = 1; i < broken.lights.size(); ++i)
         if (broken.lightAlias[i].probability > broken.lightAlias[light].probability) light = i;
     broken.lightAlias[light].probability *= 1.1f;
     const auto settings = ztestSettings(2);

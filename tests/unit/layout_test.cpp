@@ -10,6 +10,7 @@
 #include "shared/alpha.h"
 #include "shared/bvh.h"
 #include "shared/camera.h"
+#include "shared/light_tree.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
@@ -83,6 +84,13 @@ std::vector<Expected> expectedLayouts() {
          sizeof(RayQueryGeometry),
          {VKP_O(RayQueryGeometry, firstIndex), VKP_O(RayQueryGeometry, stride),
           VKP_O(RayQueryGeometry, instance), VKP_O(RayQueryGeometry, padding)}},
+        {"LightTreeNode",
+         sizeof(LightTreeNode),
+         {VKP_O(LightTreeNode, boundsMin), VKP_O(LightTreeNode, power),
+          VKP_O(LightTreeNode, boundsMax), VKP_O(LightTreeNode, index), VKP_O(LightTreeNode, axis),
+          VKP_O(LightTreeNode, cosNormals), VKP_O(LightTreeNode, cosEmission),
+          VKP_O(LightTreeNode, flags), VKP_O(LightTreeNode, frontPlane),
+          VKP_O(LightTreeNode, padding)}},
         {"SceneAddresses",
          sizeof(SceneAddresses),
          {VKP_O(SceneAddresses, bvh)
@@ -128,7 +136,8 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(SceneInfo, guideFraction),
           VKP_O(SceneInfo, sampleStreams),
           VKP_O(SceneInfo, aovs),
-          VKP_O(SceneInfo, microfacetCompensation)}},
+          VKP_O(SceneInfo, microfacetCompensation),
+          VKP_O(SceneInfo, treeLights)}},
         {"MaterialAlpha",
          sizeof(MaterialAlpha),
          {VKP_O(MaterialAlpha, mode), VKP_O(MaterialAlpha, cutoff), VKP_O(MaterialAlpha, alpha),
@@ -141,7 +150,7 @@ std::vector<Expected> expectedLayouts() {
         {"PathVertex",
          sizeof(PathVertex),
          {VKP_O(PathVertex, position), VKP_O(PathVertex, bsdfPdf),
-          VKP_O(PathVertex, specularEtaScale)}},
+          VKP_O(PathVertex, specularEtaScale), VKP_O(PathVertex, normal)}},
         {"QueueCounters",
          sizeof(QueueCounters),
          {VKP_O(QueueCounters, rayCount0), VKP_O(QueueCounters, rayCount1),

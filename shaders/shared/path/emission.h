@@ -15,16 +15,18 @@ VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SC
     SceneInfo info = sceneInfo();
     vec3 le = environmentRadiance(direction);
     if (specular || lightSampleCount() == 0u || info.environmentLight == VKP_NO_LIGHT) return le;
-    float lightPdf = sceneLightAlias(info.environmentLight).probability * environmentPdf(direction);
+    float lightPdf = lightChoiceProbability(info.environmentLight, vec3(0.0f), vec3(0.0f)) *
+                     environmentPdf(direction);
     return le * bsdfMisWeight(bsdfPdf, lightPdf);
 }
 
 // Emission at a hit: `surface` on `primitive`, leaf primitive `index`,
-// reached along `direction` from `previous` (the last vertex) by a ray of
-// BSDF density `bsdfPdf`. Triangles emit from their front face only.
+// reached along `direction` from `previous` (the last vertex, its normal
+// `previousNormal` as the path keeps it) by a ray of BSDF density `bsdfPdf`.
+// Triangles emit from their front face only.
 VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, uint index,
                             VKP_IN(SurfacePoint) surface, vec3 direction, vec3 previous,
-                            bool specular, float bsdfPdf) VKP_SCENE_CONST {
+                            uint previousNormal, bool specular, float bsdfPdf) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) return vec3(0.0f);
     vec3 le = material.emission;
     if (!isSphere(primitive) && dot(direction, surface.normal) >= 0.0f) return vec3(0.0f);
@@ -34,7 +36,8 @@ VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) prim
     uint lightIndex = scenePrimitiveLight(index);
     if (lightIndex == VKP_NO_LIGHT) return le;
     Light light = sceneLight(lightIndex);
-    float lightPdf = sceneLightAlias(lightIndex).probability *
+    vec3 n = lightTreeOn() ? decodeUnitVector(previousNormal) : vec3(0.0f);
+    float lightPdf = lightChoiceProbability(lightIndex, previous, n) *
                      areaLightPdf(light, previous, surface.position, surface.normal);
     return le * bsdfMisWeight(bsdfPdf, lightPdf);
 }

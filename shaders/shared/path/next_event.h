@@ -28,33 +28,43 @@ struct ShadowRequest {
     bool rejected;
 };
 
-// A light chosen in proportion to its power and a direction toward it from
-// `p` (a point on it, or the environment's direction), from the sampler's
-// dimensions dim to dim + 3 of `key`. The scene has at least one light.
+// A light chosen (chooseLight) at `p` of normal `n` and a direction toward
+// it from `p` (a point on it, or the environment's direction), from the
+// sampler's dimensions dim to dim + 3 of `key`. The scene has at least one
+// light.
 struct SceneLightSample {
     LightSample lightSample;  // pdf: of the direction given this light
     uint lightIndex;          // its index in the light array
     float choice;             // the probability of choosing it
 };
 
-VKP_FN SceneLightSample sampleSceneLight(vec3 p, RngKey key, uint dim) VKP_SCENE_CONST {
+VKP_FN SceneLightSample sampleSceneLight(vec3 p, vec3 n, RngKey key, uint dim) VKP_SCENE_CONST {
     SceneInfo info = sceneInfo();
     // One pair picks the light and the point on it: its first word chooses
     // the light and, rescaled, is the point's first coordinate
-    // (aliasSampleReusing), so the pair's stratification carries over to the
-    // points on each light.
+    // (aliasSampleReusing, sampleLightTree), so the pair's stratification
+    // carries over to the points on each light.
     uvec2 pointBits = rngBits2(key, dim + 2u);
-    uint bucket = aliasBucket(pointBits.x, info.lightCount);
-    AliasChoice lightChoice = aliasSampleReusing(sceneLightAlias(bucket), bucket,
-                                                 aliasBucketFraction(pointBits.x, info.lightCount));
-    SceneLightSample chosen;
-    chosen.lightIndex = lightChoice.element;
-    chosen.choice = sceneLightAlias(chosen.lightIndex).probability;
-    Light light = sceneLight(chosen.lightIndex);
     // A light of tiny probability gets its first coordinate from the
     // independent sampler at the same dimension (its stratification is moot:
-    // it is chosen once in 2^16 samples or less often).
+    // it is chosen once in 2^16 samples or less often), and so does a tree
+    // walked from too coarse a part of the word, from the dimension before
+    // (the environment's texel pair, which a light of the tree never reads).
     RngKey independentKey = makeRngKey(key.pixel, key.sampleIndex, key.seed);
+    float fresh = lightTreeOn() ? rngUniform(independentKey, dim + 1u) : 0.0f;
+    LightChoice lightChoice = chooseLight(p, n, pointBits.x, fresh);
+    SceneLightSample chosen;
+    chosen.lightIndex = lightChoice.light;
+    chosen.choice = lightChoice.probability;
+    if (lightChoice.light == VKP_NO_LIGHT) {
+        // The tree, of which no light reaches p: nothing to trace.
+        chosen.lightIndex = 0u;
+        chosen.choice = 1.0f;
+        chosen.lightSample = noLightSample();
+        chosen.lightSample.pdf = 1.0f;
+        return chosen;
+    }
+    Light light = sceneLight(chosen.lightIndex);
     float u0 = lightChoice.reusable ? lightChoice.u : rngUniform(independentKey, dim + 2u);
     vec2 u = vec2(u0, uintToUnitFloat(pointBits.y));
 
@@ -102,7 +112,8 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
 
     uint dim =
         bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
-    SceneLightSample chosen = sampleSceneLight(surface.position, key, dim);
+    vec3 choiceNormal = lightTreeOn() ? lightChoiceNormal(surface.normal) : vec3(0.0f);
+    SceneLightSample chosen = sampleSceneLight(surface.position, choiceNormal, key, dim);
     LightSample ls = chosen.lightSample;
     float choice = chosen.choice;
     if (!(ls.pdf > 0.0f)) {

@@ -14,6 +14,7 @@ PathState loadPath(uint slot) {
     path.radiance = radiance[slot];
     PathVertex v = vertices[slot];
     path.previousPosition = v.position;
+    path.previousNormal = v.normal;
     path.bsdfPdf = abs(v.bsdfPdf);
     path.afterNonDelta = (floatBitsToUint(v.bsdfPdf) & 0x80000000u) != 0u;
     path.etaScale = abs(v.specularEtaScale);
@@ -28,6 +29,7 @@ void storePathVertex(uint slot, PathState path) {
     throughput[slot] = path.throughput;
     PathVertex v;
     v.position = path.previousPosition;
+    v.normal = path.previousNormal;
     v.bsdfPdf = path.afterNonDelta ? -path.bsdfPdf : path.bsdfPdf;  // (-0.0 keeps the sign bit)
     v.specularEtaScale = path.specular ? -path.etaScale : path.etaScale;
     vertices[slot] = v;

@@ -4,6 +4,7 @@
 #include "shared/alpha.h"
 #include "shared/bsdf.h"
 #include "shared/path_state.h"
+#include "shared/light_tree.h"
 #include "shared/lights.h"
 #include "shared/material.h"
 #include "shared/mesh_attributes.h"
@@ -37,6 +38,9 @@ VKP_SCENE_ARRAYS(VKP_TEXEL_BUFFER)
 // The same arrays by address (sceneByAddress: scenes beyond a binding).
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightArray { Light v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer AliasArray { AliasEntry v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer LightTreeNodeArray {
+    LightTreeNode v[];
+};
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec4Array { vec4 v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Uvec2Array { uvec2 v[]; };
@@ -97,6 +101,21 @@ float sceneMicrofacetAlbedo(uint i) {
     uvec4 t = texelFetch(microfacetAlbedoTexels, int(i >> 2u));
     uint j = i & 3u;
     return uintBitsToFloat(j == 0u ? t.x : j == 1u ? t.y : j == 2u ? t.z : t.w);
+}
+LightTreeNode sceneLightTreeNode(uint i) {
+    if (sceneByAddress) return LightTreeNodeArray(sceneAddresses.lightTree).v[i];
+    int first = int(4u * i);
+    uvec4 t[4] = uvec4[4](texelFetch(lightTreeTexels, first), texelFetch(lightTreeTexels, first + 1),
+                          texelFetch(lightTreeTexels, first + 2), texelFetch(lightTreeTexels, first + 3));
+    LightTreeNode r;
+    VKP_RECORD_DECODE(VKP_LIGHT_TREE_NODE_FIELDS)
+    return r;
+}
+uint sceneLightTreeTrail(uint i) {
+    if (sceneByAddress) return UintArray(sceneAddresses.lightTreeTrail).v[i];
+    uvec4 t = texelFetch(lightTreeTrailTexels, int(i >> 2u));
+    uint j = i & 3u;
+    return j == 0u ? t.x : j == 1u ? t.y : j == 2u ? t.z : t.w;
 }
 uint scenePrimitiveLight(uint i) {
     if (sceneByAddress) return UintArray(sceneAddresses.primitiveLight).v[i];
