@@ -379,7 +379,7 @@ class Scene {
             distance[i] = r.distance;
             pdf[i] = r.pdf;
             choice[i] = r.choice;
-            light[i] = float(r.lightIndex);
+            light[i] = r.lightIndex == VKP_NO_LIGHT ? -1.0f : float(r.lightIndex);
             delta[i] = float(r.delta);
             envPdf[i] = r.environmentPdf;
         }

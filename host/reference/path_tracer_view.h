@@ -61,7 +61,7 @@ struct SceneTablesView {
     // The accessors shared/bvh_leaf.h and path_tracer.h read through.
     BvhPrimitive bvhPrimitive(uint index) const { return m_primitives[index]; }
     uvec4 bvhNodeTexel(uint texel) const { return m_nodes[texel]; }
-    SceneInfo sceneInfo() const { return m_info; }
+    const SceneInfo& sceneInfo() const { return m_info; }
     Material sceneMaterial(uint index) const { return m_materials[index]; }
     Light sceneLight(uint index) const { return m_lights[index]; }
     AliasEntry sceneLightAlias(uint index) const { return m_lightAlias[index]; }

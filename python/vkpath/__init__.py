@@ -223,9 +223,12 @@ class Scene:
     ) -> dict:
         """Next-event estimation's light sample from each of `points` (N, 3),
         world space (shared/path/next_event.h sampleSceneLight: a light chosen
-        by power, then a point on it or a direction of the environment), with
-        the sampler's numbers of (input index, sample_index, seed): a dict of
-        light (index), choice (its probability), direction, distance,
+        as a render chooses it, by power or, with 8 lights with a position or
+        more, through the light tree; then a point on it or a direction of
+        the environment), with the sampler's numbers of (input index,
+        sample_index, seed): a dict of light (index; -1 where the tree was
+        chosen and none of its lights reaches the point), choice (its
+        probability), direction, distance,
         radiance, pdf (of the direction given the light; 1 for delta),
         normal (area lights) and delta. A scene without lights raises."""
         points = _directions(points, np.asarray(points).reshape(-1, 3).shape[0], "points")

@@ -26,7 +26,10 @@ struct LightTreeSample {
 
 // A light of the tree chosen at `p` of normal `n` with probability in
 // proportion to its importance at every level (lightNodeImportance), from a
-// number `u` in [0, 1).
+// number `u` in [0, 1). A child whose share rounds to 0 in float (below
+// 2^-24 of its sibling's importance) is never chosen and reads probability
+// 0: MIS then counts its light by BSDF samples alone, and light sampling
+// alone at a last vertex (lightSamplingAlone) misses at most that share.
 VKP_FN LightTreeSample sampleLightTree(vec3 p, vec3 n, float u) VKP_SCENE_CONST {
     LightTreeSample s;
     s.light = VKP_NO_LIGHT;

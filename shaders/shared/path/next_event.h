@@ -34,7 +34,8 @@ struct ShadowRequest {
 // light.
 struct SceneLightSample {
     LightSample lightSample;  // pdf: of the direction given this light
-    uint lightIndex;          // its index in the light array
+    uint lightIndex;          // its index in the light array; VKP_NO_LIGHT: the light tree was
+                              // chosen and none of it reaches the point (radiance 0)
     float choice;             // the probability of choosing it
 };
 
@@ -58,7 +59,6 @@ VKP_FN SceneLightSample sampleSceneLight(vec3 p, vec3 n, RngKey key, uint dim) V
     chosen.choice = lightChoice.probability;
     if (lightChoice.light == VKP_NO_LIGHT) {
         // The tree, of which no light reaches p: nothing to trace.
-        chosen.lightIndex = 0u;
         chosen.choice = 1.0f;
         chosen.lightSample = noLightSample();
         chosen.lightSample.pdf = 1.0f;
