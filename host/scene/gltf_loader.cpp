@@ -435,10 +435,12 @@ class Importer {
             fail("light '{}': color is not finite and non-negative", name);
         if (!std::isfinite(light.intensity) || light.intensity < 0)
             fail("light '{}': intensity {} is not finite and non-negative", name, light.intensity);
-        if (light.range > 0.0)
-            m_warnings.addCounted(
-                "light range is ignored: lights fall off with the inverse square forever", "light",
-                name);
+        // (tinygltf reads an absent range as 0: infinite)
+        if (!std::isfinite(light.range) || light.range < 0.0)
+            fail("light '{}': range {} is not > 0", name, light.range);
+        if (light.range > 0.0 && light.type == "directional")
+            fail("light '{}': a directional light has no range", name);
+        const float range = float(light.range);
         // Photometric units taken as radiometric (docs/SCENES.md): cd as W/sr, lx as W/m^2.
         const glm::vec3 radiometric(color * light.intensity);
         const glm::vec3 position(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
@@ -449,7 +451,7 @@ class Importer {
         const glm::vec3 direction(glm::normalize(axis));
 
         if (light.type == "point") {
-            m_scene.pointLights.push_back({position, radiometric});
+            m_scene.pointLights.push_back({position, radiometric, range});
         } else if (light.type == "spot") {
             const double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
             if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>()))
@@ -457,7 +459,7 @@ class Importer {
                     "light '{}': cone angles inner {} and outer {} need 0 <= inner < outer <= pi/2",
                     name, inner, outer);
             m_scene.spotLights.push_back(
-                {position, direction, radiometric, float(inner), float(outer)});
+                {position, direction, radiometric, float(inner), float(outer), range});
         } else if (light.type == "directional") {
             m_scene.directionalLights.push_back({direction, radiometric});
         } else {

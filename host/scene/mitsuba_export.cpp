@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cmath>
@@ -423,6 +424,12 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
         }
     }
 
+    const auto ranged = [](const auto& light) { return light.range > 0.0f; };
+    if (std::any_of(s.pointLights.begin(), s.pointLights.end(), ranged) ||
+        std::any_of(s.spotLights.begin(), s.spotLights.end(), ranged))
+        result.warnings.push_back(
+            "point and spot lights with a range (KHR_lights_punctual): Mitsuba's fall off with the "
+            "inverse square forever, vkpath's reach nothing beyond their range");
     if (!s.spotLights.empty())
         result.warnings.push_back(
             fmt::format("spot lights: Mitsuba's falloff is linear in angle from beam_width (inner "

@@ -179,6 +179,9 @@ struct Sphere {
 struct PointLight {
     glm::vec3 position{0.0f};
     glm::vec3 intensity{0.0f};  // W/sr, falls off with the inverse square of distance
+    // > 0: KHR_lights_punctual's range, beyond which the light reaches
+    // nothing (its falloff windowed: shared/lights.h rangeWindow); 0: none
+    float range = 0.0f;
 };
 
 struct SpotLight {
@@ -187,6 +190,7 @@ struct SpotLight {
     glm::vec3 intensity{0.0f};               // W/sr on the axis
     float innerConeAngle = 0.0f;             // radians: full intensity inside
     float outerConeAngle = 0.7853982f;       // radians: zero outside, smooth in between
+    float range = 0.0f;                      // as PointLight::range
 };
 
 struct DirectionalLight {

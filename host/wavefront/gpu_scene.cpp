@@ -110,6 +110,7 @@ LightEntry pointLight(const scene::PointLight& p) {
     e.record.type = VKP_LIGHT_POINT;
     e.record.p0 = p.position;
     e.record.emission = p.intensity;
+    e.record.radius = p.range;
     e.power = 4.0 * PI * scene::luminance(p.intensity);
     return e;
 }
@@ -122,6 +123,7 @@ LightEntry spotLight(const scene::SpotLight& s) {
     e.record.emission = s.intensity;
     e.record.cosInner = std::cos(s.innerConeAngle);
     e.record.cosOuter = std::cos(s.outerConeAngle);
+    e.record.radius = s.range;
     e.power = 2.0 * PI * (1.0 - 0.5 * (e.record.cosInner + e.record.cosOuter)) *
               scene::luminance(s.intensity);
     return e;

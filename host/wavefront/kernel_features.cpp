@@ -47,6 +47,7 @@ constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_INSTANCES, "instances"},
     {VKP_FEATURE_MICROFACET_COMPENSATION, "microfacet-compensation"},
     {VKP_FEATURE_LIGHT_TREE, "light-tree"},
+    {VKP_FEATURE_LIGHT_RANGE, "light-range"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -82,9 +83,12 @@ uint64_t sceneFeatures(const SceneTables& t) {
     }
     // Delta lights by their type's bit; area lights come with their
     // primitives above, the environment below.
-    for (const shared::Light& light : t.lights)
+    for (const shared::Light& light : t.lights) {
         if (shared::lightTypeFlags(light.type) & VKP_LIGHT_IS_DELTA)
             f |= shared::lightTypeFeature(light.type);
+        if ((light.type == VKP_LIGHT_POINT || light.type == VKP_LIGHT_SPOT) && light.radius > 0.0f)
+            f |= VKP_FEATURE_LIGHT_RANGE;
+    }
     f |= bvh::traversalFeatures(t.bvh);
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;

@@ -97,7 +97,10 @@
 // Lights chosen through the light tree (SceneInfo::treeLights,
 // shared/light_tree.h), not by power alone
 #define VKP_FEATURE_LIGHT_TREE VKP_FEATURE_BIT(31)
-#define VKP_FEATURE_COUNT 32u  // bits 32 to 63 are free
+// A point or spot light with a range (KHR_lights_punctual; Light::radius,
+// shared/lights.h rangeWindow)
+#define VKP_FEATURE_LIGHT_RANGE VKP_FEATURE_BIT(32)
+#define VKP_FEATURE_COUNT 33u  // bits 33 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

@@ -32,7 +32,7 @@ VKP_NAMESPACE_BEGIN
     F(uint, type, 3)                                                                          \
     /* triangle: vertex 1; spot: unit axis; directional: unit direction of travel */          \
     F(vec3, p1, 4)                                                                            \
-    /* sphere: radius */                                                                      \
+    /* sphere: radius; point, spot: KHR_lights_punctual's range (0: none; rangeWindow) */     \
     F(float, radius, 7)                                                                       \
     /* triangle: vertex 2 */                                                                  \
     F(vec3, p2, 8)                                                                            \
@@ -212,6 +212,16 @@ VKP_FN LightSample sampleSphereLight(VKP_IN(Light) light, vec3 p, vec2 u) {
     return s;
 }
 
+// KHR_lights_punctual's window on the inverse square beyond a point or spot
+// light's range r (the extension's recommended attenuation, its 1 / d^2
+// apart): clamp(1 - (d / r)^4, 0, 1); 1 where the light has none.
+VKP_FN float rangeWindow(VKP_IN(Light) light, float distance) {
+    if (!hasFeature(VKP_FEATURE_LIGHT_RANGE) || !(light.radius > 0.0f)) return 1.0f;
+    float x = distance / light.radius;
+    float x2 = x * x;
+    return clamp(1.0f - x2 * x2, 0.0f, 1.0f);
+}
+
 VKP_FN LightSample samplePointLight(VKP_IN(Light) light, vec3 p, vec2 /*u*/) {
     LightSample s = noLightSample();
     vec3 d = light.p0 - p;
@@ -222,7 +232,7 @@ VKP_FN LightSample samplePointLight(VKP_IN(Light) light, vec3 p, vec2 /*u*/) {
     s.distance = dist;
     s.pdf = 1.0f;
     s.delta = true;
-    s.radiance = light.emission / dist2;
+    s.radiance = light.emission * (rangeWindow(light, dist) / dist2);
     return s;
 }
 

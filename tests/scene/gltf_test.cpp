@@ -781,7 +781,7 @@ TEST(GltfLights, PunctualLightsTakeNodePositionAndMinusZ) {
     GltfBuilder g;
     g.doc["extensionsUsed"] = {"KHR_lights_punctual"};
     g.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
-        {{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 10}},
+        {{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 10}, {"range", 2.5}},
         {{"type", "spot"},
          {"intensity", 3},
          {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
@@ -801,12 +801,14 @@ TEST(GltfLights, PunctualLightsTakeNodePositionAndMinusZ) {
     ASSERT_EQ(s.pointLights.size(), 1u);
     expectVec3Near(s.pointLights[0].position, {1, 2, 3}, 1e-6f);
     expectVec3Near(s.pointLights[0].intensity, {10, 5, 2.5f}, 1e-6f);  // candela taken as W/sr
+    EXPECT_FLOAT_EQ(s.pointLights[0].range, 2.5f);  // not scaled by the node (the extension)
     ASSERT_EQ(s.spotLights.size(), 1u);
     expectVec3Near(s.spotLights[0].position, {0, 4, 0}, 1e-6f);
     expectVec3Near(s.spotLights[0].direction, {0, -1, 0}, 1e-6f);
     expectVec3Near(s.spotLights[0].intensity, glm::vec3(3), 1e-6f);
     EXPECT_FLOAT_EQ(s.spotLights[0].innerConeAngle, 0.2f);
     EXPECT_FLOAT_EQ(s.spotLights[0].outerConeAngle, 0.5f);
+    EXPECT_EQ(s.spotLights[0].range, 0.0f);  // none given: infinite
     ASSERT_EQ(s.directionalLights.size(), 1u);
     expectVec3Near(s.directionalLights[0].direction, {0, -1, 0}, 1e-6f);
     expectVec3Near(s.directionalLights[0].irradiance, {2, 2, 1}, 1e-6f);  // lux taken as W/m^2
@@ -822,6 +824,19 @@ TEST(GltfLights, InvalidConeIsAnError) {
     g.node({{"mesh", g.triangle()}});
     g.node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
     EXPECT_CONTAINS(loadError(g.writeGltf(dir / "cone.gltf")), "cone angles");
+}
+
+TEST(GltfLights, ARangeNotAboveZeroOrOnADirectionalLightIsAnError) {
+    for (const auto& [light, message] :
+         {std::pair{Json{{"type", "point"}, {"range", -1}}, "range -1 is not > 0"},
+          std::pair{Json{{"type", "directional"}, {"range", 3}}, "has no range"}}) {
+        TempDir dir;
+        GltfBuilder g;
+        g.doc["extensions"]["KHR_lights_punctual"]["lights"] = {light};
+        g.node({{"mesh", g.triangle()}});
+        g.node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+        EXPECT_CONTAINS(loadError(g.writeGltf(dir / "range.gltf")), message);
+    }
 }
 
 TEST(GltfSpheres, CentreAndRadiusFollowTheNode) {
