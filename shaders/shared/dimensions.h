@@ -17,7 +17,8 @@
 // 3: the concentric disk's cosine and sine by polynomial (sampling.h). 4: a
 // triangle light's normal and area from the host (lights.h). 5: diffuse
 // samples guided toward smooth specular spheres (path_tracer.h). 6: lights
-// chosen through the light tree (path/light_choice.h).
+// chosen through the light tree (path/light_choice.h), and point and spot
+// lights' range (lights.h).
 #define VKP_ESTIMATOR_VERSION 6u
 
 #endif  // VKPATH_SHARED_DIMENSIONS_H

@@ -17,6 +17,7 @@
 #include "reference/path_tracer_view.h"
 #include "reference/reference_renderer.h"
 #include "scene/scene.h"
+#include "support/binding_limit.h"
 #include "support/gpu_render.h"
 #include "support/statistics.h"
 #include "wavefront/gpu_scene.h"
@@ -288,6 +289,20 @@ TEST(LightTreeRender, EstimatesThePowerSampledImageEverywhere) {
                                    power.varianceOfMean, 8, alpha)
                   .rejected,
               0u);
+}
+
+// Scenes past a binding read the tree's nodes and trails by address
+// (stages/lib/scene_access.glsl): the same image bits as bound.
+TEST(LightTreeRender, ReadByAddressGivesTheSameImage) {
+    const scene::Scene s = lampField(8);
+    wavefront::RenderSettings settings = test::squareSettings(32, 16, 3, 9);
+    settings.lightSampling = wavefront::LightSampling::Tree;
+    const wavefront::RenderResult bound = test::renderGpu(s, settings);
+    const test::BindingLimit limit(4096);
+    const wavefront::RenderResult byAddress = test::renderGpu(s, settings);
+    ASSERT_EQ(bound.image.pixels.size(), byAddress.image.pixels.size());
+    for (size_t i = 0; i < bound.image.pixels.size(); ++i)
+        ASSERT_EQ(bound.image.pixels[i], byAddress.image.pixels[i]) << "pixel " << i;
 }
 
 }  // namespace
