@@ -41,9 +41,10 @@ const char* knobSourceName(KnobSource source) {
 
 std::string describeAutoChoice(const AutoChoice& c) {
     std::string line = fmt::format(
-        "auto: rr-depth {}{}, light samples {}{}, sampler {}{}, guide {}{}", c.rouletteDepth,
-        sourceNote(c, "rr-depth"), c.lightSamples, sourceNote(c, "light-samples"), c.sampler,
-        sourceNote(c, "sampler"), c.guideSpheres, sourceNote(c, "guide-spheres"));
+        "auto: rr-depth {}{}, light samples {}{}, sampler {}{}, light sampler {}{}, guide {}{}",
+        c.rouletteDepth, sourceNote(c, "rr-depth"), c.lightSamples, sourceNote(c, "light-samples"),
+        c.sampler, sourceNote(c, "sampler"), c.lightSampler, sourceNote(c, "light-sampler"),
+        c.guideSpheres, sourceNote(c, "guide-spheres"));
     if (!c.kernel.empty())
         line += fmt::format(", kernel {}{}, paths {}{}", c.kernel, sourceNote(c, "kernel"),
                             pathCount(c.pathsInFlight), sourceNote(c, "paths-in-flight"));
@@ -63,6 +64,7 @@ std::string autoChoiceJson(const AutoChoice& c) {
     record["rr-depth"] = c.rouletteDepth;
     record["light-samples"] = c.lightSamples;
     record["sampler"] = c.sampler;
+    record["light-sampler"] = c.lightSampler;
     record["guide-spheres"] = std::stod(fmt::format("{}", c.guideSpheres));
     record["kernel"] = c.kernel.empty() ? "none" : c.kernel;
     record["paths-in-flight"] = c.pathsInFlight;
@@ -89,6 +91,7 @@ AutoChoice parseAutoChoice(const std::string& json, const std::string& what) {
         c.rouletteDepth = record.at("rr-depth").get<uint32_t>();
         c.lightSamples = record.at("light-samples").get<uint32_t>();
         c.sampler = record.at("sampler").get<std::string>();
+        c.lightSampler = record.value("light-sampler", std::string("auto"));
         c.guideSpheres = record.at("guide-spheres").get<float>();
         c.kernel = record.at("kernel").get<std::string>();
         if (c.kernel == "none") c.kernel.clear();
@@ -106,6 +109,7 @@ AutoChoice parseAutoChoice(const std::string& json, const std::string& what) {
         throw bad("a field is missing or of the wrong type");
     }
     if (c.sampler != "sobol" && c.sampler != "independent") throw bad("an unknown sampler");
+    if (!wavefront::parseLightSampling(c.lightSampler)) throw bad("an unknown light sampler");
     if (!c.kernel.empty() && c.kernel != "megakernel" && c.kernel != "wavefront")
         throw bad("an unknown kernel form");
     return c;
@@ -115,6 +119,7 @@ void applyAutoChoice(const AutoChoice& c, RenderOptions& o) {
     o.rouletteDepth = c.rouletteDepth;
     o.lightSamples = c.lightSamples;
     o.sampler = c.sampler;
+    o.lightSampler = c.lightSampler;
     o.guideSpheres = c.guideSpheres;
     if (!c.kernel.empty()) o.kernel = c.kernel;
     if (c.pathsInFlight > 0) o.pathsInFlight = c.pathsInFlight;

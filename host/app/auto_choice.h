@@ -29,10 +29,11 @@ struct AutoChoice {
     uint32_t lightSamples = 1;
     std::string sampler = "sobol";
     float guideSpheres = 0.25f;
-    std::string kernel;          // GPU: "megakernel" or "wavefront"; empty for --device cpu
-    uint32_t pathsInFlight = 0;  // GPU: the most paths of a wave; 0 for --device cpu
-    // Per knob ("rr-depth", "light-samples", "sampler", "guide-spheres",
-    // "kernel", "paths-in-flight"), in that order.
+    std::string lightSampler = "auto";  // --light-sampler's names
+    std::string kernel;                 // GPU: "megakernel" or "wavefront"; empty for --device cpu
+    uint32_t pathsInFlight = 0;         // GPU: the most paths of a wave; 0 for --device cpu
+    // Per knob ("rr-depth", "light-samples", "sampler", "light-sampler",
+    // "guide-spheres", "kernel", "paths-in-flight"), in that order.
     std::vector<std::pair<std::string, KnobSource>> sources;
     // What the pilots cost: their render time (the part held to 5% of the
     // budget), building their renderers (scene upload, pipeline creation;

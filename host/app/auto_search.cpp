@@ -96,8 +96,11 @@ constexpr uint64_t PILOT_PIXELS = 1024;
 // The variance knobs in the order they are searched, with the pilot pairs
 // each is planned to take, in the incumbent's pairs' cost (light samples: 4
 // per vertex, about 2.5 times a path with one, then 8 or 2).
-constexpr std::pair<const char*, int> VARIANCE_KNOBS[] = {
-    {"sampler", 1}, {"light-samples", 4}, {"guide-spheres", 2}, {"rr-depth", 2}};
+constexpr std::pair<const char*, int> VARIANCE_KNOBS[] = {{"sampler", 1},
+                                                          {"light-sampler", 1},
+                                                          {"light-samples", 4},
+                                                          {"guide-spheres", 2},
+                                                          {"rr-depth", 2}};
 
 // A pilot seed: a hash of the render's seed and the pilot's number, never the
 // render's seed itself.
@@ -122,6 +125,7 @@ struct Knobs {
     uint32_t rouletteDepth;
     uint32_t lightSamples;
     SamplerKind sampler;
+    wavefront::LightSampling lightSampling;
     float guide;
     KernelForm form;
     uint32_t paths;
@@ -158,6 +162,7 @@ class Search {
         s.rouletteDepth = k.rouletteDepth;
         s.lightSamples = k.lightSamples;
         s.sampler = k.sampler;
+        s.lightSampling = k.lightSampling;
         s.guideFraction = k.guide;
         if (m_request.gpu) {
             s.kernel = k.form;
@@ -344,6 +349,7 @@ AutoChoice Search::finish(std::string skipped) {
     m_choice.lightSamples = m_best.lightSamples;
     m_choice.sampler = m_best.sampler == SamplerKind::Sobol ? "sobol" : "independent";
     m_choice.guideSpheres = m_best.guide;
+    m_choice.lightSampler = wavefront::lightSamplingName(m_best.lightSampling);
     if (m_request.gpu) {
         m_choice.kernel = wavefront::kernelFormName(m_best.form);
         m_choice.pathsInFlight = m_best.paths;
@@ -365,6 +371,7 @@ AutoChoice Search::run() {
     m_best = {base.rouletteDepth,
               base.lightSamples,
               base.sampler,
+              base.lightSampling,
               base.guideFraction,
               base.kernel.value_or(r.defaultForm),
               base.maxPathsInFlight.value_or(r.defaultPathsInFlight)};
@@ -383,6 +390,7 @@ AutoChoice Search::run() {
         {"rr-depth", source(r.givenRouletteDepth, roulette)},
         {"light-samples", source(r.givenLightSamples, depth && r.sceneHasLights)},
         {"sampler", source(r.givenSampler, true)},
+        {"light-sampler", source(r.givenLightSampler, depth && r.sceneHasLightTree)},
         {"guide-spheres", source(r.givenGuideSpheres, depth && r.sceneHasGuideSpheres)},
         {"kernel", source(r.givenKernel, r.gpu)},
         {"paths-in-flight", source(r.givenPathsInFlight, r.gpu)},
@@ -476,6 +484,15 @@ AutoChoice Search::run() {
     withinBudget = withinBudget && descend("sampler", 1, [&](size_t, Knobs& k, double&) {
                        k.sampler = k.sampler == SamplerKind::Sobol ? SamplerKind::Independent
                                                                    : SamplerKind::Sobol;
+                       return true;
+                   });
+    withinBudget = withinBudget && descend("light-sampler", 1, [&](size_t, Knobs& k, double&) {
+                       // The other of what the render's setting resolves to.
+                       const bool tree = k.lightSampling == wavefront::LightSampling::Tree ||
+                                         (k.lightSampling == wavefront::LightSampling::Auto &&
+                                          r.lightTreeByDefault);
+                       k.lightSampling =
+                           tree ? wavefront::LightSampling::Power : wavefront::LightSampling::Tree;
                        return true;
                    });
     withinBudget =

@@ -79,7 +79,10 @@ struct AutoRequest {
     bool givenGuideSpheres = false;
     bool givenKernel = false;
     bool givenPathsInFlight = false;
+    bool givenLightSampler = false;
     bool sceneHasLights = false;        // light samples are drawn
+    bool sceneHasLightTree = false;     // lights can be chosen through a tree (power or tree)
+    bool lightTreeByDefault = false;    // base.lightSampling resolves to the tree
     bool sceneHasGuideSpheres = false;  // the guide fraction is used
     bool gpu = false;                   // the kernel form and paths in flight apply
     wavefront::KernelForm defaultForm = wavefront::KernelForm::Megakernel;  // the device's

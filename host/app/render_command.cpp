@@ -320,7 +320,10 @@ AutoChoice searchSettings(const RenderCommandOptions& o, const wavefront::Sample
     request.givenGuideSpheres = o.givenGuideSpheres;
     request.givenKernel = o.givenKernel;
     request.givenPathsInFlight = o.givenPathsInFlight;
+    request.givenLightSampler = o.givenLightSampler;
     request.sceneHasLights = !tables.lights.empty();
+    request.sceneHasLightTree = !tables.lightTree.nodes.empty();
+    request.lightTreeByDefault = wavefront::usesLightTree(tables, request.base);
     request.sceneHasGuideSpheres = !tables.guideSpheres.empty();
     request.gpu = device != nullptr;
     if (device) {
@@ -677,7 +680,8 @@ void addRenderFlags(CLI::App& cmd, RenderCommandOptions& o) {
         ->check(CLI::ExistingFile);
     cmd.add_flag(
         "--auto", o.autoSettings,
-        "Choose --rr-depth, -l, --sampler, --guide-spheres, --kernel and --paths-in-flight for "
+        "Choose --rr-depth, -l, --sampler, --light-sampler, --guide-spheres, --kernel and "
+        "--paths-in-flight for "
         "this scene and device by short pilot renders (at most 5% of the render's budget: -s's "
         "time at the defaults, --time-budget or what --target-error implies); these knobs change "
         "the time to an error, never what the image converges to. Knobs given as flags are kept "
@@ -693,6 +697,7 @@ void noteGivenFlags(const CLI::App& cmd, RenderCommandOptions& o) {
     o.givenGuideSpheres = given("--guide-spheres");
     o.givenKernel = given("--kernel");
     o.givenPathsInFlight = given("--paths-in-flight");
+    o.givenLightSampler = given("--light-sampler");
 }
 
 void addRenderCommand(CLI::App& app, const GlobalOptions& global, Commands& commands) {

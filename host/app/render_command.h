@@ -39,7 +39,8 @@ struct RenderCommandOptions : RenderOptions {
     bool autoSettings = false;  // --auto: the knobs chosen by pilot renders (app/auto_search.h)
     // The knobs given as flags, which --auto keeps and does not search.
     bool givenRouletteDepth = false, givenLightSamples = false, givenSampler = false,
-         givenGuideSpheres = false, givenKernel = false, givenPathsInFlight = false;
+         givenGuideSpheres = false, givenKernel = false, givenPathsInFlight = false,
+         givenLightSampler = false;
 };
 
 // Registers every flag of `vkpath render` on `cmd`, the shared ones first.
