@@ -32,11 +32,8 @@
 // OpAll, which a specialisation constant may not use).
 #ifdef __cplusplus
 #define VKP_FEATURE_BIT(n) (uint64_t{1} << (n))
-#define VKP_NO_FEATURES \
-    uint64_t {          \
-        0               \
-    }
-#define VKP_FEATURES_ALL (~uint64_t{0})
+#define VKP_NO_FEATURES (uint64_t(0))
+#define VKP_FEATURES_ALL (~uint64_t(0))
 // A named feature mask at file scope (VKP_CONSTANT's for masks).
 #define VKP_FEATURE_CONSTANT(name, value) inline constexpr uint64_t name = value;
 #else
@@ -79,9 +76,8 @@
     VKP_FEATURE_BIT(24)  // path regularisation (SceneInfo::regularizeAlpha > 0)
 #define VKP_FEATURE_ABSORPTION \
     VKP_FEATURE_BIT(25)  // a primitive of glass that absorbs inside (attenuation > 0)
-#define VKP_FEATURE_DEEP_BVH \
-    VKP_FEATURE_BIT(         \
-        26)  // a BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
+// A BVH leaf below depth VKP_BVH_SHALLOW_DEPTH (the stack spills to an array)
+#define VKP_FEATURE_DEEP_BVH VKP_FEATURE_BIT(26)
 #define VKP_FEATURE_SPHERE_GUIDING \
     VKP_FEATURE_BIT(27)  // diffuse samples guided toward smooth specular spheres
 // --aov albedo,normal (SceneInfo::aovs): each path keeps the albedo and
