@@ -197,6 +197,13 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
         {"vkpath:scene", o.scene}};
     image::Metadata full = metadata;
     if (!o.variant.empty()) full.emplace_back("vkpath:variant", o.variant);
+    if (const scene::Medium fog = fogOf(o); fog.present())
+        full.emplace_back(
+            "vkpath:fog",
+            fmt::format("scattering {:.6g} {:.6g} {:.6g}, absorption {:.6g} {:.6g} {:.6g}, "
+                        "anisotropy {:.6g} (per metre)",
+                        fog.scattering.x, fog.scattering.y, fog.scattering.z, fog.absorption.x,
+                        fog.absorption.y, fog.absorption.z, fog.anisotropy));
     if (result.estimatedRelMse)
         full.emplace_back("vkpath:estimatedRelMse", fmt::format("{:.6g}", *result.estimatedRelMse));
     if (o.targetError) {

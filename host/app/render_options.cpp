@@ -94,6 +94,26 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
     cmd.add_option("--env-rotate", o.environmentRotation,
                    "Environment rotation about +Y, degrees (default: the scene's, or 0)")
         ->check(finiteReal<float>());
+    cmd.add_option("--fog-density", o.fogDensity,
+                   "A homogeneous fog in all space outside the bodies of transmitting materials: "
+                   "its attenuation coefficient per metre (scene unit), one number or R,G,B "
+                   "(default: no fog). Rays that leave the scene scatter in it: an environment "
+                   "is seen through at most exp(-density x distance)")
+        ->expected(1, 3)
+        ->delimiter(',')
+        ->check(realAtLeast<float>(0));
+    cmd.add_option("--fog-albedo", o.fogAlbedo,
+                   "The fog's single-scattering albedo, the share of its attenuation that "
+                   "scatters (the rest absorbs), in [0, 1], one number or R,G,B")
+        ->expected(1, 3)
+        ->delimiter(',')
+        ->check(realIn<float>(0, 1))
+        ->capture_default_str();
+    cmd.add_option("--fog-anisotropy", o.fogAnisotropy,
+                   "The fog's Henyey-Greenstein g, in (-1, 1): > 0 scatters forward, < 0 back, 0 "
+                   "evenly")
+        ->check(realIn<float>(-0.999, 0.999))
+        ->capture_default_str();
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
     cmd.add_option("--variant", o.variant,
                    "glTF: render the materials of this KHR_materials_variants variant (scene-info "
@@ -235,6 +255,14 @@ RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHa
     settings["camera"] = o.camera.empty() ? "default" : o.camera;
     // Recorded only when chosen, so that checkpoints from before variants resume.
     if (!o.variant.empty()) settings["variant"] = o.variant;
+    // Recorded only when there is fog, so that checkpoints from before it resume.
+    if (const scene::Medium fog = fogOf(o); fog.present())
+        settings["fog"] = {
+            {"scattering",
+             {shortest(fog.scattering.x), shortest(fog.scattering.y), shortest(fog.scattering.z)}},
+            {"absorption",
+             {shortest(fog.absorption.x), shortest(fog.absorption.y), shortest(fog.absorption.z)}},
+            {"anisotropy", shortest(fog.anisotropy)}};
     // Instanced and copied meshes give the same image up to rounding:
     // recorded only when chosen, so that checkpoints from before instancing resume.
     if (o.instancing != "auto") settings["instancing"] = o.instancing;
@@ -303,7 +331,24 @@ scene::Scene loadRenderScene(const RenderOptions& o) {
         scene.environment->strength = *o.environmentStrength;
     if (o.environmentRotation && scene.environment)
         scene.environment->rotationDegrees = *o.environmentRotation;
+    scene.fog = fogOf(o);
     return scene;
+}
+
+scene::Medium fogOf(const RenderOptions& o) {
+    auto rgb = [](const std::vector<float>& v, const char* flag) {
+        if (v.size() == 1) return glm::vec3(v[0]);
+        if (v.size() == 3) return glm::vec3(v[0], v[1], v[2]);
+        throw InputError(fmt::format("{}: one number or three (R,G,B), not {}", flag, v.size()));
+    };
+    scene::Medium fog;
+    if (o.fogDensity.empty()) return fog;
+    const glm::vec3 density = rgb(o.fogDensity, "--fog-density");
+    const glm::vec3 albedo = rgb(o.fogAlbedo, "--fog-albedo");
+    fog.scattering = density * albedo;
+    fog.absorption = density - fog.scattering;
+    fog.anisotropy = o.fogAnisotropy;
+    return fog;
 }
 
 wavefront::RenderSettings renderSettings(const RenderOptions& o, uint32_t samplesPerPixel) {

@@ -47,6 +47,10 @@ struct RenderOptions {
     std::vector<float> environmentColor;
     std::optional<float> environmentStrength;  // unset: the scene's own (1 for -e)
     std::optional<float> environmentRotation;
+    // --fog-*: scene::Scene::fog, one number or R,G,B each; no density: no fog
+    std::vector<float> fogDensity;
+    std::vector<float> fogAlbedo{1.0f};
+    float fogAnisotropy = 0.0f;
     std::string camera;
     std::string instancing = "auto";  // scene::Instancing: auto, on, off
     uint32_t workgroupSize = 64;
@@ -68,9 +72,13 @@ struct RenderOptions {
 // argument, each with the validator of its values (app/validators.h).
 void addRenderOptions(CLI::App& cmd, RenderOptions& o);
 
-// The scene file with the flags' environment and camera applied. Throws
-// InputError on bad input.
+// The scene file with the flags' environment, fog and camera applied.
+// Throws InputError on bad input.
 scene::Scene loadRenderScene(const RenderOptions& o);
+
+// The fog the --fog-* flags describe (not present without --fog-density).
+// Throws InputError for a value that is neither one number nor three.
+scene::Medium fogOf(const RenderOptions& o);
 
 // Refuses, in one line, a scene whose arrays would not fit `device`
 // (wavefront::admitOnDevice), counting the acceleration structures where

@@ -37,9 +37,11 @@
 #include "shared/light_tree.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/medium.h"
 #include "shared/mesh_attributes.h"
 #include "shared/microfacet_albedo.h"
 #include "shared/path_state.h"
+#include "shared/phase.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 #include "shared/scene_arrays.h"
@@ -88,6 +90,7 @@ struct SceneTablesView {
     float sceneMicrofacetAlbedo(uint index) const { return m_microfacetAlbedo[index]; }
     LightTreeNode sceneLightTreeNode(uint index) const { return m_lightTree[index]; }
     uint sceneLightTreeTrail(uint light) const { return m_lightTreeTrail[light]; }
+    Medium sceneMedium(uint index) const { return m_media[index]; }
 
     const bvh::WideBvh& wideBvh() const { return m_wide; }
 

@@ -107,7 +107,6 @@ struct MaterialNotes {
         0;  // GGX lobes: Mitsuba's G1 G1 against vkpath's height-correlated G2
     size_t schlickConductors = 0;
     size_t metallicRoughness = 0;
-    size_t absorbingGlass = 0;  // Beer-Lambert inside: Mitsuba needs a medium and volpath for it
 };
 
 // Mitsuba's GGX parameters for vkpath's roughness (alpha = roughness^2), with
@@ -151,7 +150,6 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id,
                 addGgx(bsdf, m.roughness);
                 ++notes.separableMasking;
             }
-            if (m.attenuation != glm::vec3(0.0f)) ++notes.absorbingGlass;
             addValue(bsdf, "float", "int_ior", num(m.ior));
             addValue(bsdf, "float", "ext_ior",
                      "1");  // Mitsuba's default is air (1.000277); vkpath's is 1
@@ -207,9 +205,51 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id,
     }
 }
 
-// The material reference and the area emitter of an emissive material.
+// Whether material `m` has a medium inside: a transmitting kind that
+// attenuates (KHR_materials_volume; scattering with volume_scatter).
+bool hasInsideMedium(const Material& m) {
+    return (materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) != 0 &&
+           m.attenuation != glm::vec3(0.0f);
+}
+
+// A homogeneous medium `id` of attenuation sigma_t, single-scattering albedo
+// and Henyey-Greenstein g, as Mitsuba's `homogeneous` (whose sigma_t and
+// albedo are these, per scene unit) with an `hg` phase function.
+void addMedium(pugi::xml_node root, const std::string& id, const glm::vec3& sigmaT,
+               const glm::vec3& albedo, float g) {
+    pugi::xml_node medium = root.append_child("medium");
+    medium.append_attribute("type") = "homogeneous";
+    medium.append_attribute("id") = id.c_str();
+    addRgb(medium, "sigma_t", sigmaT);
+    addRgb(medium, "albedo", albedo);
+    pugi::xml_node phase = medium.append_child("phase");
+    phase.append_attribute("type") = "hg";
+    addValue(phase, "float", "g", num(g));
+}
+
+// The media of a scene with any (the fog, the insides of transmitting
+// materials): Mitsuba's `volpath` tracks a ray's medium by the shapes'
+// interior and exterior media, so every shape's exterior is the fog and
+// each transmitting shape's interior its own medium, as vkpath reads a
+// segment's medium off its end (shared/path/media.h).
+bool hasMedia(const Scene& s) {
+    return s.fog.present() || std::any_of(s.materials.begin(), s.materials.end(), hasInsideMedium);
+}
+
+// The material reference, the media and the area emitter of a shape of
+// `material`.
 void finishShape(pugi::xml_node shape, const Scene& scene, uint32_t material) {
     child(shape, "ref").append_attribute("id") = fmt::format("mat{}", material).c_str();
+    if (material < scene.materials.size() && hasInsideMedium(scene.materials[material])) {
+        pugi::xml_node interior = shape.append_child("ref");
+        interior.append_attribute("name") = "interior";
+        interior.append_attribute("id") = fmt::format("inside{}", material).c_str();
+    }
+    if (scene.fog.present()) {
+        pugi::xml_node exterior = shape.append_child("ref");
+        exterior.append_attribute("name") = "exterior";
+        exterior.append_attribute("id") = "fog";
+    }
     if (material < scene.materials.size() && scene.materials[material].emissive()) {
         pugi::xml_node emitter = shape.append_child("emitter");
         emitter.append_attribute("type") = "area";
@@ -319,18 +359,33 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
     // vkpath's -m bounces (0: emitters seen directly): one more. Both start
     // Russian roulette after the same vertex (the rr_depth-th hit).
     pugi::xml_node integrator = root.append_child("integrator");
-    integrator.append_attribute("type") = "path";
+    integrator.append_attribute("type") = hasMedia(s) ? "volpath" : "path";
     addValue(integrator, "integer", "max_depth", std::to_string(settings.maxDepth + 1));
     addValue(integrator, "integer", "rr_depth", std::to_string(settings.rouletteDepth));
+    // (declared before the sensor that refers to it)
+    if (s.fog.present()) {
+        const glm::vec3 sigmaT = s.fog.scattering + s.fog.absorption;
+        addMedium(root, "fog", sigmaT,
+                  glm::vec3(sigmaT.x > 0 ? s.fog.scattering.x / sigmaT.x : 0.0f,
+                            sigmaT.y > 0 ? s.fog.scattering.y / sigmaT.y : 0.0f,
+                            sigmaT.z > 0 ? s.fog.scattering.z / sigmaT.z : 0.0f),
+                  s.fog.anisotropy);
+    }
     addSensor(root, s,
-              settings);  // first: it checks the camera and film before anything is written
+              settings);  // before any file is written: it checks the camera and film
 
     MitsubaExportResult result;
     fs::create_directories(outDir / "meshes");
 
+    // The camera sits in the fog (vkpath's camera rays start in it).
+    if (s.fog.present()) child(root.child("sensor"), "ref").append_attribute("id") = "fog";
     MaterialNotes notes;
-    for (size_t i = 0; i < s.materials.size(); ++i)
+    for (size_t i = 0; i < s.materials.size(); ++i) {
         addMaterial(root, s.materials[i], fmt::format("mat{}", i), notes);
+        if (hasInsideMedium(s.materials[i]))
+            addMedium(root, fmt::format("inside{}", i), s.materials[i].attenuation,
+                      s.materials[i].scatteringAlbedo, s.materials[i].scatterAnisotropy);
+    }
 
     size_t normalMapped = 0;
     // A mesh as a PLY shape, under `parent` (the scene, or a shape group).
@@ -456,12 +511,6 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         "rise toward 1 at grazing "
                         "angles ({} materials)",
                         notes.schlickConductors));
-    if (notes.absorbingGlass > 0)
-        result.warnings.push_back(
-            fmt::format("absorbing glass (KHR_materials_volume): written clear; Mitsuba's path "
-                        "tracer has no absorption inside "
-                        "a dielectric without a medium ({} materials)",
-                        notes.absorbingGlass));
     if (notes.metallicRoughness > 0)
         result.warnings.push_back(
             fmt::format("glTF metallic-roughness materials: written as Mitsuba's principled BSDF "

@@ -116,10 +116,14 @@ struct Material {
     // to the outside; eta all 0 (the default): Schlick's Fresnel with F0 = reflectance.
     glm::vec3 conductorEta{0.0f};
     glm::vec3 conductorK{0.0f};
-    // Dielectric, RoughDielectric: the inside's absorption coefficient per
+    // Dielectric, RoughDielectric: the inside's attenuation coefficient per
     // metre (KHR_materials_volume: -ln(attenuationColor) / attenuationDistance),
     // light crossing a distance d inside keeps exp(-attenuation d); 0: clear.
+    // The share scatteringAlbedo of it scatters (KHR_materials_volume_scatter's
+    // single-scattering albedo), the rest absorbs.
     glm::vec3 attenuation{0.0f};
+    glm::vec3 scatteringAlbedo{0.0f};  // in [0, 1]; 0: the inside only absorbs
+    float scatterAnisotropy = 0.0f;    // the inside's Henyey-Greenstein g, in (-1, 1)
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
     // `emission`; both are sRGB-encoded. The others hold linear data.
@@ -268,6 +272,15 @@ struct Bounds {
     glm::vec3 lo, hi;
 };
 
+// A homogeneous participating medium, coefficients per metre
+// (docs/SCENES.md, "Media").
+struct Medium {
+    glm::vec3 scattering{0.0f};  // sigma_s
+    glm::vec3 absorption{0.0f};  // sigma_a
+    float anisotropy = 0.0f;     // Henyey-Greenstein g, in (-1, 1): > 0 forward
+    bool present() const { return scattering != glm::vec3(0.0f) || absorption != glm::vec3(0.0f); }
+};
+
 struct Scene {
     std::vector<Material> materials;
     std::vector<Mesh> meshes;
@@ -279,6 +292,9 @@ struct Scene {
     std::vector<SpotLight> spotLights;
     std::vector<DirectionalLight> directionalLights;
     std::optional<Environment> environment;
+    // Fills the space outside the bodies of transmitting materials (render
+    // --fog-density); absent: clear.
+    Medium fog;
     Camera camera;
     // The files the scene file refers to that its loader read (glTF buffers,
     // images, an environment map), in the order read: with the scene file,

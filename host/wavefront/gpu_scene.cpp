@@ -49,6 +49,35 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
     return g;
 }
 
+shared::Medium toGpu(const scene::Medium& m) {
+    shared::Medium g{};  // (zero padding)
+    g.scattering = m.scattering;
+    g.absorption = m.absorption;
+    g.anisotropy = m.anisotropy;
+    return g;
+}
+
+// The media array (shared/medium.h): the fog, then the inside of each
+// material, a transmitting material's attenuation split by its
+// single-scattering albedo; empty unless the fog is present or some inside
+// scatters (a glass that only absorbs keeps Beer-Lambert without it:
+// shared/path/absorption.h).
+std::vector<shared::Medium> buildMedia(const scene::Scene& scene) {
+    std::vector<shared::Medium> media{toGpu(scene.fog)};
+    bool scatters = scene.fog.present();
+    for (const scene::Material& m : scene.materials) {
+        scene::Medium inside;
+        if (scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) {
+            inside.scattering = m.attenuation * m.scatteringAlbedo;
+            inside.absorption = m.attenuation - inside.scattering;
+            inside.anisotropy = m.scatterAnisotropy;
+        }
+        scatters = scatters || inside.scattering != glm::vec3(0.0f);
+        media.push_back(toGpu(inside));
+    }
+    return scatters ? media : std::vector<shared::Medium>{};
+}
+
 // Centre and radius of a sphere around all geometry.
 std::pair<glm::dvec3, double> boundingSphere(const scene::Scene& scene) {
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
@@ -248,6 +277,8 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     for (size_t i = 0; i < scene.materials.size(); ++i)
         t.materials.push_back(toGpu(scene.materials[i], t.textures.materialSlots[i]));
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
+    t.media = buildMedia(scene);
+    t.info.media = t.media.empty() ? 0u : 1u;
     t.materialAlpha = buildMaterialAlpha(scene, t.textures);
     t.info.alphaTested = t.materialAlpha.empty() ? 0u : 1u;
     // The albedo tables of multiple-scattering compensation, for a scene with

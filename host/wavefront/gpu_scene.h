@@ -17,6 +17,7 @@
 #include "shared/bvh.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/medium.h"
 #include "shared/scene_addresses.h"
 #include "shared/scene_arrays.h"
 #include "shared/scene_data.h"
@@ -46,6 +47,9 @@ struct SceneTables {
     std::vector<glm::vec4> envRadiance;  // the map's texels, w 0: one 16-byte texel each
     SurfaceTables surface;   // vertex attributes for shading (empty when the scene is flat)
     TextureTables textures;  // empty when no material has a texture
+    // The fog, then the inside of each material (shared/medium.h); empty
+    // unless the fog is present or the inside of a transmitting material scatters
+    std::vector<shared::Medium> media;
     std::vector<shared::MaterialAlpha>
         materialAlpha;  // per material; empty unless info.alphaTested
     // shared/microfacet_albedo.h's tables (host/albedo/albedo_tables.h);

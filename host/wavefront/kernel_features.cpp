@@ -48,6 +48,7 @@ constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_MICROFACET_COMPENSATION, "microfacet-compensation"},
     {VKP_FEATURE_LIGHT_TREE, "light-tree"},
     {VKP_FEATURE_LIGHT_RANGE, "light-range"},
+    {VKP_FEATURE_MEDIA, "media"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -90,6 +91,7 @@ uint64_t sceneFeatures(const SceneTables& t) {
             f |= VKP_FEATURE_LIGHT_RANGE;
     }
     f |= bvh::traversalFeatures(t.bvh);
+    if (t.info.media != 0) f |= VKP_FEATURE_MEDIA;
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_TANGENTS) f |= VKP_FEATURE_NORMAL_MAPS;
@@ -138,8 +140,9 @@ uint64_t renderFeatures(const SceneTables& tables, const shared::SceneInfo& info
 uint32_t shadowRaysPerVertex(uint64_t features, uint32_t lightSamples) {
     // shared/bsdf.h hasNonDeltaLobe: the kinds flagged VKP_KIND_NON_DELTA
     // (a microfacet kind only unless smooth: a set bit means "may occur").
-    const bool traces =
-        (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 && (features & VKP_FEATURES_NON_DELTA) != 0;
+    // (or a scattering event in a medium).
+    const bool traces = (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 &&
+                        (features & (VKP_FEATURES_NON_DELTA | VKP_FEATURE_MEDIA)) != 0;
     return traces ? lightSamples : 0;
 }
 

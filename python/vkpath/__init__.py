@@ -40,10 +40,21 @@ __all__ = [
     "MATERIAL_KINDS",
 ]
 
-# The keywords that change the scene itself (its environment, its camera,
-# whether meshes several nodes place are instanced, a glTF material variant):
+# The keywords that change the scene itself (its environment, its fog, its
+# camera, whether meshes several nodes place are instanced, a glTF material variant):
 # given to Scene(), which loads the file with them once.
-SCENE_KEYWORDS = ("env", "env_color", "env_strength", "env_rotate", "camera", "instancing", "variant")
+SCENE_KEYWORDS = (
+    "env",
+    "env_color",
+    "env_strength",
+    "env_rotate",
+    "fog_density",
+    "fog_albedo",
+    "fog_anisotropy",
+    "camera",
+    "instancing",
+    "variant",
+)
 # The device is also the scene's: a CPU render is admitted against the host's
 # memory alone (wavefront/scene_footprint.h).
 _LOAD_KEYWORDS = SCENE_KEYWORDS + ("device",)
@@ -85,7 +96,7 @@ def _flags(keywords: Mapping[str, Any]) -> list[str]:
                 args += [flag, f"{int(width)}x{int(height)}"]
         elif value is True:
             args.append(flag)
-        elif name == "env_color":
+        elif name in ("env_color", "fog_density", "fog_albedo") and isinstance(value, (list, tuple)):
             args += [flag, ",".join(repr(float(v)) for v in value)]
         elif isinstance(value, (list, tuple)):
             for item in value:
@@ -136,7 +147,8 @@ class Scene:
     cameras) without reloading it or rebuilding its BVH.
 
     Keywords: the flags that change the scene (env, env_color, env_strength,
-    env_rotate, camera: a glTF camera's name, instancing: "auto", "on" or
+    env_rotate, fog_density, fog_albedo: one number or (R, G, B), fog_anisotropy,
+    camera: a glTF camera's name, instancing: "auto", "on" or
     "off", variant: a glTF KHR_materials_variants name) and device ("gpu" or "cpu", the
     memory the scene is admitted against; a render may name either)."""
 

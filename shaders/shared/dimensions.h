@@ -18,7 +18,9 @@
 // triangle light's normal and area from the host (lights.h). 5: diffuse
 // samples guided toward smooth specular spheres (path_tracer.h). 6: lights
 // chosen through the light tree (path/light_choice.h), and point and spot
-// lights' range (lights.h).
-#define VKP_ESTIMATOR_VERSION 6u
+// lights' range (lights.h). 7: scattering inside glass
+// (KHR_materials_volume_scatter, path/media.h), which files that have it
+// rendered without before.
+#define VKP_ESTIMATOR_VERSION 7u
 
 #endif  // VKPATH_SHARED_DIMENSIONS_H

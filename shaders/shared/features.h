@@ -96,7 +96,10 @@
 // A point or spot light with a range (KHR_lights_punctual; Light::radius,
 // shared/lights.h rangeWindow)
 #define VKP_FEATURE_LIGHT_RANGE VKP_FEATURE_BIT(32)
-#define VKP_FEATURE_COUNT 33u  // bits 33 to 63 are free
+// A participating medium: the fog or a transmitting material's inside that
+// scatters (SceneInfo::media, shared/medium.h)
+#define VKP_FEATURE_MEDIA VKP_FEATURE_BIT(33)
+#define VKP_FEATURE_COUNT 34u  // bits 34 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

@@ -21,15 +21,6 @@
 // inside PathTracerView). PathState and startPath, which need no scene, are
 // in shared/path_state.h.
 
-// A hit as the rest of its bounce needs it.
-struct Shading {
-    Material material;
-    SurfacePoint surface;
-    vec3 wo;  // toward the previous vertex
-    GuideSpheres
-        guide;  // the spheres its BSDF samples may be drawn toward (guideSpheresAt), found once
-};
-
 // ---- the albedo and normal AOVs (--aov albedo,normal) -----------------------------------
 // Intel Open Image Denoise's definitions (github.com/RenderKit/oidn,
 // doc/api.md, section "RT", subsections "Albedos" and "Normals"), with the
@@ -71,13 +62,39 @@ VKP_FN void recordEscapeAov(VKP_INOUT(PathAov) aov) VKP_SCENE_CONST {
     aov.found = 1u;
 }
 
+// A path that scattered in a medium at `shading` (crossMedium): its AOVs
+// take the medium's single-scattering albedo and no normal where no
+// non-delta hit set them, and it scatters on below the maximum depth.
+VKP_FN bool scattersInMedium(VKP_INOUT(PathState) path, VKP_IN(Shading) shading,
+                             uint bounce) VKP_SCENE_CONST {
+    if (aovsWanted() && path.aov.found == 0u) {
+        Medium m = sceneMedium(shading.medium);
+        vec3 extinction = m.scattering + m.absorption;
+        path.aov.albedo = vec3(extinction.x > 0.0f ? m.scattering.x / extinction.x : 0.0f,
+                               extinction.y > 0.0f ? m.scattering.y / extinction.y : 0.0f,
+                               extinction.z > 0.0f ? m.scattering.z / extinction.z : 0.0f);
+        path.aov.normal = vec3(0.0f);
+        path.aov.found = 1u;
+    }
+    return bounce < sceneInfo().maxDepth;
+}
+
 // Stage "shade", first part: adds what the ray of bounce `bounce` sees at
-// `hit` (emission with its MIS weight, or the environment on a miss).
-// Returns whether the path scatters there (it hit something and is below
-// the maximum depth); then `shading` describes the hit.
-VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
+// `hit` (emission with its MIS weight, or the environment on a miss), or,
+// with media, where it scatters before. Returns whether the path scatters
+// there (at a surface or in a medium, below the maximum depth); then
+// `shading` describes the vertex.
+VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce,
                      VKP_OUT(Shading) shading) VKP_SCENE_CONST {
+    shading.inMedium = 0u;
+    shading.medium = VKP_FOG_MEDIUM;
     if (hit.primitive == VKP_NO_HIT) {
+        if (mediaOn()) {
+            // A defined record in place of the surface's that an event in a medium never reads.
+            shading.material = sceneMaterial(0u);
+            if (crossMedium(path, VKP_FOG_MEDIUM, VKP_FLOAT_MAX, key, bounce, shading))
+                return scattersInMedium(path, shading, bounce);
+        }
         if (aovsWanted()) recordEscapeAov(path.aov);
         if (hasFeature(VKP_FEATURES_ENVIRONMENT))
             path.radiance +=
@@ -107,8 +124,17 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
         }
     }
     shading.wo = -path.ray.direction;
-    if (hasFeature(VKP_FEATURE_ABSORPTION))
+    if (mediaOn()) {
+        // The segment's medium: the inside of the surface it reaches from
+        // behind (shared/path/media.h).
+        shading.medium = mediumBehind(own, primitive.material);
+        uint crossed = dot(path.ray.direction, shading.surface.normal) > 0.0f ? shading.medium
+                                                                              : VKP_FOG_MEDIUM;
+        if (crossMedium(path, crossed, hit.t, key, bounce, shading))
+            return scattersInMedium(path, shading, bounce);
+    } else if (hasFeature(VKP_FEATURE_ABSORPTION)) {
         path.throughput *= mediumTransmittance(shading.material, shading.surface, path.ray, hit);
+    }
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     // Compensation follows the material's own roughness: a lobe that path
@@ -136,14 +162,18 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, uint bounce,
 // bounce. Returns whether the path goes on; then path.ray is its next ray.
 VKP_FN bool scatter(VKP_INOUT(PathState) path, VKP_IN(Shading) shading, RngKey key,
                     uint bounce) VKP_SCENE_CONST {
-    PathStep step = continuePath(shading.material, shading.surface, shading.wo, shading.guide,
-                                 path.throughput, path.etaScale, key, bounce);
+    PathStep step = continuePath(shading, path.throughput, path.etaScale, key, bounce);
     if (!step.alive) return false;
     path.ray = step.ray;
     path.throughput = step.throughput;
     path.etaScale = step.etaScale;
     path.previousPosition = shading.surface.position;
-    path.previousNormal = lightTreeOn() ? encodeUnitVector(shading.surface.normal) : 0u;
+    if (!lightTreeOn())
+        path.previousNormal = 0u;
+    else if (hasFeature(VKP_FEATURE_MEDIA) && shading.inMedium != 0u)
+        path.previousNormal = VKP_NO_NORMAL;
+    else
+        path.previousNormal = encodeUnitVector(shading.surface.normal);
     path.bsdfPdf = step.bsdfPdf;
     path.specular = step.specular;
     path.afterNonDelta = path.afterNonDelta || !step.specular;
@@ -162,15 +192,14 @@ VKP_FN bool traceBounce(VKP_INOUT(PathState) path, RngKey key, uint bounce,
 
     // ---- shade: what the ray sees ------------------------------------------------------
     Shading shading;
-    if (!shadeHit(path, hit, bounce, shading)) return false;
+    if (!shadeHit(path, hit, key, bounce, shading)) return false;
 
     // ---- shade: next-event estimation; shadow: the unoccluded samples ------------------
     // As the shadow stage does: the sum is added once a sample was queued.
     vec3 unoccluded = vec3(0.0f);
     bool queued = false;
     for (uint j = 0u; j < lightSampleCount(); ++j) {
-        ShadowRequest request = sampleDirectLight(shading.material, shading.surface, shading.wo,
-                                                  shading.guide, path.throughput, key, bounce, j);
+        ShadowRequest request = sampleDirectLight(shading, path.throughput, key, bounce, j);
         if (request.rejected) tally.rejectedLightSamples += 1u;
         queued = queued || request.valid;
         if (!request.valid || request.contribution == vec3(0.0f)) continue;

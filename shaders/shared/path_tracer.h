@@ -24,6 +24,7 @@
 //                                             // SceneInfo::microfacetCompensation
 //   LightTreeNode sceneLightTreeNode(uint index);  // shared/light_tree.h; read only when
 //   uint sceneLightTreeTrail(uint light);          // SceneInfo::treeLights > 0
+//   Medium sceneMedium(uint index);  // shared/medium.h; read only with VKP_FEATURE_MEDIA
 //
 // It defines the alpha test that shared/bvh_traverse.h asks (bvhAlphaTest).
 //
@@ -51,13 +52,24 @@
 // with a number of their own (sampleBsdf's uc) and with the component of a
 // guided Lambertian vertex's mixture (sampleGuidedDiffuse), which no other
 // material draws, so adding them changed no other material's numbers.
-#define VKP_DIMS_PER_BOUNCE_BASE \
-    4u  // BSDF direction (2), Russian roulette (1), lobe or component choice (1)
+// With media, each bounce's segment draws its free flight from a pair after
+// those four (shared/path/media.h crossMedium); without, the layout is as
+// before media.
+#define VKP_DIMS_PER_BOUNCE_BASE                                                       \
+    (4u /* BSDF direction (2), Russian roulette (1), lobe or component choice (1) */ + \
+     (mediaOn() ? 2u : 0u))
+#define VKP_DIM_FREE_FLIGHT 4u        // the distance and the channel it is drawn for
 #define VKP_DIMS_PER_LIGHT_SAMPLE 4u  // environment texel (2 words), light choice and position (2)
 
 // SceneInfo::lightSamples, a constant when the kernel's features fix it.
 VKP_FN uint lightSampleCount() VKP_SCENE_CONST {
     return featureLightSamples(sceneInfo().lightSamples);
+}
+
+// Whether the scene has media (SceneInfo::media), a constant false in
+// kernels without them.
+VKP_FN bool mediaOn() VKP_SCENE_CONST {
+    return hasFeature(VKP_FEATURE_MEDIA) && sceneInfo().media != 0u;
 }
 
 VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
@@ -76,6 +88,7 @@ VKP_FN uint bounceDimension(uint bounce) VKP_SCENE_CONST {
 #include "shared/path/absorption.h"
 #include "shared/path/energy_compensation.h"
 #include "shared/path/sphere_guiding.h"
+#include "shared/path/media.h"
 #include "shared/path/light_choice.h"
 #include "shared/path/emission.h"
 #include "shared/path/next_event.h"

@@ -59,12 +59,17 @@ struct SceneInfo {
     // table's entries from lightCount on choose between the tree and each
     // light after it; 0: every light by the alias table over their power
     uint treeLights;
+    // 1: the media array holds the fog and each material's inside
+    // (shared/medium.h; with VKP_FEATURE_MEDIA), and each bounce draws its
+    // free flight; 0: no medium anywhere
+    uint media;
+    uint padding;  // 0: the guide spheres after it start on 16 bytes
 };
 
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneInfo) == 120);
+static_assert(sizeof(vkpath::shared::SceneInfo) == 128);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_DATA_H

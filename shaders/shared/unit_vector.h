@@ -11,6 +11,10 @@
 
 #include "shared/compat.h"
 
+// A word encodeUnitVector never gives (its snorm halves stop at -32767):
+// "no normal", the path's last vertex a scattering event in a medium.
+#define VKP_NO_NORMAL 0x80008000u
+
 VKP_NAMESPACE_BEGIN
 
 // +1 or -1 per component, +1 at zero.

@@ -54,6 +54,8 @@
 #define VKP_WF_LIGHT_TREE_TRAIL \
     36  // uint[lightCount]: each light's path from the light tree's root, when
         // SceneInfo::treeLights
+#define VKP_WF_MEDIA \
+    37  // Medium[1 + materials] (shared/medium.h): the fog and each material's inside, with media
 
 VKP_NAMESPACE_BEGIN
 

@@ -28,7 +28,7 @@ void main() {
 
     // ---- what the ray sees ------------------------------------------------------
     Shading shading;
-    bool scatters = shadeHit(state, hits[slot], push.bounce, shading);
+    bool scatters = shadeHit(state, hits[slot], key, push.bounce, shading);
     radiance[slot] = state.radiance;
     if (aovsWanted()) pathAovs[slot] = state.aov;
     if (!scatters) return;
@@ -38,8 +38,7 @@ void main() {
     uint tracedShadowRays = 0u;  // the shadow stage traces the non-zero contributions
     uint rejectedLightSamples = 0u;
     for (uint j = 0u; j < lightSampleCount(); ++j) {
-        ShadowRequest request = sampleDirectLight(shading.material, shading.surface, shading.wo, shading.guide,
-                                                  state.throughput, key, push.bounce, j);
+        ShadowRequest request = sampleDirectLight(shading, state.throughput, key, push.bounce, j);
         uint index = slot * lightSampleCount() + j;
         shadowRays[index] = request.ray;
         shadowRadiance[index] = request.valid ? request.contribution : vec3(0.0);

@@ -321,3 +321,44 @@ TEST(ExportMitsuba, BadInputIsOneLineAndNothingWritten) {
 }
 
 }  // namespace
+
+// The fog (render --fog-*) and a scattering glass inside: Mitsuba's volpath,
+// a homogeneous medium per medium (sigma_t, albedo, an hg phase function),
+// the camera in the fog, every shape's exterior the fog and the glass
+// sphere's interior its own medium.
+TEST(ExportMitsuba, FogAndScatteringGlassAreVolpathMedia) {
+    const vkpath::test::TempDir dir;
+    const fs::path out = dir / "foggy";
+    const auto r = runVkpath(
+        "export-mitsuba " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")) + " " +
+        quoted(out) + " -d 16x16 --fog-density 0.5 --fog-albedo 0.8 --fog-anisotropy 0.25");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_file((out / "scene.xml").c_str()));
+    const pugi::xml_node root = doc.child("scene");
+    EXPECT_EQ(std::string(root.child("integrator").attribute("type").as_string()), "volpath");
+    const pugi::xml_node fog = root.find_child_by_attribute("medium", "id", "fog");
+    ASSERT_TRUE(fog);
+    EXPECT_EQ(std::string(fog.attribute("type").as_string()), "homogeneous");
+    EXPECT_EQ(
+        std::string(
+            fog.find_child_by_attribute("rgb", "name", "sigma_t").attribute("value").as_string()),
+        "0.5, 0.5, 0.5");
+    EXPECT_NEAR(
+        std::stof(
+            fog.find_child_by_attribute("rgb", "name", "albedo").attribute("value").as_string()),
+        0.8f, 1e-6f);
+    EXPECT_EQ(param(fog.child("phase"), "float", "g"), "0.25");
+    EXPECT_EQ(std::string(root.child("sensor").child("ref").attribute("id").as_string()), "fog");
+    size_t shapes = 0;
+    for (pugi::xml_node shape : root.children("shape")) {
+        ++shapes;
+        EXPECT_EQ(std::string(shape.find_child_by_attribute("ref", "name", "exterior")
+                                  .attribute("id")
+                                  .as_string()),
+                  "fog");
+    }
+    EXPECT_GT(shapes, 0u);
+    // The medium is declared before the sensor that refers to it.
+    EXPECT_EQ(std::string(root.child("medium").next_sibling("sensor").name()), "sensor");
+}

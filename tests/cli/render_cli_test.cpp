@@ -316,6 +316,43 @@ TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
     }
 }
 
+// --fog-density fills the scene with fog: recorded in the EXR (and in the
+// identity, so a checkpoint without fog is not resumed with it), and the box
+// seen through 1/m of it is darker. A density of two numbers, a negative one,
+// an albedo above 1 or an anisotropy of 1 is one line, exit 2, nothing written.
+TEST(RenderCli, FogIsRecordedDarkensTheBoxAndBadFogIsOneLine) {
+    const test::TempDir dir;
+    const auto mean = [&](const std::string& flags, const char* name) {
+        const std::string exr = (dir / name).string();
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 16x16 -s 16 -m 3 " + flags +
+                                       " -o " + exr);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        const image::Image image = image::readImage(exr);
+        double sum = 0;
+        for (const glm::vec3& p : image.pixels) sum += p.x + p.y + p.z;
+        return std::pair(sum / (3.0 * image.pixels.size()), vkpathMetadata(exr));
+    };
+    const auto [clear, clearMetadata] = mean("", "clear.exr");
+    const auto [foggy, foggyMetadata] =
+        mean("--fog-density 1 --fog-albedo 0.5,0.6,0.7 --fog-anisotropy 0.2", "foggy.exr");
+    EXPECT_EQ(clearMetadata.count("vkpath:fog"), 0u);
+    EXPECT_EQ(foggyMetadata.at("vkpath:fog"),
+              "scattering 0.5 0.6 0.7, absorption 0.5 0.4 0.3, anisotropy 0.2 (per metre)");
+    EXPECT_NE(foggyMetadata.at("vkpath:settings").find("\"fog\""), std::string::npos);
+    EXPECT_LT(foggy, 0.9 * clear);
+    for (const char* flags :
+         {"--fog-density 1,2", "--fog-density -1", "--fog-density 1 --fog-albedo 1.5",
+          "--fog-density 1 --fog-anisotropy 1", "--fog-density nan"}) {
+        SCOPED_TRACE(flags);
+        const std::string exr = (dir / "x.exr").string();
+        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) +
+                                       " -o " + exr);
+        EXPECT_EQ(r.exitCode, 2);
+        EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(exr));
+    }
+}
+
 // Flags that would write nonsense or run for hours before a sample.
 TEST(RenderCli, RunawayOrNonsenseFlagsAreOneLineAndNothingWritten) {
     const test::TempDir dir;

@@ -7,6 +7,7 @@
 
 #include "kernels/sampling_routines.h"
 #include "shared/bsdf.h"
+#include "shared/phase.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 
@@ -38,6 +39,9 @@ void main() {
         SphereCone cone = sphereCone(push.b, push.scalar, push.a);
         r.direction = sampleSphereCone(cone, normalize(push.b - push.a), u);
         r.pdf = sphereConePdf(cone);
+    } else if (push.routine == ROUTINE_HENYEY_GREENSTEIN) {
+        r.direction = sampleHenyeyGreenstein(push.b, push.scalar, u);
+        r.pdf = henyeyGreenstein(dot(push.b, r.direction), push.scalar);
     } else if (push.routine == ROUTINE_TRIANGLE_AREA) {
         r.direction = vec3(sampleTriangleBarycentrics(u), 0.0);
         r.pdf = 1.0 / length(triangleArea3(push.a, push.b, push.c));

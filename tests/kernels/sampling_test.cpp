@@ -14,6 +14,7 @@
 
 #include "kernels/sampling_routines.h"
 #include "shared/bsdf.h"
+#include "shared/phase.h"
 #include "support/direction_chi2.h"
 #include "support/test_context.h"
 #include "support/test_scale.h"
@@ -28,7 +29,7 @@ using shared::SamplingResult;
 
 constexpr uint32_t SAMPLES = 1000000;
 constexpr int TESTS_IN_FILE =
-    9;  // 7 chi-square tests, the solid-angle z-test, the dielectric z-tests
+    13;  // 11 chi-square tests, the solid-angle z-test, the dielectric z-tests
 const double ALPHA = test::sidakAlpha(0.01, TESTS_IN_FILE);
 
 std::vector<SamplingResult> runRoutine(SamplingPush push) {
@@ -125,6 +126,29 @@ TEST(Sampling, LambertianAroundAnArbitraryNormal) {
     grid.frame = shared::makeFrame(p.a);
     expectFits(grid, directionsOf(results),
                [&](glm::vec3 d) { return shared::lambertianPdf(p.a, p.b, d); });
+}
+
+// The Henyey-Greenstein phase function (shared/phase.h), sampled around an
+// arbitrary wo: isotropic, forward, backward and strongly forward (g 0.95,
+// whose lobe lies within 1 - cos theta < 0.05 of -wo for half its samples: a
+// grid whose cells shrink toward the poles). Every sample's pdf is its own
+// density's value, and the pdf integrates to 1.
+TEST(Sampling, HenyeyGreensteinPhaseFunction) {
+    for (const float g : {0.0f, 0.5f, -0.7f, 0.95f}) {
+        SCOPED_TRACE(g);
+        SamplingPush p = pushFor(ROUTINE_HENYEY_GREENSTEIN, 3);
+        p.b = glm::normalize(glm::vec3(0.2f, -0.5f, 0.8f));
+        p.scalar = g;
+        const auto results = runRoutine(p);
+        for (const auto& r : results)
+            ASSERT_NEAR(r.pdf, shared::henyeyGreenstein(glm::dot(p.b, r.direction), g),
+                        1e-4f * r.pdf);
+        test::DirectionGrid grid;
+        grid.frame = shared::makeFrame(-p.b);
+        if (g > 0.9f) grid.polarExponent = 3;
+        expectFits(grid, directionsOf(results),
+                   [&](glm::vec3 d) { return shared::henyeyGreenstein(glm::dot(p.b, d), g); });
+    }
 }
 
 // The cone of a sphere light, seen from outside. The grid is aligned with the

@@ -53,6 +53,15 @@ def test_keywords_keep_the_flags_defaults(tmp_path):
     assert np.array_equal(vkpath.render(BOX, size=(40, 30), device="cpu"), cli)
 
 
+def test_fog_is_a_scene_keyword_with_the_command_lines_bits(tmp_path):
+    cli = cli_render(tmp_path, "-d", "24x16", "-m", "3", "-s", "4", "--device", "cpu",
+                     "--fog-density", "0.5,0.6,0.7", "--fog-albedo", "0.9", "--fog-anisotropy", "0.25")
+    image = vkpath.render(BOX, size=(24, 16), max_depth=3, spp=4, device="cpu",
+                          fog_density=(0.5, 0.6, 0.7), fog_albedo=0.9, fog_anisotropy=0.25)
+    assert np.array_equal(image, cli)
+    assert not np.array_equal(image, vkpath.render(BOX, size=(24, 16), max_depth=3, spp=4, device="cpu"))
+
+
 def test_a_scene_renders_many_times_without_reloading():
     scene = vkpath.Scene(BOX)
     first = scene.render(spp=4, seed=1, device="cpu", **SMALL)

@@ -772,6 +772,55 @@ TEST(GltfVolume, AttenuationIsBeerLambertsCoefficient) {
                     "attenuationDistance 0 is not > 0");
 }
 
+// KHR_materials_volume_scatter: the share of the attenuation that scatters
+// is the single-scattering albedo that Kulla and Conty's fit gives for
+// multiscatterColor (0 and 1 map to themselves; 0.5 to 0.9117..., the fit
+// evaluated here in double), and scatterAnisotropy is the phase function's
+// g. Scattering without an attenuationDistance, or on a material without
+// transmission, is warned about; g outside (-1, 1) is an error.
+TEST(GltfVolume, VolumeScatterSplitsTheAttenuation) {
+    TempDir dir;
+    auto glass = [&](const std::string& extensions, const char* file) {
+        GltfBuilder g;
+        const int material = g.material(Json::parse(
+            R"({"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}, "extensions":
+                {"KHR_materials_transmission": {"transmissionFactor": 1}, )" +
+            extensions + "}}"));
+        g.node({{"mesh", g.triangle(material)}});
+        g.camera();
+        return g.writeGltf(dir / file);
+    };
+    const Loaded milky = load(glass(
+        R"("KHR_materials_volume": {"attenuationDistance": 0.5, "attenuationColor": [0.5, 0.5, 0.5]},
+           "KHR_materials_volume_scatter": {"multiscatterColor": [0, 0.5, 1], "scatterAnisotropy": -0.3})",
+        "milky.gltf"));
+    EXPECT_EQ(milky.warnings, "");
+    const scene::Material& m = milky.scene.materials.at(0);
+    const double root =
+        4.09712 + 4.20863 * 0.5 - std::sqrt(9.59217 + 41.6808 * 0.5 + 17.7126 * 0.25);
+    expectVec3Near(m.scatteringAlbedo, {0.0f, float(1.0 - root * root), 1.0f}, 1e-6f);
+    EXPECT_NEAR(m.scatteringAlbedo.y, 0.9117, 1e-4);
+    EXPECT_FLOAT_EQ(m.scatterAnisotropy, -0.3f);
+    expectVec3Near(m.attenuation, glm::vec3(float(2.0 * std::log(2.0))), 1e-6f);
+
+    const Loaded unbounded = load(glass(
+        R"("KHR_materials_volume": {}, "KHR_materials_volume_scatter": {"multiscatterColor": [1, 1, 1]})",
+        "unbounded.gltf"));
+    EXPECT_CONTAINS(unbounded.warnings, "scatters nothing");
+    EXPECT_CONTAINS(loadError(glass(R"("KHR_materials_volume": {"attenuationDistance": 1},
+                           "KHR_materials_volume_scatter": {"scatterAnisotropy": 1})",
+                                    "forward.gltf")),
+                    "scatterAnisotropy 1 is not in (-1, 1)");
+
+    GltfBuilder opaque;
+    const int material = opaque.material(Json::parse(
+        R"({"extensions": {"KHR_materials_volume_scatter": {"multiscatterColor": [1, 1, 1]}}})"));
+    opaque.node({{"mesh", opaque.triangle(material)}});
+    opaque.camera();
+    EXPECT_CONTAINS(load(opaque.writeGltf(dir / "opaque.gltf")).warnings,
+                    "KHR_materials_volume_scatter without transmission is ignored");
+}
+
 // ---------------------------------------------------------------------------
 // Lights and spheres
 // ---------------------------------------------------------------------------

@@ -12,9 +12,8 @@ struct PathStep {
     bool alive;       // false: the path ends here
 };
 
-// The next bounce from a vertex whose guide spheres (guideSpheresAt) are `guide`.
-VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface, vec3 wo,
-                             GuideSpheres guide, vec3 throughput, float etaScale, RngKey key,
+// The next bounce from vertex `shading`.
+VKP_FN PathStep continuePath(VKP_IN(Shading) shading, vec3 throughput, float etaScale, RngKey key,
                              uint bounce) VKP_SCENE_CONST {
     PathStep step;
     step.alive = false;
@@ -22,21 +21,36 @@ VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) sur
     step.etaScale = etaScale;
     step.bsdfPdf = 0.0f;
     step.specular = false;
-    step.ray.origin = surface.position;
+    step.ray.origin = shading.surface.position;
     step.ray.direction = vec3(0.0f, 0.0f, 1.0f);
     step.ray.tMax = 0.0f;
     step.ray.pixel = key.pixel;
 
-    if (lightSamplingAlone(material, bounce)) return step;
     uint dim = bounceDimension(bounce);
-    // A guided Lambertian vertex draws its mixture's component where a
-    // material with lobes draws its lobe (no Lambertian does).
-    float lobeChoice =
-        bsdfNeedsLobeChoice(material) || guide.count > 0u ? rngUniform(key, dim + 3u) : 0.0f;
-    BsdfSample s = guide.count > 0u ? sampleGuidedDiffuse(material, surface, wo, guide,
-                                                          rngUniform2(key, dim), lobeChoice)
-                                    : sampleBsdf(material, surface.normal, surface.shadingNormal,
-                                                 wo, rngUniform2(key, dim), lobeChoice);
+    BsdfSample s;
+    if (hasFeature(VKP_FEATURE_MEDIA) && shading.inMedium != 0u) {
+        // The phase function samples itself exactly: weight 1.
+        float g = sceneMedium(shading.medium).anisotropy;
+        s.direction = sampleHenyeyGreenstein(shading.wo, g, rngUniform2(key, dim));
+        s.pdf = henyeyGreenstein(dot(shading.wo, s.direction), g);
+        s.weight = vec3(1.0f);
+        s.delta = false;
+        s.valid = true;
+        s.etaSquared = 1.0f;
+    } else {
+        if (lightSamplingAlone(shading.material, bounce)) return step;
+        // A guided Lambertian vertex draws its mixture's component where a
+        // material with lobes draws its lobe (no Lambertian does).
+        float lobeChoice = bsdfNeedsLobeChoice(shading.material) || shading.guide.count > 0u
+                               ? rngUniform(key, dim + 3u)
+                               : 0.0f;
+        s = shading.guide.count > 0u
+                ? sampleGuidedDiffuse(shading.material, shading.surface, shading.wo, shading.guide,
+                                      rngUniform2(key, dim), lobeChoice)
+                : sampleBsdf(shading.material, shading.surface.normal,
+                             shading.surface.shadingNormal, shading.wo, rngUniform2(key, dim),
+                             lobeChoice);
+    }
     if (!s.valid) return step;
     vec3 beta = throughput * s.weight;
     // Kept within [2^-100, 2^100]: never 0 or infinite, so its sign can be
@@ -57,7 +71,7 @@ VKP_FN PathStep continuePath(VKP_IN(Material) material, VKP_IN(SurfacePoint) sur
         beta /= survive;
     }
     if (beta == vec3(0.0f)) return step;
-    step.ray = spawnRay(surface, s.direction, VKP_FLOAT_MAX, key.pixel);
+    step.ray = spawnRay(shading.surface, s.direction, VKP_FLOAT_MAX, key.pixel);
     step.throughput = beta;
     step.etaScale = eta2;
     step.bsdfPdf = s.pdf;

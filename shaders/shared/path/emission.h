@@ -36,7 +36,8 @@ VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) prim
     uint lightIndex = scenePrimitiveLight(index);
     if (lightIndex == VKP_NO_LIGHT) return le;
     Light light = sceneLight(lightIndex);
-    vec3 n = lightTreeOn() ? decodeUnitVector(previousNormal) : vec3(0.0f);
+    vec3 n = lightTreeOn() && previousNormal != VKP_NO_NORMAL ? decodeUnitVector(previousNormal)
+                                                              : vec3(0.0f);
     float lightPdf = lightChoiceProbability(lightIndex, previous, n) *
                      areaLightPdf(light, previous, surface.position, surface.normal);
     return le * bsdfMisWeight(bsdfPdf, lightPdf);

@@ -93,11 +93,11 @@ VKP_FN SceneLightSample sampleSceneLight(vec3 p, vec3 n, RngKey key, uint dim) V
     return chosen;
 }
 
-// Light sample `index` (of lightSamples) at a diffuse vertex whose guide
-// spheres (guideSpheresAt) are `guide`.
-VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(SurfacePoint) surface,
-                                       vec3 wo, GuideSpheres guide, vec3 throughput, RngKey key,
+// Light sample `index` (of lightSamples) at vertex `shading`, whose path
+// throughput is `throughput`.
+VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Shading) shading, vec3 throughput, RngKey key,
                                        uint bounce, uint index) VKP_SCENE_CONST {
+    SurfacePoint surface = shading.surface;
     ShadowRequest request;
     request.valid = false;
     request.rejected = false;
@@ -107,12 +107,16 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     request.ray.tMax = 0.0f;
     request.ray.pixel = key.pixel;
     SceneInfo info = sceneInfo();
-    if (lightSampleCount() == 0u || info.lightCount == 0u || !hasNonDeltaLobe(material))
+    bool inMedium = hasFeature(VKP_FEATURE_MEDIA) && shading.inMedium != 0u;
+    if (lightSampleCount() == 0u || info.lightCount == 0u ||
+        (!inMedium && !hasNonDeltaLobe(shading.material)))
         return request;
 
     uint dim =
         bounceDimension(bounce) + VKP_DIMS_PER_BOUNCE_BASE + index * VKP_DIMS_PER_LIGHT_SAMPLE;
-    vec3 choiceNormal = lightTreeOn() ? lightChoiceNormal(surface.normal) : vec3(0.0f);
+    // A scattering event in a medium has no normal: the tree's importance
+    // then bounds no cosine (shared/light_tree.h).
+    vec3 choiceNormal = lightTreeOn() && !inMedium ? lightChoiceNormal(surface.normal) : vec3(0.0f);
     SceneLightSample chosen = sampleSceneLight(surface.position, choiceNormal, key, dim);
     LightSample ls = chosen.lightSample;
     float choice = chosen.choice;
@@ -122,15 +126,33 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Material) material, VKP_IN(Surface
     }
     if (ls.radiance == vec3(0.0f)) return request;
 
-    vec3 f = evalBsdf(material, surface.normal, surface.shadingNormal, wo, ls.direction);
+    vec3 f;
+    float scatterDensity;  // of the vertex's own sample in this direction (MIS)
+    if (inMedium) {
+        float phase =
+            henyeyGreenstein(dot(shading.wo, ls.direction), sceneMedium(shading.medium).anisotropy);
+        f = vec3(phase);
+        scatterDensity = phase;
+    } else {
+        f = evalBsdf(shading.material, surface.normal, surface.shadingNormal, shading.wo,
+                     ls.direction);
+        scatterDensity = 0.0f;  // found below only where MIS needs it
+    }
     if (f == vec3(0.0f)) return request;
     float n = float(lightSampleCount());
     float lightPdf = choice * ls.pdf;
-    float weight =
-        ls.delta || lightSamplingAlone(material, bounce)
-            ? 1.0f
-            : powerHeuristic(n * lightPdf, scatterPdf(material, surface, wo, guide, ls.direction));
+    float weight = 1.0f;
+    if (!ls.delta && (inMedium || !lightSamplingAlone(shading.material, bounce))) {
+        if (!inMedium)
+            scatterDensity =
+                scatterPdf(shading.material, surface, shading.wo, shading.guide, ls.direction);
+        weight = powerHeuristic(n * lightPdf, scatterDensity);
+    }
     request.contribution = throughput * f * ls.radiance * (weight / (n * lightPdf));
+    // Through a medium the shadow ray carries its transmittance, exact for a
+    // homogeneous one (an occluder ends it: a transmitting body's surface
+    // blocks light samples, as without media).
+    if (mediaOn()) request.contribution *= shadowTransmittance(shading, ls.direction, ls.distance);
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
     if (ls.distance < VKP_FLOAT_MAX) {

@@ -7,7 +7,9 @@
 #include "shared/light_tree.h"
 #include "shared/lights.h"
 #include "shared/material.h"
+#include "shared/medium.h"
 #include "shared/mesh_attributes.h"
+#include "shared/phase.h"
 #include "shared/rng.h"
 #include "shared/scene_arrays.h"
 #include "shared/scene_data.h"
@@ -109,6 +111,13 @@ LightTreeNode sceneLightTreeNode(uint i) {
                           texelFetch(lightTreeTexels, first + 2), texelFetch(lightTreeTexels, first + 3));
     LightTreeNode r;
     VKP_RECORD_DECODE(VKP_LIGHT_TREE_NODE_FIELDS)
+    return r;
+}
+Medium sceneMedium(uint i) {
+    int first = int(2u * i);
+    uvec4 t[2] = uvec4[2](texelFetch(mediaTexels, first), texelFetch(mediaTexels, first + 1));
+    Medium r;
+    VKP_RECORD_DECODE(VKP_MEDIUM_FIELDS)
     return r;
 }
 uint sceneLightTreeTrail(uint i) {
