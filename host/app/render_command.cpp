@@ -204,6 +204,14 @@ void writeOutputs(const RenderCommandOptions& o, const RenderIdentity& identity,
                         "anisotropy {:.6g} (per metre)",
                         fog.scattering.x, fog.scattering.y, fog.scattering.z, fog.absorption.x,
                         fog.absorption.y, fog.absorption.z, fog.anisotropy));
+    if (!o.volume.empty()) {
+        const glm::vec3 albedo = rgbOf(o.volumeAlbedo, "--volume-albedo");
+        full.emplace_back("vkpath:volume",
+                          fmt::format("{} grid '{}', density {:.6g}, albedo {:.6g} {:.6g} {:.6g}, "
+                                      "anisotropy {:.6g}",
+                                      o.volume, o.volumeGrid, o.volumeDensity, albedo.x, albedo.y,
+                                      albedo.z, o.volumeAnisotropy));
+    }
     if (result.estimatedRelMse)
         full.emplace_back("vkpath:estimatedRelMse", fmt::format("{:.6g}", *result.estimatedRelMse));
     if (o.targetError) {

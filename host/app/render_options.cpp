@@ -114,6 +114,28 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o) {
                    "evenly")
         ->check(realIn<float>(-0.999, 0.999))
         ->capture_default_str();
+    cmd.add_option("--volume", o.volume,
+                   "A heterogeneous medium from an OpenVDB file (.vdb), its float grid placed by "
+                   "its own transform, beside the fog (outside the bodies of transmitting "
+                   "materials)")
+        ->check(CLI::ExistingFile);
+    cmd.add_option("--volume-grid", o.volumeGrid, "--volume: the grid's name")
+        ->capture_default_str();
+    cmd.add_option("--volume-density", o.volumeDensity,
+                   "--volume: the attenuation coefficient per metre of a voxel of value 1")
+        ->check(realAtLeast<float>(0))
+        ->capture_default_str();
+    cmd.add_option("--volume-albedo", o.volumeAlbedo,
+                   "--volume: the share of the attenuation that scatters, in [0, 1], one number "
+                   "or R,G,B")
+        ->expected(1, 3)
+        ->delimiter(',')
+        ->check(realIn<float>(0, 1))
+        ->capture_default_str();
+    cmd.add_option("--volume-anisotropy", o.volumeAnisotropy,
+                   "--volume: the Henyey-Greenstein g, in (-1, 1)")
+        ->check(realIn<float>(-0.999, 0.999))
+        ->capture_default_str();
     cmd.add_option("--camera", o.camera, "glTF: render from the camera with this name");
     cmd.add_option("--variant", o.variant,
                    "glTF: render the materials of this KHR_materials_variants variant (scene-info "
@@ -221,6 +243,7 @@ std::string sceneFilesHash(const RenderOptions& o, const scene::Scene& scene) {
     for (const std::filesystem::path& file : scene.referencedFiles)
         hash = hashFile(file.string(), hash);
     if (!o.environment.empty()) hash = hashFile(o.environment, hash);
+    if (!o.volume.empty()) hash = hashFile(o.volume, hash);
     return fmt::format("{:016x}", hash);
 }
 
@@ -263,6 +286,15 @@ RenderIdentity renderIdentity(const RenderOptions& o, const std::string& sceneHa
             {"absorption",
              {shortest(fog.absorption.x), shortest(fog.absorption.y), shortest(fog.absorption.z)}},
             {"anisotropy", shortest(fog.anisotropy)}};
+    // Recorded only with a grid medium (its file is hashed with the scene's).
+    if (!o.volume.empty()) {
+        const glm::vec3 albedo = rgbOf(o.volumeAlbedo, "--volume-albedo");
+        settings["volume"] = {
+            {"grid", o.volumeGrid},
+            {"density", shortest(o.volumeDensity)},
+            {"albedo", {shortest(albedo.x), shortest(albedo.y), shortest(albedo.z)}},
+            {"anisotropy", shortest(o.volumeAnisotropy)}};
+    }
     // Instanced and copied meshes give the same image up to rounding:
     // recorded only when chosen, so that checkpoints from before instancing resume.
     if (o.instancing != "auto") settings["instancing"] = o.instancing;
@@ -332,19 +364,27 @@ scene::Scene loadRenderScene(const RenderOptions& o) {
     if (o.environmentRotation && scene.environment)
         scene.environment->rotationDegrees = *o.environmentRotation;
     scene.fog = fogOf(o);
+    if (!o.volume.empty()) {
+        scene::VolumeGrid grid = scene::loadVolumeGrid(o.volume, o.volumeGrid);
+        grid.densityScale = o.volumeDensity;
+        grid.albedo = rgbOf(o.volumeAlbedo, "--volume-albedo");
+        grid.anisotropy = o.volumeAnisotropy;
+        scene.volume = std::move(grid);
+    }
     return scene;
 }
 
+glm::vec3 rgbOf(const std::vector<float>& v, const char* flag) {
+    if (v.size() == 1) return glm::vec3(v[0]);
+    if (v.size() == 3) return glm::vec3(v[0], v[1], v[2]);
+    throw InputError(fmt::format("{}: one number or three (R,G,B), not {}", flag, v.size()));
+}
+
 scene::Medium fogOf(const RenderOptions& o) {
-    auto rgb = [](const std::vector<float>& v, const char* flag) {
-        if (v.size() == 1) return glm::vec3(v[0]);
-        if (v.size() == 3) return glm::vec3(v[0], v[1], v[2]);
-        throw InputError(fmt::format("{}: one number or three (R,G,B), not {}", flag, v.size()));
-    };
     scene::Medium fog;
     if (o.fogDensity.empty()) return fog;
-    const glm::vec3 density = rgb(o.fogDensity, "--fog-density");
-    const glm::vec3 albedo = rgb(o.fogAlbedo, "--fog-albedo");
+    const glm::vec3 density = rgbOf(o.fogDensity, "--fog-density");
+    const glm::vec3 albedo = rgbOf(o.fogAlbedo, "--fog-albedo");
     fog.scattering = density * albedo;
     fog.absorption = density - fog.scattering;
     fog.anisotropy = o.fogAnisotropy;

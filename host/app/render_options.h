@@ -51,6 +51,12 @@ struct RenderOptions {
     std::vector<float> fogDensity;
     std::vector<float> fogAlbedo{1.0f};
     float fogAnisotropy = 0.0f;
+    // --volume: an OpenVDB grid medium (scene::Scene::volume); empty: none
+    std::string volume;
+    std::string volumeGrid = "density";
+    float volumeDensity = 1.0f;
+    std::vector<float> volumeAlbedo{1.0f};
+    float volumeAnisotropy = 0.0f;
     std::string camera;
     std::string instancing = "auto";  // scene::Instancing: auto, on, off
     uint32_t workgroupSize = 64;
@@ -75,6 +81,10 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& o);
 // The scene file with the flags' environment, fog and camera applied.
 // Throws InputError on bad input.
 scene::Scene loadRenderScene(const RenderOptions& o);
+
+// One number as grey or three as R,G,B, the values of colour flag `flag`;
+// InputError for any other count.
+glm::vec3 rgbOf(const std::vector<float>& v, const char* flag);
 
 // The fog the --fog-* flags describe (not present without --fog-density).
 // Throws InputError for a value that is neither one number nor three.

@@ -91,6 +91,9 @@ struct SceneTablesView {
     LightTreeNode sceneLightTreeNode(uint index) const { return m_lightTree[index]; }
     uint sceneLightTreeTrail(uint light) const { return m_lightTreeTrail[light]; }
     Medium sceneMedium(uint index) const { return m_media[index]; }
+    GridMedium sceneGridMedium() const { return m_gridMedium[0]; }
+    float sceneGridDensity(uint index) const { return m_gridDensity[index]; }
+    float sceneGridMajorant(uint index) const { return m_gridMajorant[index]; }
 
     const bvh::WideBvh& wideBvh() const { return m_wide; }
 

@@ -100,6 +100,81 @@ void writePly(const fs::path& path, const Mesh& mesh) {
     if (!out.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
 }
 
+// The grid medium's voxels as a Mitsuba grid volume (.vol, version 3:
+// "VOL", 3, encoding 1 = float32, the resolution, one channel, the box, then
+// the values with x fastest).
+void writeVol(const fs::path& path, const VolumeGrid& grid) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
+    auto put = [&](auto value) { out.write(reinterpret_cast<const char*>(&value), sizeof(value)); };
+    out.write("VOL", 3);
+    put(uint8_t(3));
+    put(int32_t(1));
+    put(int32_t(grid.resolution.x));
+    put(int32_t(grid.resolution.y));
+    put(int32_t(grid.resolution.z));
+    put(int32_t(1));
+    const glm::dvec3 hi = grid.origin + glm::dvec3(grid.resolution - 1u) * grid.voxelSize;
+    for (double v : {grid.origin.x, grid.origin.y, grid.origin.z, hi.x, hi.y, hi.z}) put(float(v));
+    out.write(reinterpret_cast<const char*>(grid.density->data()),
+              std::streamsize(grid.density->size() * sizeof(float)));
+    if (!out.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
+}
+
+// A `to_world` of a scale and a translation under `parent`.
+void addScaleTranslate(pugi::xml_node parent, const glm::dvec3& scale, const glm::dvec3& offset) {
+    pugi::xml_node transform = child(parent, "transform", "to_world");
+    pugi::xml_node s = transform.append_child("scale");
+    s.append_attribute("x") = num(float(scale.x)).c_str();
+    s.append_attribute("y") = num(float(scale.y)).c_str();
+    s.append_attribute("z") = num(float(scale.z)).c_str();
+    pugi::xml_node t = transform.append_child("translate");
+    t.append_attribute("x") = num(float(offset.x)).c_str();
+    t.append_attribute("y") = num(float(offset.y)).c_str();
+    t.append_attribute("z") = num(float(offset.z)).c_str();
+}
+
+// The grid medium as Mitsuba's `heterogeneous` medium over a `gridvolume`
+// (whose unit cube holds the voxels' cells, each value at its cell's centre:
+// voxel i at origin + i voxelSize, as vkpath's) inside a `cube` of `null`
+// BSDF around the voxels' cells, the fog its exterior where there is fog.
+void addGridMedium(pugi::xml_node root, const Scene& s, const fs::path& outDir,
+                   MitsubaExportResult& result) {
+    const VolumeGrid& grid = *s.volume;
+    writeVol(outDir / "volume.vol", grid);
+    result.files.push_back(outDir / "volume.vol");
+    pugi::xml_node medium = root.append_child("medium");
+    medium.append_attribute("type") = "heterogeneous";
+    medium.append_attribute("id") = "volume";
+    pugi::xml_node sigmaT = child(medium, "volume", "sigma_t");
+    sigmaT.append_attribute("type") = "gridvolume";
+    addValue(sigmaT, "string", "filename", "volume.vol");
+    const glm::dvec3 size = glm::dvec3(grid.resolution) * grid.voxelSize;
+    const glm::dvec3 corner = grid.origin - 0.5 * grid.voxelSize;
+    addScaleTranslate(sigmaT, size, corner);
+    addValue(medium, "float", "scale", num(grid.densityScale));
+    addRgb(medium, "albedo", grid.albedo);
+    pugi::xml_node phase = medium.append_child("phase");
+    phase.append_attribute("type") = "hg";
+    addValue(phase, "float", "g", num(grid.anisotropy));
+    pugi::xml_node cube = root.append_child("shape");
+    cube.append_attribute("type") = "cube";
+    cube.append_attribute("id") = "volume_bounds";
+    addScaleTranslate(cube, 0.5 * size, corner + 0.5 * size);
+    cube.append_child("bsdf").append_attribute("type") = "null";
+    pugi::xml_node interior = cube.append_child("ref");
+    interior.append_attribute("name") = "interior";
+    interior.append_attribute("id") = "volume";
+    if (s.fog.present()) {
+        pugi::xml_node exterior = cube.append_child("ref");
+        exterior.append_attribute("name") = "exterior";
+        exterior.append_attribute("id") = "fog";
+        result.warnings.push_back(
+            "the grid medium (--volume) with fog: vkpath adds the two inside the grid's box, "
+            "Mitsuba has the grid alone there (a shape's interior is one medium)");
+    }
+}
+
 // The kinds of a scene's materials that Mitsuba renders differently, each
 // reported once by exportMitsuba.
 struct MaterialNotes {
@@ -233,7 +308,8 @@ void addMedium(pugi::xml_node root, const std::string& id, const glm::vec3& sigm
 // each transmitting shape's interior its own medium, as vkpath reads a
 // segment's medium off its end (shared/path/media.h).
 bool hasMedia(const Scene& s) {
-    return s.fog.present() || std::any_of(s.materials.begin(), s.materials.end(), hasInsideMedium);
+    return s.fog.present() || s.volume ||
+           std::any_of(s.materials.begin(), s.materials.end(), hasInsideMedium);
 }
 
 // The material reference, the media and the area emitter of a shape of
@@ -387,6 +463,7 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                       s.materials[i].scatteringAlbedo, s.materials[i].scatterAnisotropy);
     }
 
+    if (s.volume) addGridMedium(root, s, outDir, result);
     size_t normalMapped = 0;
     // A mesh as a PLY shape, under `parent` (the scene, or a shape group).
     auto addMesh = [&](pugi::xml_node parent, size_t i) {

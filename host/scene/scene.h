@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "scene/volume_grid.h"
 #include "shared/material.h"
 
 namespace vkpath::scene {
@@ -295,6 +296,8 @@ struct Scene {
     // Fills the space outside the bodies of transmitting materials (render
     // --fog-density); absent: clear.
     Medium fog;
+    // A heterogeneous medium in the same space, besides the fog (render --volume)
+    std::optional<VolumeGrid> volume;
     Camera camera;
     // The files the scene file refers to that its loader read (glTF buffers,
     // images, an environment map), in the order read: with the scene file,

@@ -64,7 +64,7 @@ shared::Medium toGpu(const scene::Medium& m) {
 // shared/path/absorption.h).
 std::vector<shared::Medium> buildMedia(const scene::Scene& scene) {
     std::vector<shared::Medium> media{toGpu(scene.fog)};
-    bool scatters = scene.fog.present();
+    bool scatters = scene.fog.present() || scene.volume.has_value();
     for (const scene::Material& m : scene.materials) {
         scene::Medium inside;
         if (scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) {
@@ -76,6 +76,56 @@ std::vector<shared::Medium> buildMedia(const scene::Scene& scene) {
         media.push_back(toGpu(inside));
     }
     return scatters ? media : std::vector<shared::Medium>{};
+}
+
+// Voxels per majorant cell along each axis (shared/medium.h GridMedium): a
+// 64^3 grid has 8^3 cells.
+constexpr uint32_t MAJORANT_CELL = 8;
+
+// The grid medium's record, densities and majorants (render --volume): the
+// majorant of a cell is the largest density among the voxels its trilinear
+// interpolation reads, those from its first corner to the next cell's.
+void buildGridMedium(const scene::VolumeGrid& v, SceneTables& t) {
+    shared::GridMedium g{};
+    g.origin = glm::vec3(v.origin);
+    g.inverseVoxelSize = glm::vec3(1.0 / v.voxelSize);
+    g.densityScale = v.densityScale;
+    g.albedo = v.albedo;
+    g.anisotropy = v.anisotropy;
+    g.resolution = v.resolution;
+    g.majorantCell = MAJORANT_CELL;
+    g.majorantResolution =
+        glm::max((v.resolution - glm::uvec3(1) + glm::uvec3(MAJORANT_CELL - 1)) / MAJORANT_CELL,
+                 glm::uvec3(1));
+    t.gridMedium = {g};
+    t.gridDensity = *v.density;
+    const glm::uvec3 m = g.majorantResolution;
+    t.gridMajorant.assign(size_t(m.x) * m.y * m.z, 0.0f);
+    for (uint32_t k = 0; k < v.resolution.z; ++k)
+        for (uint32_t j = 0; j < v.resolution.y; ++j)
+            for (uint32_t i = 0; i < v.resolution.x; ++i) {
+                const float d = v.at(i, j, k);
+                if (d == 0.0f) continue;
+                // The cells whose corner-to-corner range holds voxel (i, j, k):
+                // c M <= index <= (c + 1) M, so c from ceil(index / M) - 1 to index / M.
+                const glm::uvec3 index(i, j, k);
+                glm::uvec3 first, last;
+                for (int a = 0; a < 3; ++a) {
+                    last[a] = std::min(index[a] / MAJORANT_CELL, m[a] - 1);
+                    first[a] = index[a] % MAJORANT_CELL == 0 && index[a] > 0
+                                   ? index[a] / MAJORANT_CELL - 1
+                                   : last[a];
+                }
+                for (uint32_t z = first.z; z <= last.z; ++z)
+                    for (uint32_t y = first.y; y <= last.y; ++y)
+                        for (uint32_t x = first.x; x <= last.x; ++x) {
+                            float& majorant = t.gridMajorant[(size_t(z) * m.y + y) * m.x + x];
+                            // (a hair above: trilinear interpolation in float may
+                            // round past the largest voxel by an ulp)
+                            majorant = std::max(majorant, d * 1.0001f);
+                        }
+            }
+    t.info.gridMedium = 1u;
 }
 
 // Centre and radius of a sphere around all geometry.
@@ -212,6 +262,7 @@ scene::Scene moved(const scene::Scene& world, glm::dvec3 origin) {
     for (auto& light : s.spotLights) move(light.position);
     move(s.camera.position);
     move(s.camera.target);
+    if (s.volume) s.volume->origin -= origin;
     return s;
 }
 
@@ -279,6 +330,7 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
     t.media = buildMedia(scene);
     t.info.media = t.media.empty() ? 0u : 1u;
+    if (scene.volume) buildGridMedium(*scene.volume, t);
     t.materialAlpha = buildMaterialAlpha(scene, t.textures);
     t.info.alphaTested = t.materialAlpha.empty() ? 0u : 1u;
     // The albedo tables of multiple-scattering compensation, for a scene with

@@ -50,6 +50,11 @@ struct SceneTables {
     // The fog, then the inside of each material (shared/medium.h); empty
     // unless the fog is present or the inside of a transmitting material scatters
     std::vector<shared::Medium> media;
+    // The grid medium (render --volume): its record, densities and majorants
+    // (shared/medium.h GridMedium); empty without one
+    std::vector<shared::GridMedium> gridMedium;
+    std::vector<float> gridDensity;
+    std::vector<float> gridMajorant;
     std::vector<shared::MaterialAlpha>
         materialAlpha;  // per material; empty unless info.alphaTested
     // shared/microfacet_albedo.h's tables (host/albedo/albedo_tables.h);

@@ -49,6 +49,7 @@ constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_LIGHT_TREE, "light-tree"},
     {VKP_FEATURE_LIGHT_RANGE, "light-range"},
     {VKP_FEATURE_MEDIA, "media"},
+    {VKP_FEATURE_GRID_MEDIUM, "grid-medium"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -92,6 +93,7 @@ uint64_t sceneFeatures(const SceneTables& t) {
     }
     f |= bvh::traversalFeatures(t.bvh);
     if (t.info.media != 0) f |= VKP_FEATURE_MEDIA;
+    if (t.info.gridMedium != 0) f |= VKP_FEATURE_MEDIA | VKP_FEATURE_GRID_MEDIUM;
     if (t.info.triangleAttributes & VKP_TRIANGLE_SHADING_NORMALS) f |= VKP_FEATURE_SHADING_NORMALS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_COLORS) f |= VKP_FEATURE_VERTEX_COLORS;
     if (t.info.triangleAttributes & VKP_TRIANGLE_TANGENTS) f |= VKP_FEATURE_NORMAL_MAPS;

@@ -51,6 +51,11 @@ SCENE_KEYWORDS = (
     "fog_density",
     "fog_albedo",
     "fog_anisotropy",
+    "volume",
+    "volume_grid",
+    "volume_density",
+    "volume_albedo",
+    "volume_anisotropy",
     "camera",
     "instancing",
     "variant",
@@ -96,7 +101,9 @@ def _flags(keywords: Mapping[str, Any]) -> list[str]:
                 args += [flag, f"{int(width)}x{int(height)}"]
         elif value is True:
             args.append(flag)
-        elif name in ("env_color", "fog_density", "fog_albedo") and isinstance(value, (list, tuple)):
+        elif name in ("env_color", "fog_density", "fog_albedo", "volume_albedo") and isinstance(
+            value, (list, tuple)
+        ):
             args += [flag, ",".join(repr(float(v)) for v in value)]
         elif isinstance(value, (list, tuple)):
             for item in value:
@@ -148,7 +155,8 @@ class Scene:
 
     Keywords: the flags that change the scene (env, env_color, env_strength,
     env_rotate, fog_density, fog_albedo: one number or (R, G, B), fog_anisotropy,
-    camera: a glTF camera's name, instancing: "auto", "on" or
+    volume: an OpenVDB file, volume_grid, volume_density, volume_albedo,
+    volume_anisotropy, camera: a glTF camera's name, instancing: "auto", "on" or
     "off", variant: a glTF KHR_materials_variants name) and device ("gpu" or "cpu", the
     memory the scene is admitted against; a render may name either)."""
 

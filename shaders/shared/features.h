@@ -99,7 +99,10 @@
 // A participating medium: the fog or a transmitting material's inside that
 // scatters (SceneInfo::media, shared/medium.h)
 #define VKP_FEATURE_MEDIA VKP_FEATURE_BIT(33)
-#define VKP_FEATURE_COUNT 34u  // bits 34 to 63 are free
+// The grid medium of render --volume (SceneInfo::gridMedium): heterogeneous,
+// delta and ratio tracking over its majorant cells (shared/path/media.h)
+#define VKP_FEATURE_GRID_MEDIUM VKP_FEATURE_BIT(34)
+#define VKP_FEATURE_COUNT 35u  // bits 35 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

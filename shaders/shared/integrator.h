@@ -73,6 +73,8 @@ VKP_FN bool scattersInMedium(VKP_INOUT(PathState) path, VKP_IN(Shading) shading,
         path.aov.albedo = vec3(extinction.x > 0.0f ? m.scattering.x / extinction.x : 0.0f,
                                extinction.y > 0.0f ? m.scattering.y / extinction.y : 0.0f,
                                extinction.z > 0.0f ? m.scattering.z / extinction.z : 0.0f);
+        if (hasFeature(VKP_FEATURE_GRID_MEDIUM) && shading.inMedium == VKP_EVENT_IN_GRID)
+            path.aov.albedo = sceneGridMedium().albedo;
         path.aov.normal = vec3(0.0f);
         path.aov.found = 1u;
     }

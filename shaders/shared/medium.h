@@ -31,6 +31,29 @@ struct Medium {
     VKP_MEDIUM_FIELDS(VKP_FIELD_DECLARE)
 };
 
+// The grid medium's record (SceneTables::gridMedium; render --volume): a
+// dense grid of densities (SceneTables::gridDensity, x fastest), voxel
+// (i, j, k) centred at origin + (i, j, k) / inverseVoxelSize in world space,
+// trilinear between centres and 0 outside them, and its majorants
+// (SceneTables::gridMajorant): per cell of majorantCell^3 voxels, the largest
+// density the trilinear interpolation takes in it. sigma_t = densityScale x
+// density, sigma_s = albedo x sigma_t.
+#define VKP_GRID_MEDIUM_FIELDS(F)                  \
+    F(vec3, origin, 0)                             \
+    F(float, densityScale, 3)                      \
+    F(vec3, inverseVoxelSize, 4)                   \
+    F(float, anisotropy, 7)                        \
+    F(uvec3, resolution, 8)                        \
+    /* voxels per majorant cell along each axis */ \
+    F(uint, majorantCell, 11)                      \
+    F(uvec3, majorantResolution, 12)               \
+    F(uint, padding, 15)                           \
+    F(vec3, albedo, 16)                            \
+    F(float, padding2, 19)
+struct GridMedium {
+    VKP_GRID_MEDIUM_FIELDS(VKP_FIELD_DECLARE)
+};
+
 // exp(-sigma t) per channel, 1 where sigma is 0 (also for t = VKP_FLT_MAX:
 // 0 * FLT_MAX is 0, never the NaN of 0 * infinity).
 VKP_FN vec3 mediumDecay(vec3 sigma, float t) {
@@ -66,6 +89,15 @@ struct FreeFlight {
 // (sigma_t = sigma_a + sigma_s), each channel's expectation the radiative
 // transfer equation's (pbrt-v4, section 14.1, with sigma_s in place of the
 // majorant and sigma_a as an exact weight).
+// The weight of a path that crossed distance t of `m` without scattering,
+// as sampleFreeFlight draws it: exp(-sigma_t t) over the probability of no
+// event before t.
+VKP_FN vec3 freeFlightPassWeight(VKP_IN(Medium) m, float t) {
+    vec3 scatteringDecay = mediumDecay(m.scattering, t);
+    float probability = (scatteringDecay.x + scatteringDecay.y + scatteringDecay.z) / 3.0f;
+    return scatteringDecay * mediumDecay(m.absorption, t) / probability;
+}
+
 VKP_FN FreeFlight sampleFreeFlight(VKP_IN(Medium) m, float tEnd, vec2 u) {
     FreeFlight flight;
     flight.scattered = false;
@@ -79,15 +111,13 @@ VKP_FN FreeFlight sampleFreeFlight(VKP_IN(Medium) m, float tEnd, vec2 u) {
             flight.t = t;
         }
     }
-    vec3 scatteringDecay = mediumDecay(m.scattering, flight.t);
-    vec3 absorptionDecay = mediumDecay(m.absorption, flight.t);
     if (flight.scattered) {
-        vec3 density = m.scattering * scatteringDecay;
+        vec3 density = m.scattering * mediumDecay(m.scattering, flight.t);
         float pdf = (density.x + density.y + density.z) / 3.0f;
-        flight.weight = pdf > 0.0f ? density * absorptionDecay / pdf : vec3(0.0f);
+        flight.weight =
+            pdf > 0.0f ? density * mediumDecay(m.absorption, flight.t) / pdf : vec3(0.0f);
     } else {
-        float probability = (scatteringDecay.x + scatteringDecay.y + scatteringDecay.z) / 3.0f;
-        flight.weight = scatteringDecay * absorptionDecay / probability;
+        flight.weight = freeFlightPassWeight(m, flight.t);
     }
     return flight;
 }
@@ -97,6 +127,9 @@ VKP_NAMESPACE_END
 #ifdef __cplusplus
 #define VKP_RECORD Medium
 VKP_RECORD_CHECK(VKP_MEDIUM_FIELDS, 2)
+#undef VKP_RECORD
+#define VKP_RECORD GridMedium
+VKP_RECORD_CHECK(VKP_GRID_MEDIUM_FIELDS, 5)
 #undef VKP_RECORD
 #endif
 

@@ -25,6 +25,9 @@
 //   LightTreeNode sceneLightTreeNode(uint index);  // shared/light_tree.h; read only when
 //   uint sceneLightTreeTrail(uint light);          // SceneInfo::treeLights > 0
 //   Medium sceneMedium(uint index);  // shared/medium.h; read only with VKP_FEATURE_MEDIA
+//   GridMedium sceneGridMedium();    // shared/medium.h; these three read only with
+//   float sceneGridDensity(uint index);   // SceneInfo::gridMedium
+//   float sceneGridMajorant(uint index);
 //
 // It defines the alpha test that shared/bvh_traverse.h asks (bvhAlphaTest).
 //

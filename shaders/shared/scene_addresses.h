@@ -27,7 +27,7 @@ struct SceneAddresses {
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(vkpath::shared::SceneAddresses) == 144);
+static_assert(sizeof(vkpath::shared::SceneAddresses) == 160);
 #endif
 
 #endif  // VKPATH_SHARED_SCENE_ADDRESSES_H

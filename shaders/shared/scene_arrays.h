@@ -55,7 +55,10 @@
     X(VKP_WF_MICROFACET_ALBEDO, microfacetAlbedo, float, BOUND, microfacetAlbedo)          \
     X(VKP_WF_LIGHT_TREE, lightTree, LightTreeNode, SPANS, lightTree.nodes)                 \
     X(VKP_WF_LIGHT_TREE_TRAIL, lightTreeTrail, uint32_t, SPANS, lightTree.trails)          \
-    X(VKP_WF_MEDIA, media, Medium, BOUND, media)
+    X(VKP_WF_MEDIA, media, Medium, BOUND, media)                                           \
+    X(VKP_WF_GRID_MEDIUM, gridMedium, GridMedium, BOUND, gridMedium)                       \
+    X(VKP_WF_GRID_DENSITY, gridDensity, float, SPANS, gridDensity)                         \
+    X(VKP_WF_GRID_MAJORANT, gridMajorant, float, SPANS, gridMajorant)
 
 // `VKP_SCENE_ARRAY_IF_SPANS_##access(x)` keeps x (without commas: GLSL's
 // preprocessor has no variadic macros) for SPANS rows and drops it for BOUND

@@ -63,7 +63,9 @@ struct SceneInfo {
     // (shared/medium.h; with VKP_FEATURE_MEDIA), and each bounce draws its
     // free flight; 0: no medium anywhere
     uint media;
-    uint padding;  // 0: the guide spheres after it start on 16 bytes
+    // 1: the grid medium of render --volume (shared/medium.h GridMedium, with
+    // VKP_FEATURE_GRID_MEDIUM) fills its box, besides the fog; 0: none
+    uint gridMedium;
 };
 
 VKP_NAMESPACE_END

@@ -56,6 +56,10 @@
         // SceneInfo::treeLights
 #define VKP_WF_MEDIA \
     37  // Medium[1 + materials] (shared/medium.h): the fog and each material's inside, with media
+#define VKP_WF_GRID_MEDIUM 38   // GridMedium[1] (shared/medium.h), with SceneInfo::gridMedium
+#define VKP_WF_GRID_DENSITY 39  // float[voxels]: the grid medium's densities
+#define VKP_WF_GRID_MAJORANT \
+    40  // float[cells]: the grid medium's majorant per cell of GridMedium::majorantCell^3 voxels
 
 VKP_NAMESPACE_BEGIN
 

@@ -20,6 +20,7 @@
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
+#include "support/vdb_grid.h"
 #include "wavefront/render_types.h"
 
 namespace {
@@ -361,4 +362,46 @@ TEST(ExportMitsuba, FogAndScatteringGlassAreVolpathMedia) {
     EXPECT_GT(shapes, 0u);
     // The medium is declared before the sensor that refers to it.
     EXPECT_EQ(std::string(root.child("medium").next_sibling("sensor").name()), "sensor");
+}
+
+// The grid medium (render --volume): Mitsuba's heterogeneous medium over a
+// gridvolume file (volume.vol: "VOL" version 3, float32, the resolution and
+// the voxels) inside a null-BSDF cube around the voxels' cells.
+TEST(ExportMitsuba, GridMediumIsAHeterogeneousMediumInACube) {
+    const vkpath::test::TempDir dir;
+    const auto grid = vkpath::test::writeGrid(dir / "smoke.vdb", 4, 0.5, {0, 0, 0},
+                                              [](int i, int, int) { return float(i + 1); });
+    const fs::path out = dir / "smoky";
+    const auto r =
+        runVkpath("export-mitsuba " + quoted(vkpath::test::sourcePath("assets/cornell_box.gltf")) +
+                  " " + quoted(out) + " -d 16x16 --volume " + quoted(grid) +
+                  " --volume-density 3 --volume-albedo 0.5");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_file((out / "scene.xml").c_str()));
+    const pugi::xml_node root = doc.child("scene");
+    EXPECT_EQ(std::string(root.child("integrator").attribute("type").as_string()), "volpath");
+    const pugi::xml_node medium = root.find_child_by_attribute("medium", "id", "volume");
+    ASSERT_TRUE(medium);
+    EXPECT_EQ(std::string(medium.attribute("type").as_string()), "heterogeneous");
+    EXPECT_EQ(param(medium, "float", "scale"), "3");
+    const pugi::xml_node cube = root.find_child_by_attribute("shape", "type", "cube");
+    ASSERT_TRUE(cube);
+    EXPECT_EQ(std::string(cube.child("bsdf").attribute("type").as_string()), "null");
+    EXPECT_EQ(
+        std::string(
+            cube.find_child_by_attribute("ref", "name", "interior").attribute("id").as_string()),
+        "volume");
+    std::ifstream vol(out / "volume.vol", std::ios::binary);
+    char header[4] = {};
+    vol.read(header, 4);
+    EXPECT_EQ(std::string(header, 3), "VOL");
+    EXPECT_EQ(header[3], 3);
+    int32_t fields[5];
+    vol.read(reinterpret_cast<char*>(fields), sizeof(fields));
+    EXPECT_EQ(fields[0], 1);  // float32
+    EXPECT_EQ(fields[1], 6);  // 4 voxels and a voxel of 0 either side
+    EXPECT_EQ(fields[4], 1);  // one channel
+    vol.seekg(0, std::ios::end);
+    EXPECT_EQ(int(vol.tellg()), 48 + 6 * 6 * 6 * 4);
 }

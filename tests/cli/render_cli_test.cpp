@@ -24,6 +24,7 @@
 #include "support/run_vkpath.h"
 #include "support/temp_dir.h"
 #include "support/test_context.h"
+#include "support/vdb_grid.h"
 
 namespace {
 
@@ -350,6 +351,38 @@ TEST(RenderCli, FogIsRecordedDarkensTheBoxAndBadFogIsOneLine) {
         EXPECT_EQ(r.exitCode, 2);
         EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
         EXPECT_FALSE(std::filesystem::exists(exr));
+    }
+}
+
+// --volume FILE.vdb adds a grid medium: recorded in the EXR (vkpath:volume)
+// and in the identity, darker than without. A file that is not a grid
+// file, a grid name the file lacks (the message lists its grids) and an
+// albedo of two numbers are one line, exit 2, nothing written.
+TEST(RenderCli, VolumeIsRecordedAndBadVolumesAreOneLine) {
+    const test::TempDir dir;
+    const auto grid = test::writeGrid(dir / "smoke.vdb", 12, 0.03, {-0.15, 0.1, -0.4},
+                                      [](int, int, int) { return 1.0f; });
+    const std::string exr = (dir / "smoky.exr").string();
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 16x16 -s 8 -m 3 --volume " +
+                                   grid.string() + " --volume-density 20 -o " + exr);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto metadata = vkpathMetadata(exr);
+    EXPECT_NE(metadata.at("vkpath:volume").find("grid 'density', density 20"), std::string::npos)
+        << metadata.at("vkpath:volume");
+    EXPECT_NE(metadata.at("vkpath:settings").find("\"volume\""), std::string::npos);
+    std::ofstream(dir / "not.vdb") << "no grid here";
+    const std::vector<std::string> badFlags = {
+        "--volume " + (dir / "not.vdb").string(),
+        "--volume " + grid.string() + " --volume-grid smoke",
+        "--volume " + grid.string() + " --volume-albedo 0.5,0.5"};
+    for (const std::string& flags : badFlags) {
+        SCOPED_TRACE(flags);
+        const std::string out = (dir / "x.exr").string();
+        const auto bad =
+            test::runVkpath("render " + cornellBox() + " -d 8x8 " + flags + " -o " + out);
+        EXPECT_EQ(bad.exitCode, 2);
+        EXPECT_EQ(test::lineCount(bad.err), 1) << bad.err;
+        EXPECT_FALSE(std::filesystem::exists(out));
     }
 }
 

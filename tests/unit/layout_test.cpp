@@ -139,7 +139,7 @@ std::vector<Expected> expectedLayouts() {
           VKP_O(SceneInfo, microfacetCompensation),
           VKP_O(SceneInfo, treeLights),
           VKP_O(SceneInfo, media),
-          VKP_O(SceneInfo, padding)}},
+          VKP_O(SceneInfo, gridMedium)}},
         {"MaterialAlpha",
          sizeof(MaterialAlpha),
          {VKP_O(MaterialAlpha, mode), VKP_O(MaterialAlpha, cutoff), VKP_O(MaterialAlpha, alpha),

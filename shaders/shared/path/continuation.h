@@ -30,7 +30,7 @@ VKP_FN PathStep continuePath(VKP_IN(Shading) shading, vec3 throughput, float eta
     BsdfSample s;
     if (hasFeature(VKP_FEATURE_MEDIA) && shading.inMedium != 0u) {
         // The phase function samples itself exactly: weight 1.
-        float g = sceneMedium(shading.medium).anisotropy;
+        float g = eventAnisotropy(shading);
         s.direction = sampleHenyeyGreenstein(shading.wo, g, rngUniform2(key, dim));
         s.pdf = henyeyGreenstein(dot(shading.wo, s.direction), g);
         s.weight = vec3(1.0f);

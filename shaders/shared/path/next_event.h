@@ -129,8 +129,7 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Shading) shading, vec3 throughput,
     vec3 f;
     float scatterDensity;  // of the vertex's own sample in this direction (MIS)
     if (inMedium) {
-        float phase =
-            henyeyGreenstein(dot(shading.wo, ls.direction), sceneMedium(shading.medium).anisotropy);
+        float phase = henyeyGreenstein(dot(shading.wo, ls.direction), eventAnisotropy(shading));
         f = vec3(phase);
         scatterDensity = phase;
     } else {
@@ -152,7 +151,9 @@ VKP_FN ShadowRequest sampleDirectLight(VKP_IN(Shading) shading, vec3 throughput,
     // Through a medium the shadow ray carries its transmittance, exact for a
     // homogeneous one (an occluder ends it: a transmitting body's surface
     // blocks light samples, as without media).
-    if (mediaOn()) request.contribution *= shadowTransmittance(shading, ls.direction, ls.distance);
+    if (mediaOn())
+        request.contribution *=
+            shadowTransmittance(shading, ls.direction, ls.distance, key, bounce, index);
 
     request.ray = spawnRay(surface, ls.direction, VKP_FLOAT_MAX, key.pixel);
     if (ls.distance < VKP_FLOAT_MAX) {

@@ -44,6 +44,7 @@ layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Lig
     LightTreeNode v[];
 };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer UintArray { uint v[]; };
+layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer FloatArray { float v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Vec4Array { vec4 v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Uvec2Array { uvec2 v[]; };
 layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer TriangleVerticesArray {
@@ -119,6 +120,27 @@ Medium sceneMedium(uint i) {
     Medium r;
     VKP_RECORD_DECODE(VKP_MEDIUM_FIELDS)
     return r;
+}
+GridMedium sceneGridMedium() {
+    uvec4 t[5] = uvec4[5](texelFetch(gridMediumTexels, 0), texelFetch(gridMediumTexels, 1),
+                          texelFetch(gridMediumTexels, 2), texelFetch(gridMediumTexels, 3),
+                          texelFetch(gridMediumTexels, 4));
+    GridMedium r;
+    VKP_RECORD_DECODE(VKP_GRID_MEDIUM_FIELDS)
+    return r;
+}
+// Four floats to a texel.
+float sceneGridDensity(uint i) {
+    if (sceneByAddress) return FloatArray(sceneAddresses.gridDensity).v[i];
+    uvec4 t = texelFetch(gridDensityTexels, int(i >> 2u));
+    uint j = i & 3u;
+    return uintBitsToFloat(j == 0u ? t.x : j == 1u ? t.y : j == 2u ? t.z : t.w);
+}
+float sceneGridMajorant(uint i) {
+    if (sceneByAddress) return FloatArray(sceneAddresses.gridMajorant).v[i];
+    uvec4 t = texelFetch(gridMajorantTexels, int(i >> 2u));
+    uint j = i & 3u;
+    return uintBitsToFloat(j == 0u ? t.x : j == 1u ? t.y : j == 2u ? t.z : t.w);
 }
 uint sceneLightTreeTrail(uint i) {
     if (sceneByAddress) return UintArray(sceneAddresses.lightTreeTrail).v[i];
