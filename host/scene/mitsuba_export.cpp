@@ -288,14 +288,18 @@ bool hasInsideMedium(const Material& m) {
 }
 
 // A homogeneous medium `id` of attenuation sigma_t, single-scattering albedo
-// and Henyey-Greenstein g, as Mitsuba's `homogeneous` (whose sigma_t and
-// albedo are these, per scene unit) with an `hg` phase function.
+// and Henyey-Greenstein g, as Mitsuba's `homogeneous` (sigma_t x scale and
+// albedo, per scene unit) with an `hg` phase function.
 void addMedium(pugi::xml_node root, const std::string& id, const glm::vec3& sigmaT,
                const glm::vec3& albedo, float g) {
     pugi::xml_node medium = root.append_child("medium");
     medium.append_attribute("type") = "homogeneous";
     medium.append_attribute("id") = id.c_str();
-    addRgb(medium, "sigma_t", sigmaT);
+    // Mitsuba reads an RGB sigma_t as a reflectance, in [0, 1]: its colour
+    // over the largest channel, times that channel as `scale`.
+    const float largest = std::max(std::max(sigmaT.x, sigmaT.y), sigmaT.z);
+    addRgb(medium, "sigma_t", largest > 0.0f ? sigmaT / largest : sigmaT);
+    addValue(medium, "float", "scale", num(largest > 0.0f ? largest : 1.0f));
     addRgb(medium, "albedo", albedo);
     pugi::xml_node phase = medium.append_child("phase");
     phase.append_attribute("type") = "hg";

@@ -344,7 +344,8 @@ TEST(ExportMitsuba, FogAndScatteringGlassAreVolpathMedia) {
     EXPECT_EQ(
         std::string(
             fog.find_child_by_attribute("rgb", "name", "sigma_t").attribute("value").as_string()),
-        "0.5, 0.5, 0.5");
+        "1, 1, 1");
+    EXPECT_EQ(param(fog, "float", "scale"), "0.5");
     EXPECT_NEAR(
         std::stof(
             fog.find_child_by_attribute("rgb", "name", "albedo").attribute("value").as_string()),
