@@ -5,6 +5,7 @@
 #define VKPATH_PYTHON_ROUTINES_H
 
 #include "shared/compat.h"
+#include "shared/wavefront.h"
 
 VKP_NAMESPACE_BEGIN
 
@@ -47,8 +48,8 @@ struct SamplerValuesPush {
 // sampler) from dimension 0, and the environment's density and radiance
 // (environmentPdf, environmentRadiance) in each input's direction. The scene's
 // arrays are bound as the stage kernels bind them; these two beside them.
-#define VKP_ROUTINE_INPUTS 40
-#define VKP_ROUTINE_OUTPUTS 41
+#define VKP_ROUTINE_INPUTS VKP_WF_FIRST_FREE_BINDING
+#define VKP_ROUTINE_OUTPUTS (VKP_WF_FIRST_FREE_BINDING + 1)
 
 struct LightRoutinePush {
     uint count;

@@ -23,6 +23,7 @@
 #include "scene/volume_grid.h"
 #include "shared/features.h"
 #include "shared/phase.h"
+#include "support/executions.h"
 #include "support/gpu_render.h"
 #include "support/temp_dir.h"
 #include "support/vdb_grid.h"
@@ -36,14 +37,22 @@ using namespace vkpath;
 
 constexpr double Z_BOUND = 5.0;
 
-bool sameBits(const image::Image& a, const image::Image& b) {
-    return a.pixels.size() == b.pixels.size() &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
-}
-
-wavefront::RenderResult renderCpu(const scene::Scene& s,
-                                  const wavefront::RenderSettings& settings) {
-    return reference::ReferenceRenderer(wavefront::buildSceneTables(s), settings).render();
+// The grid's density at world point p in double: trilinear between voxel
+// centres, 0 outside them (what the kernels compute in float).
+double trilinearDensity(const scene::VolumeGrid& grid, const glm::dvec3& p) {
+    const glm::dvec3 u = (p - grid.origin) / grid.voxelSize;
+    const glm::dvec3 f = glm::floor(u);
+    if (f.x < 0 || f.y < 0 || f.z < 0 || f.x + 1 >= grid.resolution.x ||
+        f.y + 1 >= grid.resolution.y || f.z + 1 >= grid.resolution.z)
+        return 0.0;
+    const glm::dvec3 w = u - f;
+    double d = 0;
+    for (int c = 0; c < 8; ++c) {
+        const glm::ivec3 o(c & 1, (c >> 1) & 1, c >> 2);
+        d += grid.at(uint32_t(f.x) + o.x, uint32_t(f.y) + o.y, uint32_t(f.z) + o.z) *
+             (o.x ? w.x : 1 - w.x) * (o.y ? w.y : 1 - w.y) * (o.z ? w.z : 1 - w.z);
+    }
+    return d;
 }
 
 // The film's mean per channel and its standard error.
@@ -156,19 +165,7 @@ TEST(GridMedium, TrackingThroughSmokeIsExpOfTheOpticalDepthInEveryDirection) {
     const scene::VolumeGrid& grid = *s.volume;
     const glm::dvec3 shift = grid.origin - glm::dvec3(g.origin);  // render space
     auto sigmaT = [&](const glm::dvec3& p) {                      // p in world space
-        const glm::dvec3 u = (p - grid.origin) / grid.voxelSize;
-        const glm::dvec3 f = glm::floor(u);
-        if (f.x < 0 || f.y < 0 || f.z < 0 || f.x + 1 >= grid.resolution.x ||
-            f.y + 1 >= grid.resolution.y || f.z + 1 >= grid.resolution.z)
-            return 0.0;
-        const glm::dvec3 w = u - f;
-        double d = 0;
-        for (int c = 0; c < 8; ++c) {
-            const glm::ivec3 o(c & 1, (c >> 1) & 1, c >> 2);
-            d += grid.at(uint32_t(f.x) + o.x, uint32_t(f.y) + o.y, uint32_t(f.z) + o.z) *
-                 (o.x ? w.x : 1 - w.x) * (o.y ? w.y : 1 - w.y) * (o.z ? w.z : 1 - w.z);
-        }
-        return grid.densityScale * d;
+        return grid.densityScale * trilinearDensity(grid, p);
     };
     const glm::vec3 starts[] = {{0.1f, 0.2f, -0.15f}, {0.3f, 0.75f, 0.1f}, {-1.6f, 0.1f, 0.05f}};
     const glm::vec3 directions[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0},
@@ -242,7 +239,7 @@ TEST(GridMedium, ConstantGridAbsorbsAsBeerLambert) {
     const wavefront::RenderSettings settings = test::squareSettings(16, 256, 2, 3);
     for (const bool cpu : {false, true}) {
         SCOPED_TRACE(cpu ? "CPU reference" : "GPU");
-        const auto r = cpu ? renderCpu(s, settings) : test::renderGpu(s, settings);
+        const auto r = cpu ? test::renderCpu(s, settings) : test::renderGpu(s, settings);
         const auto [mean, standardError] = filmMean(r);
         std::printf("  film %.5f +- %.5f, exp(-0.8) %.5f\n", mean.x, standardError.x,
                     std::exp(-0.8));
@@ -283,21 +280,7 @@ TEST(GridMedium, SingleScatteringInARampIsItsLineIntegral) {
     s.volume->anisotropy = float(g);
 
     const scene::VolumeGrid& grid = *s.volume;
-    auto sigmaT = [&](const glm::dvec3& p) {
-        const glm::dvec3 u = (p - grid.origin) / grid.voxelSize;
-        const glm::dvec3 f = glm::floor(u);
-        if (f.x < 0 || f.y < 0 || f.z < 0 || f.x + 1 >= grid.resolution.x ||
-            f.y + 1 >= grid.resolution.y || f.z + 1 >= grid.resolution.z)
-            return 0.0;
-        const glm::dvec3 w = u - f;
-        double d = 0;
-        for (int c = 0; c < 8; ++c) {
-            const glm::ivec3 o(c & 1, (c >> 1) & 1, c >> 2);
-            d += grid.at(uint32_t(f.x) + o.x, uint32_t(f.y) + o.y, uint32_t(f.z) + o.z) *
-                 (o.x ? w.x : 1 - w.x) * (o.y ? w.y : 1 - w.y) * (o.z ? w.z : 1 - w.z);
-        }
-        return scale * d;
-    };
+    auto sigmaT = [&](const glm::dvec3& p) { return scale * trilinearDensity(grid, p); };
     auto opticalDepth = [&](const glm::dvec3& a, const glm::dvec3& b, int steps) {
         double sum = 0;
         for (int i = 0; i <= steps; ++i)
@@ -341,7 +324,7 @@ TEST(GridMedium, SingleScatteringInARampIsItsLineIntegral) {
     const wavefront::RenderSettings settings = test::squareSettings(8, 1024, 1, 9);
     for (const bool cpu : {false, true}) {
         SCOPED_TRACE(cpu ? "CPU reference" : "GPU");
-        const auto r = cpu ? renderCpu(s, settings) : test::renderGpu(s, settings);
+        const auto r = cpu ? test::renderCpu(s, settings) : test::renderGpu(s, settings);
         EXPECT_EQ(r.nonFiniteSamples, 0u);
         const auto [mean, standardError] = filmMean(r);
         for (int c = 0; c < 3; ++c) {
@@ -384,8 +367,8 @@ TEST(GridMedium, NonAbsorbingSmokeInAWhiteSkyIsAFurnace) {
     const auto wavefrontResult = test::renderGpu(s, settings);
     settings.kernel = wavefront::KernelForm::Megakernel;
     const auto megakernel = test::renderGpu(s, settings);
-    EXPECT_TRUE(sameBits(wavefrontResult.image, megakernel.image));
-    const auto cpu = renderCpu(s, settings);
+    EXPECT_TRUE(test::sameBits(wavefrontResult.image, megakernel.image));
+    const auto cpu = test::renderCpu(s, settings);
     for (const auto* r : {&megakernel, &cpu}) {
         EXPECT_EQ(r->nonFiniteSamples, 0u);
         const auto [mean, standardError] = filmMean(*r);
@@ -409,21 +392,7 @@ TEST(GridMedium, EveryExecutionRendersTheSameSmokyBox) {
     s.volume->albedo = {0.9f, 0.8f, 0.7f};
     s.volume->anisotropy = 0.4f;
     wavefront::RenderSettings settings = test::squareSettings(32, 32, 5, 21);
-    settings.kernel = wavefront::KernelForm::Wavefront;
-    const auto wavefrontResult = test::renderGpu(s, settings);
-    settings.kernel = wavefront::KernelForm::Megakernel;
-    const auto megakernel = test::renderGpu(s, settings);
-    settings.specialize = false;
-    const auto general = test::renderGpu(s, settings);
-    EXPECT_TRUE(sameBits(wavefrontResult.image, megakernel.image));
-    EXPECT_TRUE(sameBits(general.image, megakernel.image));
-    EXPECT_EQ(megakernel.nonFiniteSamples, 0u);
-    settings.specialize = true;
-    settings.seed = 22;
-    const auto cpu = renderCpu(s, settings);
-    const image::BlockComparison z = image::compareBlocks(
-        cpu.image, cpu.varianceOfMean, megakernel.image, megakernel.varianceOfMean, 8, 0.01);
-    EXPECT_EQ(z.rejected, 0) << "worst |z| " << z.worstZ;
+    test::expectEveryExecutionAgrees(s, settings);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "scene/scene.h"
 #include "shared/features.h"
 #include "shared/phase.h"
+#include "support/executions.h"
 #include "support/gpu_render.h"
 #include "support/test_scenes.h"
 #include "wavefront/gpu_scene.h"
@@ -26,16 +27,6 @@ namespace {
 using namespace vkpath;
 
 constexpr double Z_BOUND = 5.0;
-
-bool sameBits(const image::Image& a, const image::Image& b) {
-    return a.pixels.size() == b.pixels.size() &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
-}
-
-wavefront::RenderResult renderCpu(const scene::Scene& s,
-                                  const wavefront::RenderSettings& settings) {
-    return reference::ReferenceRenderer(wavefront::buildSceneTables(s), settings).render();
-}
 
 // The camera at the centre of an emissive sphere of radius 2 (radiance 1,
 // black), in a fog that only absorbs: every ray crosses 2 m of it, so every
@@ -61,8 +52,8 @@ TEST(Media, FogThatOnlyAbsorbsIsBeerLambert) {
     const auto wavefrontResult = test::renderGpu(s, settings);
     settings.kernel = wavefront::KernelForm::Megakernel;
     const auto megakernel = test::renderGpu(s, settings);
-    const auto cpu = renderCpu(s, settings);
-    EXPECT_TRUE(sameBits(wavefrontResult.image, megakernel.image));
+    const auto cpu = test::renderCpu(s, settings);
+    EXPECT_TRUE(test::sameBits(wavefrontResult.image, megakernel.image));
     for (const auto* r : {&megakernel, &cpu})
         for (const glm::vec3& p : r->image.pixels)
             for (int c = 0; c < 3; ++c)
@@ -183,7 +174,7 @@ TEST(Media, SingleScatteringOfAPointLightIsItsLineIntegral) {
     wavefront::RenderSettings settings = test::squareSettings(16, 256, 1, 7);
     for (const bool cpu : {false, true}) {
         SCOPED_TRACE(cpu ? "CPU reference" : "GPU");
-        const auto r = cpu ? renderCpu(s, settings) : test::renderGpu(s, settings);
+        const auto r = cpu ? test::renderCpu(s, settings) : test::renderGpu(s, settings);
         glm::dvec3 mean(0.0), variance(0.0);
         for (size_t p = 0; p < r.image.pixels.size(); ++p) {
             mean += glm::dvec3(r.image.pixels[p]);
@@ -218,22 +209,7 @@ TEST(Media, EveryExecutionRendersTheSameFoggyBox) {
         }
     ASSERT_TRUE(glass);
     wavefront::RenderSettings settings = test::squareSettings(32, 64, 6, 11);
-    settings.kernel = wavefront::KernelForm::Wavefront;
-    const auto wavefrontResult = test::renderGpu(s, settings);
-    settings.kernel = wavefront::KernelForm::Megakernel;
-    const auto megakernel = test::renderGpu(s, settings);
-    settings.specialize = false;
-    const auto general = test::renderGpu(s, settings);
-    EXPECT_TRUE(sameBits(wavefrontResult.image, megakernel.image));
-    EXPECT_TRUE(sameBits(general.image, megakernel.image));
-    EXPECT_EQ(megakernel.nonFiniteSamples, 0u);
-
-    settings.specialize = true;
-    settings.seed = 12;
-    const auto cpu = renderCpu(s, settings);
-    const image::BlockComparison z = image::compareBlocks(
-        cpu.image, cpu.varianceOfMean, megakernel.image, megakernel.varianceOfMean, 8, 0.01);
-    EXPECT_EQ(z.rejected, 0) << "worst |z| " << z.worstZ;
+    test::expectEveryExecutionAgrees(s, settings);
 }
 
 // A scene without a medium compiles none of it, and glass that only absorbs
