@@ -26,6 +26,7 @@
 #include "support/executions.h"
 #include "support/gpu_render.h"
 #include "support/temp_dir.h"
+#include "support/test_scenes.h"
 #include "support/vdb_grid.h"
 #include "wavefront/gpu_scene.h"
 #include "wavefront/kernel_features.h"
@@ -224,15 +225,7 @@ TEST(GridMedium, ConstantGridAbsorbsAsBeerLambert) {
     const test::TempDir dir;
     const auto path = test::writeGrid(dir / "constant.vdb", 25, 0.25, {-3, -3, -3},
                                       [](int, int, int) { return 1.0f; });
-    scene::Scene s;
-    scene::Material lamp;
-    lamp.reflectance = glm::vec3(0.0f);
-    lamp.emission = glm::vec3(1.0f);
-    s.materials.push_back(lamp);
-    s.spheres.push_back({"lamp", glm::vec3(0.0f), 2.0f, 0});
-    s.camera.position = glm::vec3(0.0f);
-    s.camera.target = {0.0f, 0.0f, -1.0f};
-    s.camera.xfovDegrees = 90.0f;
+    scene::Scene s = test::cameraInsideALampSphere(2.0f);
     s.volume = scene::loadVolumeGrid(path, "density");
     s.volume->densityScale = 0.4f;
     s.volume->albedo = glm::vec3(0.0f);

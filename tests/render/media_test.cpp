@@ -34,15 +34,7 @@ constexpr double Z_BOUND = 5.0;
 // (a few float ulps) and of exp. Nothing scatters, so the estimate has no
 // noise at all, in each of the three executions.
 TEST(Media, FogThatOnlyAbsorbsIsBeerLambert) {
-    scene::Scene s;
-    scene::Material lamp;
-    lamp.reflectance = glm::vec3(0.0f);
-    lamp.emission = glm::vec3(1.0f);
-    s.materials.push_back(lamp);
-    s.spheres.push_back({"lamp", glm::vec3(0.0f), 2.0f, 0});
-    s.camera.position = glm::vec3(0.0f);
-    s.camera.target = {0.0f, 0.0f, -1.0f};
-    s.camera.xfovDegrees = 90.0f;
+    scene::Scene s = test::cameraInsideALampSphere(2.0f);
     s.fog.absorption = {0.1f, 0.5f, 1.5f};
     const wavefront::SceneTables tables = wavefront::buildSceneTables(s);
     EXPECT_TRUE(wavefront::sceneFeatures(tables) & VKP_FEATURE_MEDIA);

@@ -29,6 +29,22 @@ inline scene::Scene sphereInEnvironment(scene::MaterialKind kind, glm::vec3 refl
     return s;
 }
 
+// The camera at the centre of a black sphere of radius `radius` whose
+// inside emits 1, looking along -z with a 90 degree field of view: every
+// camera ray travels `radius` to the light (the media's Beer-Lambert tests).
+inline scene::Scene cameraInsideALampSphere(float radius) {
+    scene::Scene s;
+    scene::Material lamp;
+    lamp.reflectance = glm::vec3(0.0f);
+    lamp.emission = glm::vec3(1.0f);
+    s.materials.push_back(lamp);
+    s.spheres.push_back({"lamp", glm::vec3(0.0f), radius, 0});
+    s.camera.position = glm::vec3(0.0f);
+    s.camera.target = {0.0f, 0.0f, -1.0f};
+    s.camera.xfovDegrees = 90.0f;
+    return s;
+}
+
 // The tables of a unit sphere of material `m`, as the renderer makes them.
 inline wavefront::SceneTables sphereTables(const scene::Material& m) {
     scene::Scene s;
