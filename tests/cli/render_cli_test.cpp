@@ -35,6 +35,17 @@ std::string cornellBox() {
     return test::sourcePath("assets/cornell_box.gltf").string();
 }
 
+// `render` of the bundled box with `flags` (8 x 8) is refused in one line,
+// exit code 2, with nothing written.
+void expectRefusedInOneLine(const test::TempDir& dir, const std::string& flags) {
+    SCOPED_TRACE(flags);
+    const std::string exr = (dir / "x.exr").string();
+    const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + flags + " -o " + exr);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(exr));
+}
+
 // The file's pixels as stored (float32 EXR, uint8 PNG), byte for byte.
 std::vector<unsigned char> storedPixels(const std::string& path, OIIO::TypeDesc type) {
     auto in = OIIO::ImageInput::open(path);
@@ -306,15 +317,8 @@ TEST(RenderCli, ProgressBarOnATerminalOnly) {
 
 TEST(RenderCli, BadTimeBudgetIsOneLineAndNothingWritten) {
     const test::TempDir dir;
-    for (const char* budget : {"0", "-1", "nan"}) {
-        SCOPED_TRACE(budget);
-        const std::string exr = (dir / "x.exr").string();
-        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 --time-budget " +
-                                       std::string(budget) + " -o " + exr);
-        EXPECT_EQ(r.exitCode, 2);
-        EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
-        EXPECT_FALSE(std::filesystem::exists(exr));
-    }
+    for (const char* budget : {"0", "-1", "nan"})
+        expectRefusedInOneLine(dir, "--time-budget " + std::string(budget));
 }
 
 // --fog-density fills the scene with fog: recorded in the EXR (and in the
@@ -343,15 +347,8 @@ TEST(RenderCli, FogIsRecordedDarkensTheBoxAndBadFogIsOneLine) {
     EXPECT_LT(foggy, 0.9 * clear);
     for (const char* flags :
          {"--fog-density 1,2", "--fog-density -1", "--fog-density 1 --fog-albedo 1.5",
-          "--fog-density 1 --fog-anisotropy 1", "--fog-density nan"}) {
-        SCOPED_TRACE(flags);
-        const std::string exr = (dir / "x.exr").string();
-        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) +
-                                       " -o " + exr);
-        EXPECT_EQ(r.exitCode, 2);
-        EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
-        EXPECT_FALSE(std::filesystem::exists(exr));
-    }
+          "--fog-density 1 --fog-anisotropy 1", "--fog-density nan"})
+        expectRefusedInOneLine(dir, flags);
 }
 
 // --volume FILE.vdb adds a grid medium: recorded in the EXR (vkpath:volume)
@@ -375,30 +372,15 @@ TEST(RenderCli, VolumeIsRecordedAndBadVolumesAreOneLine) {
         "--volume " + (dir / "not.vdb").string(),
         "--volume " + grid.string() + " --volume-grid smoke",
         "--volume " + grid.string() + " --volume-albedo 0.5,0.5"};
-    for (const std::string& flags : badFlags) {
-        SCOPED_TRACE(flags);
-        const std::string out = (dir / "x.exr").string();
-        const auto bad =
-            test::runVkpath("render " + cornellBox() + " -d 8x8 " + flags + " -o " + out);
-        EXPECT_EQ(bad.exitCode, 2);
-        EXPECT_EQ(test::lineCount(bad.err), 1) << bad.err;
-        EXPECT_FALSE(std::filesystem::exists(out));
-    }
+    for (const std::string& flags : badFlags) expectRefusedInOneLine(dir, flags);
 }
 
 // Flags that would write nonsense or run for hours before a sample.
 TEST(RenderCli, RunawayOrNonsenseFlagsAreOneLineAndNothingWritten) {
     const test::TempDir dir;
     for (const char* flags : {"--exposure nan", "--exposure inf", "-l 100000", "-m 100000",
-                              "--guide-spheres 1", "--guide-spheres -0.1", "--guide-spheres nan"}) {
-        SCOPED_TRACE(flags);
-        const std::string exr = (dir / "x.exr").string();
-        const auto r = test::runVkpath("render " + cornellBox() + " -d 8x8 " + std::string(flags) +
-                                       " -o " + exr);
-        EXPECT_EQ(r.exitCode, 2);
-        EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
-        EXPECT_FALSE(std::filesystem::exists(exr));
-    }
+                              "--guide-spheres 1", "--guide-spheres -0.1", "--guide-spheres nan"})
+        expectRefusedInOneLine(dir, flags);
 }
 
 // --max-wave-ms: waves sized to the cap (the first is one workgroup's worth,
