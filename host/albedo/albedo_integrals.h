@@ -9,6 +9,7 @@
 
 #include "shared/lobes.h"
 #include "shared/microfacet.h"
+#include "shared/sheen.h"
 
 namespace vkpath::albedo {
 
@@ -78,6 +79,33 @@ inline double dielectricAlbedo(float cosTheta, float roughness, float eta, int s
         if (w.z < 0.0f) weight += (1.0f - fresnel) * shared::ggxG2OverG1(o, w, alpha);
         return weight;
     });
+}
+
+// Points per side of the sheen's grid: 128 x 128 directions per albedo
+// (against 512 x 512 the entries agree to 1e-4: tests/kernels/
+// albedo_table_test.cpp, IntegralsConverge).
+inline constexpr int SHEEN_GRID_SIDE = 128;
+
+// E_sheen(mu_o, roughness) of the white sheen lobe (shared/sheen.h): the
+// integral of its f |cos theta_i| over the hemisphere, by the midpoint rule
+// in (t, phi) with cos theta_i = t^2 (d omega = 2 t dt dphi), which crowds
+// the points toward the horizon, where the lobe lies.
+inline double sheenAlbedo(float cosTheta, float roughness, int side = SHEEN_GRID_SIDE) {
+    const glm::vec3 o = outgoing(cosTheta);
+    const float alpha = shared::sheenAlpha(roughness);
+    const double twoPi = 6.283185307179586;
+    double sum = 0.0;
+    for (int y = 0; y < side; ++y) {
+        const float t = (y + 0.5f) / side;
+        const float cosI = t * t;
+        const float sinI = std::sqrt(std::max(0.0f, 1.0f - cosI * cosI));
+        for (int x = 0; x < side; ++x) {
+            const float phi = float(twoPi) * (x + 0.5f) / side;
+            const glm::vec3 i(sinI * std::cos(phi), sinI * std::sin(phi), cosI);
+            sum += 2.0 * t * double(shared::sheenReflection(o, i, alpha));
+        }
+    }
+    return sum * twoPi / (double(side) * side);
 }
 
 }  // namespace vkpath::albedo

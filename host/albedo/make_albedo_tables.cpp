@@ -1,4 +1,4 @@
-// Writes the microfacet albedo tables of shaders/shared/microfacet_albedo.h
+// Writes the albedo tables of shaders/shared/microfacet_albedo.h
 // as a C++ initialiser list, one float per entry in the table's order, for
 // host/albedo/albedo_tables.cpp to include. Run by the build
 // (host/CMakeLists.txt), so the tables always match the lobes they describe:
@@ -28,6 +28,7 @@ float entry(uint32_t index) {
     const float roughness = shared::albedoGridRoughness(roughnessIndex);
     if (index < VKP_ALBEDO_ENTERING_OFFSET)
         return float(albedo::conductorAlbedo(cosTheta, roughness));
+    if (index >= VKP_ALBEDO_SHEEN_OFFSET) return float(albedo::sheenAlbedo(cosTheta, roughness));
     const bool leaving = index >= VKP_ALBEDO_LEAVING_OFFSET;
     const uint32_t glassIndex =
         index - (leaving ? VKP_ALBEDO_LEAVING_OFFSET : VKP_ALBEDO_ENTERING_OFFSET);

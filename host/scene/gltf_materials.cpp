@@ -65,10 +65,11 @@ class MaterialConverter {
             m_warnings.addCounted(
                 "occlusionTexture is not applied: a path tracer computes occlusion itself",
                 "material", name);
-        if (usesExtensionTexture(m))
+        if (usesUnreadExtensionTexture(m))
             m_warnings.addCounted(
-                "textures of material extensions are ignored; their factors are used", "material",
-                name);
+                "textures of material extensions other than clearcoat and sheen are ignored; "
+                "their factors are used",
+                "material", name);
         readAlphaMode(m, out);
         // KHR_materials_specular: the dielectric layer's weight and the tint of
         // its Fresnel at normal incidence.
@@ -84,6 +85,10 @@ class MaterialConverter {
         out.specular = float(specular);
         out.specularColor = glm::vec3(specularColor);
         const bool metalVaries = out.metallicRoughnessTexture.present() && metallic > 0.0;
+        readLayers(m, out);
+        readDiffuseTransmission(m, out);
+        const bool layered = out.clearcoat > 0.0f || out.sheenColor != glm::vec3(0.0f) ||
+                             out.diffuseTransmission > 0.0f;
         if (transmission >= 0.5) {
             // KHR_materials_transmission: the base colour tints what passes,
             // the specular reflection is untinted. Smooth without a roughness
@@ -101,24 +106,32 @@ class MaterialConverter {
             if (specular != 1.0 || specularColor != glm::dvec3(1.0))
                 m_warnings.addCounted("KHR_materials_specular of transmissive materials is ignored",
                                       "material", name);
-            if (!m.extensions.count("KHR_materials_volume"))
+            if (layered) {
                 m_warnings.addCounted(
-                    "transmission without KHR_materials_volume is thin-walled in glTF (light "
-                    "passes unbent); "
-                    "vkpath refracts it as the surface of a solid",
+                    "KHR_materials_clearcoat, KHR_materials_sheen and "
+                    "KHR_materials_diffuse_transmission of transmissive materials are ignored: "
+                    "vkpath adds them to the metallic-roughness material only",
                     "material", name);
+                dropLayers(out);
+            }
+            // Without KHR_materials_volume the surface is a thin wall: light
+            // passes unbent and nothing lies inside.
+            out.thinWalled = !m.extensions.count("KHR_materials_volume");
         } else {
             // glTF 2.0 Appendix B, specialised where it is exactly a simpler
             // kind: wholly metal is the conductor with Schlick's F0 = base
             // colour; a non-metal without a specular layer (specularFactor 0)
-            // is Lambertian; anything else is the layered material.
+            // is Lambertian; anything else, and anything under a clear coat or
+            // a sheen or with diffuse transmission, is the layered material.
             if (m.extensions.count("KHR_materials_volume_scatter"))
                 m_warnings.addCounted(
-                    "KHR_materials_volume_scatter without transmission is ignored (vkpath has no "
-                    "diffuse transmission)",
+                    "KHR_materials_volume_scatter without transmission is ignored (vkpath's "
+                    "diffuse transmission is thin-walled: no volume behind it)",
                     "material", name);
             out.reflectance = base;
-            if (metallic == 1.0 && !metalVaries)
+            if (layered)
+                out.kind = MaterialKind::MetallicRoughness;
+            else if (metallic == 1.0 && !metalVaries)
                 out.kind = MaterialKind::Conductor;
             else if (metallic == 0.0 && specular == 0.0)
                 out.kind = MaterialKind::Diffuse;
@@ -290,12 +303,118 @@ class MaterialConverter {
                 "material", name);
     }
 
-    // Whether a material extension (KHR_materials_transmission's
-    // transmissionTexture...) names a texture.
-    static bool usesExtensionTexture(const tinygltf::Material& m) {
-        for (const auto& [name, value] : m.extensions)
+    // KHR_materials_clearcoat and KHR_materials_sheen: the layers over the
+    // metallic-roughness material (shaders/shared/metallic_roughness.h),
+    // each factor times its texture's channel. A layer of factor 0 is none,
+    // whatever its texture says.
+    void readLayers(const tinygltf::Material& m, Material& out) {
+        const std::string& name = out.name;
+        const char* coat = "KHR_materials_clearcoat";
+        out.clearcoat =
+            float(factor(extensionNumber(m.extensions, coat, "clearcoatFactor", 0.0, name),
+                         "clearcoatFactor", name));
+        out.clearcoatRoughness =
+            float(factor(extensionNumber(m.extensions, coat, "clearcoatRoughnessFactor", 0.0, name),
+                         "clearcoatRoughnessFactor", name));
+        if (out.clearcoat > 0.0f) {
+            out.clearcoatTexture = extensionTexture(m.extensions, coat, "clearcoatTexture", name);
+            out.clearcoatRoughnessTexture =
+                extensionTexture(m.extensions, coat, "clearcoatRoughnessTexture", name);
+            if (extensionValue(m.extensions, coat, "clearcoatNormalTexture", name))
+                m_warnings.addCounted(
+                    "clearcoatNormalTexture is not applied: the clear coat takes the base's "
+                    "shading normal",
+                    "material", name);
+        }
+        const char* sheen = "KHR_materials_sheen";
+        const glm::dvec3 color =
+            extensionVector(m.extensions, sheen, "sheenColorFactor", glm::dvec3(0.0), name);
+        for (int c = 0; c < 3; ++c)
+            out.sheenColor[c] = float(factor(color[c], "sheenColorFactor", name));
+        out.sheenRoughness =
+            float(factor(extensionNumber(m.extensions, sheen, "sheenRoughnessFactor", 0.0, name),
+                         "sheenRoughnessFactor", name));
+        if (out.sheenColor != glm::vec3(0.0f)) {
+            out.sheenColorTexture =
+                extensionTexture(m.extensions, sheen, "sheenColorTexture", name);
+            out.sheenRoughnessTexture =
+                extensionTexture(m.extensions, sheen, "sheenRoughnessTexture", name);
+        }
+    }
+
+    // KHR_materials_diffuse_transmission: the share of the diffuse lobe that
+    // passes to the back and its colour, each times its texture. A thin wall
+    // in vkpath: with KHR_materials_volume the light would enter a volume
+    // (warned).
+    void readDiffuseTransmission(const tinygltf::Material& m, Material& out) {
+        const std::string& name = out.name;
+        const char* extension = "KHR_materials_diffuse_transmission";
+        out.diffuseTransmission = float(
+            factor(extensionNumber(m.extensions, extension, "diffuseTransmissionFactor", 0.0, name),
+                   "diffuseTransmissionFactor", name));
+        const glm::dvec3 color = extensionVector(
+            m.extensions, extension, "diffuseTransmissionColorFactor", glm::dvec3(1.0), name);
+        for (int c = 0; c < 3; ++c)
+            out.diffuseTransmissionColor[c] =
+                float(factor(color[c], "diffuseTransmissionColorFactor", name));
+        if (out.diffuseTransmission == 0.0f) return;
+        out.diffuseTransmissionTexture =
+            extensionTexture(m.extensions, extension, "diffuseTransmissionTexture", name);
+        out.diffuseTransmissionColorTexture =
+            extensionTexture(m.extensions, extension, "diffuseTransmissionColorTexture", name);
+        if (m.extensions.count("KHR_materials_volume"))
+            m_warnings.addCounted(
+                "KHR_materials_volume of diffuse-transmitting materials is ignored: vkpath "
+                "passes the light to the back of the same point (thin-walled)",
+                "material", name);
+    }
+
+    static void dropLayers(Material& out) {
+        out.clearcoat = 0.0f;
+        out.sheenColor = glm::vec3(0.0f);
+        out.diffuseTransmission = 0.0f;
+        out.diffuseTransmissionTexture = out.diffuseTransmissionColorTexture = TextureRef{};
+        out.clearcoatTexture = out.clearcoatRoughnessTexture = TextureRef{};
+        out.sheenColorTexture = out.sheenRoughnessTexture = TextureRef{};
+    }
+
+    // extension.key as a textureInfo (index, texCoord, KHR_texture_transform);
+    // absent when the extension or key is.
+    TextureRef extensionTexture(const tinygltf::ExtensionMap& extensions, const char* extension,
+                                const char* key, const std::string& material) {
+        const tinygltf::Value* info = extensionValue(extensions, extension, key, material);
+        if (!info) return TextureRef{};
+        if (!info->IsObject() || !info->Has("index") || !info->Get("index").IsInt())
+            fail("material '{}': {}.{} is not a textureInfo with an integer index", material,
+                 extension, key);
+        const int index = info->Get("index").GetNumberAsInt();
+        if (index < 0)
+            fail("material '{}': {}.{}.index {} is negative", material, extension, key, index);
+        int texCoord = 0;
+        if (info->Has("texCoord")) {
+            if (!info->Get("texCoord").IsInt())
+                fail("material '{}': {}.{}.texCoord is not an integer", material, extension, key);
+            texCoord = info->Get("texCoord").GetNumberAsInt();
+        }
+        tinygltf::ExtensionMap transforms;
+        if (info->Has("extensions") && info->Get("extensions").IsObject()) {
+            const tinygltf::Value& nested = info->Get("extensions");
+            for (const std::string& name : nested.Keys()) transforms[name] = nested.Get(name);
+        }
+        return m_textures.reference(index, texCoord, transforms, material, key);
+    }
+
+    // Whether a material extension whose textures vkpath does not read
+    // (KHR_materials_transmission's transmissionTexture...) names a texture.
+    static bool usesUnreadExtensionTexture(const tinygltf::Material& m) {
+        for (const auto& [name, value] : m.extensions) {
+            // (clearcoatNormalTexture has a warning of its own)
+            if (name == "KHR_materials_clearcoat" || name == "KHR_materials_sheen" ||
+                name == "KHR_materials_diffuse_transmission")
+                continue;
             for (const std::string& key : value.Keys())
                 if (key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0) return true;
+        }
         return false;
     }
 

@@ -182,6 +182,7 @@ struct MaterialNotes {
         0;  // GGX lobes: Mitsuba's G1 G1 against vkpath's height-correlated G2
     size_t schlickConductors = 0;
     size_t metallicRoughness = 0;
+    size_t thinWalls = 0;
 };
 
 // Mitsuba's GGX parameters for vkpath's roughness (alpha = roughness^2), with
@@ -217,6 +218,18 @@ void addMaterial(pugi::xml_node scene, const Material& m, const std::string& id,
     switch (m.kind) {
         case MaterialKind::Dielectric:
         case MaterialKind::RoughDielectric: {
+            if (m.thinWalled) {
+                // Mitsuba's thin dielectric (smooth only; reported).
+                pugi::xml_node bsdf = scene.append_child("bsdf");
+                bsdf.append_attribute("type") = "thindielectric";
+                bsdf.append_attribute("id") = id.c_str();
+                addValue(bsdf, "float", "int_ior", num(m.ior));
+                addValue(bsdf, "float", "ext_ior", "1");
+                addRgb(bsdf, "specular_reflectance", m.reflectance);
+                addRgb(bsdf, "specular_transmittance", m.transmittance);
+                ++notes.thinWalls;
+                return;
+            }
             const bool rough = m.kind == MaterialKind::RoughDielectric && !smoothLobe(m.roughness);
             pugi::xml_node bsdf = scene.append_child("bsdf");
             bsdf.append_attribute("type") = rough ? "roughdielectric" : "dielectric";
@@ -592,6 +605,13 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         "rise toward 1 at grazing "
                         "angles ({} materials)",
                         notes.schlickConductors));
+    if (notes.thinWalls > 0)
+        result.warnings.push_back(fmt::format(
+            "thin-walled glass (glTF transmission without a volume): written as Mitsuba's "
+            "thindielectric, which is smooth and adds the light reflected back and forth inside "
+            "the wall (vkpath, as glTF, has one interface; a rough wall's blur is lost) "
+            "({} materials)",
+            notes.thinWalls));
     if (notes.metallicRoughness > 0)
         result.warnings.push_back(
             fmt::format("glTF metallic-roughness materials: written as Mitsuba's principled BSDF "
@@ -603,8 +623,10 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         notes.metallicRoughness));
     // What the export leaves out of a material: its textures (the factors are
     // written alone) and its alpha (written opaque).
-    size_t textured = 0, alphaCovered = 0;
+    size_t textured = 0, alphaCovered = 0, layered = 0;
     for (const Material& m : s.materials) {
+        layered +=
+            m.clearcoat > 0.0f || m.sheenColor != glm::vec3(0.0f) || m.diffuseTransmission > 0.0f;
         textured += m.baseColorTexture.present() || m.emissiveTexture.present() ||
                     m.metallicRoughnessTexture.present();
         alphaCovered += m.alphaMode != AlphaMode::Opaque;
@@ -614,6 +636,14 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
             fmt::format("base-colour, emissive and metallic-roughness textures are not exported: "
                         "Mitsuba renders those materials with their factors alone ({} materials)",
                         textured));
+    if (layered > 0)
+        result.warnings.push_back(
+            fmt::format("clear coats, sheens and diffuse transmission (KHR_materials_clearcoat, "
+                        "KHR_materials_sheen, KHR_materials_diffuse_transmission) are not "
+                        "exported: Mitsuba's principled BSDF has Disney's coat and sheen and no "
+                        "diffuse transmission; those materials are written without them ({} "
+                        "materials)",
+                        layered));
     if (alphaCovered > 0)
         result.warnings.push_back(
             fmt::format("alpha (glTF alphaMode MASK and BLEND) is not exported: Mitsuba renders "

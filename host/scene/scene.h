@@ -124,15 +124,35 @@ struct Material {
     // single-scattering albedo), the rest absorbs.
     glm::vec3 attenuation{0.0f};
     glm::vec3 scatteringAlbedo{0.0f};  // in [0, 1]; 0: the inside only absorbs
-    float scatterAnisotropy = 0.0f;    // the inside's Henyey-Greenstein g, in (-1, 1)
+    // Dielectric, RoughDielectric: a thin wall with air on both sides (glTF's
+    // transmission without KHR_materials_volume), no inside and no attenuation
+    bool thinWalled = false;
+    float scatterAnisotropy = 0.0f;  // the inside's Henyey-Greenstein g, in (-1, 1)
+    // MetallicRoughness: the layers over it (shaders/shared/metallic_roughness.h).
+    // KHR_materials_clearcoat: the coat's weight in [0, 1] (0: none) and roughness;
+    // KHR_materials_sheen: the sheen's colour (0: none) and roughness.
+    float clearcoat = 0.0f;
+    float clearcoatRoughness = 0.0f;
+    glm::vec3 sheenColor{0.0f};
+    float sheenRoughness = 0.0f;
+    // KHR_materials_diffuse_transmission: the share of the diffuse lobe that
+    // passes to the back (0: none) and its colour.
+    float diffuseTransmission = 0.0f;
+    glm::vec3 diffuseTransmissionColor{1.0f};
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
     // `emission`; both are sRGB-encoded. The others hold linear data.
     TextureRef baseColorTexture;
     TextureRef emissiveTexture;
-    TextureRef metallicRoughnessTexture;  // G: roughness, B: metalness
-    TextureRef normalTexture;             // tangent-space normals
-    float normalScale = 1.0f;             // glTF normalTexture.scale: scales the map's x and y
+    TextureRef metallicRoughnessTexture;    // G: roughness, B: metalness
+    TextureRef normalTexture;               // tangent-space normals
+    float normalScale = 1.0f;               // glTF normalTexture.scale: scales the map's x and y
+    TextureRef clearcoatTexture;            // R: multiplies clearcoat
+    TextureRef clearcoatRoughnessTexture;   // G: multiplies clearcoatRoughness
+    TextureRef sheenColorTexture;           // RGB (sRGB): multiplies sheenColor
+    TextureRef sheenRoughnessTexture;       // A: multiplies sheenRoughness
+    TextureRef diffuseTransmissionTexture;  // A: multiplies diffuseTransmission
+    TextureRef diffuseTransmissionColorTexture;  // RGB (sRGB): multiplies its colour
     // Alpha (glTF): a point's alpha is `alpha` x the base-colour texture's
     // alpha x COLOR_0's alpha. Spheres are opaque whatever the mode.
     AlphaMode alphaMode = AlphaMode::Opaque;

@@ -34,7 +34,8 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
     g.specular = m.specular;
     g.flags = 0;
     const bool glass = (scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) != 0;
-    g.attenuation = glass ? m.attenuation : glm::vec3(0.0f);
+    g.attenuation = glass && !m.thinWalled ? m.attenuation : glm::vec3(0.0f);
+    if (glass && m.thinWalled) g.flags = VKP_MATERIAL_THIN_WALLED;
     if (m.kind == scene::MaterialKind::Conductor && m.conductorEta != glm::vec3(0.0f)) {
         g.flags = VKP_MATERIAL_COMPLEX_FRESNEL;
         g.reflectance = m.conductorEta;
@@ -45,6 +46,12 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
         // "Implementation"): min(((ior - 1) / (ior + 1))^2 specularColor, 1) x specular.
         const float r = (m.ior - 1.0f) / (m.ior + 1.0f);
         g.transmittance = glm::min(r * r * m.specularColor, glm::vec3(1.0f)) * m.specular;
+        g.sheenColor = m.sheenColor;
+        g.sheenRoughness = m.sheenRoughness;
+        g.clearcoat = m.clearcoat;
+        g.clearcoatRoughness = m.clearcoatRoughness;
+        g.diffuseTransmission = m.diffuseTransmission;
+        g.diffuseTransmissionColor = m.diffuseTransmissionColor;
     }
     return g;
 }
@@ -67,7 +74,7 @@ std::vector<shared::Medium> buildMedia(const scene::Scene& scene) {
     bool scatters = scene.fog.present() || scene.volume.has_value();
     for (const scene::Material& m : scene.materials) {
         scene::Medium inside;
-        if (scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) {
+        if ((scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) && !m.thinWalled) {
             inside.scattering = m.attenuation * m.scatteringAlbedo;
             inside.absorption = m.attenuation - inside.scattering;
             inside.anisotropy = m.scatterAnisotropy;
@@ -335,12 +342,14 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     t.info.alphaTested = t.materialAlpha.empty() ? 0u : 1u;
     // The albedo tables of multiple-scattering compensation, for a scene with
     // a GGX lobe that is not a delta (a texture scales the roughness by at
-    // most 1: shared/path/textures.h).
+    // most 1: shared/path/textures.h), and of the sheen's albedo scaling.
     const auto rough = [](const shared::Material& m) {
         return (shared::materialKindFlags(m.kind) & VKP_KIND_MICROFACET) != 0 &&
                !shared::microfacetIsSmooth(shared::materialAlpha(m));
     };
-    if (std::any_of(t.materials.begin(), t.materials.end(), rough)) {
+    const auto sheen = [](const shared::Material& m) { return m.sheenColor != glm::vec3(0.0f); };
+    t.roughLobes = std::any_of(t.materials.begin(), t.materials.end(), rough);
+    if (t.roughLobes || std::any_of(t.materials.begin(), t.materials.end(), sheen)) {
         const std::span<const float> table = albedo::microfacetAlbedoTable();
         t.microfacetAlbedo.assign(table.begin(), table.end());
     }

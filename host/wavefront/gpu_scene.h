@@ -59,7 +59,9 @@ struct SceneTables {
         materialAlpha;  // per material; empty unless info.alphaTested
     // shared/microfacet_albedo.h's tables (host/albedo/albedo_tables.h);
     // empty unless a material has a GGX lobe that is not a delta
+    // (roughLobes) or a sheen
     std::vector<float> microfacetAlbedo;
+    bool roughLobes = false;  // a material has a GGX lobe that is not a delta
     // (centre, radius) of the smooth specular spheres that diffuse samples
     // may be guided toward (shared/path_tracer.h sampleGuidedDiffuse), the
     // largest VKP_MAX_GUIDE_SPHERES of them; empty without emissive surfaces

@@ -50,6 +50,10 @@ constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_LIGHT_RANGE, "light-range"},
     {VKP_FEATURE_MEDIA, "media"},
     {VKP_FEATURE_GRID_MEDIUM, "grid-medium"},
+    {VKP_FEATURE_CLEARCOAT, "clearcoat"},
+    {VKP_FEATURE_SHEEN, "sheen"},
+    {VKP_FEATURE_THIN_WALLED, "thin-walled"},
+    {VKP_FEATURE_DIFFUSE_TRANSMISSION, "diffuse-transmission"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -77,6 +81,10 @@ uint64_t sceneFeatures(const SceneTables& t) {
         f |= shared::materialFeature(m.kind);
         if (m.emission != glm::vec3(0.0f)) f |= VKP_FEATURE_EMISSIVE_SURFACES;
         if (m.attenuation != glm::vec3(0.0f)) f |= VKP_FEATURE_ABSORPTION;
+        if (m.clearcoat > 0.0f) f |= VKP_FEATURE_CLEARCOAT;
+        if (m.sheenColor != glm::vec3(0.0f)) f |= VKP_FEATURE_SHEEN;
+        if (m.flags & VKP_MATERIAL_THIN_WALLED) f |= VKP_FEATURE_THIN_WALLED;
+        if (m.diffuseTransmission > 0.0f) f |= VKP_FEATURE_DIFFUSE_TRANSMISSION;
         if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE)
             f |= VKP_FEATURE_TEXTURES;
         if (!t.materialAlpha.empty() && t.materialAlpha[p.material].mode != VKP_ALPHA_OPAQUE &&

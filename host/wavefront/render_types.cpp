@@ -65,8 +65,7 @@ shared::SceneInfo renderSceneInfo(const SceneTables& tables, const RenderSetting
     info.fireflyThreshold = float(settings.samplesPerPixel);
     info.sampleStreams = sampleStreams(settings);
     info.aovs = settings.surfaceAovs ? 1u : 0u;
-    info.microfacetCompensation =
-        settings.microfacetCompensation && !tables.microfacetAlbedo.empty() ? 1u : 0u;
+    info.microfacetCompensation = settings.microfacetCompensation && tables.roughLobes ? 1u : 0u;
     info.treeLights =
         usesLightTree(tables, settings) ? uint32_t(tables.lightTree.trails.size()) : 0u;
     return info;

@@ -16,7 +16,10 @@ double srgbToLinear(double encoded) {
 
 bool usesTextures(const scene::Material& m) {
     return m.baseColorTexture.present() || m.emissiveTexture.present() ||
-           m.metallicRoughnessTexture.present() || m.normalTexture.present();
+           m.metallicRoughnessTexture.present() || m.normalTexture.present() ||
+           m.clearcoatTexture.present() || m.clearcoatRoughnessTexture.present() ||
+           m.sheenColorTexture.present() || m.sheenRoughnessTexture.present() ||
+           m.diffuseTransmissionTexture.present() || m.diffuseTransmissionColorTexture.present();
 }
 
 namespace {
@@ -47,6 +50,16 @@ class Builder {
                 slot(m.metallicRoughnessTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_NORMAL] = slot(m.normalTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_NORMAL].scale = m.normalScale;
+            m_tables.slots[first + VKP_SLOT_CLEARCOAT] = slot(m.clearcoatTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_CLEARCOAT_ROUGHNESS] =
+                slot(m.clearcoatRoughnessTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_SHEEN_COLOR] = slot(m.sheenColorTexture, true, m.name);
+            m_tables.slots[first + VKP_SLOT_SHEEN_ROUGHNESS] =
+                slot(m.sheenRoughnessTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_DIFFUSE_TRANSMISSION] =
+                slot(m.diffuseTransmissionTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_DIFFUSE_TRANSMISSION_COLOR] =
+                slot(m.diffuseTransmissionColorTexture, true, m.name);
             m_tables.materialSlots[i] = first;
         }
         return std::move(m_tables);

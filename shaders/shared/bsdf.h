@@ -159,6 +159,9 @@ VKP_FN vec3 albedoMirrorMaterial(VKP_IN(Material) material) {
 // Smooth glass: delta reflection and refraction (lobes.h).
 VKP_FN BsdfSample sampleDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
                                            float /*uc*/) {
+    if (materialThinWalled(material))
+        return sampleThinDielectric(material.reflectance, material.transmittance, material.ior, ns,
+                                    wo, u.x);
     return sampleDielectric(material.reflectance, material.transmittance, material.ior, ns, wo,
                             u.x);
 }
@@ -242,6 +245,7 @@ VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
     d.reflectance = material.reflectance;
     d.transmittance = material.transmittance;
     d.multipleScattering = material.multipleScattering;
+    d.thin = materialThinWalled(material);
     return d;
 }
 VKP_FN BsdfSample sampleRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
@@ -281,6 +285,13 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.specularF0 = material.transmittance;
     p.specularF90 = material.specular;
     p.multipleScattering = material.multipleScattering;
+    p.sheenColor = material.sheenColor;
+    p.sheenAlpha = sheenAlpha(material.sheenRoughness);
+    p.sheenLobeAlbedo = material.sheenLobeAlbedo;
+    p.clearcoat = material.clearcoat;
+    p.coatAlpha = vec2(material.clearcoatRoughness * material.clearcoatRoughness);
+    p.diffuseTransmission = material.diffuseTransmission;
+    p.diffuseTransmissionColor = material.diffuseTransmissionColor;
     return p;
 }
 VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo,
@@ -299,11 +310,18 @@ VKP_FN float pdfMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, ve
     return metallicRoughnessPdf(materialMetallicRoughness(material), frameToLocal(frame, wo),
                                 frameToLocal(frame, wi));
 }
-// Its diffuse lobe stays unless it is wholly metal.
+// Its diffuse lobe stays unless it is wholly metal; a sheen or a rough coat
+// over it has none.
 VKP_FN bool nonDeltaMetallicRoughnessMaterial(VKP_IN(Material) material) {
-    return !microfacetIsSmooth(materialAlpha(material)) || material.metallic < 1.0f;
+    return !microfacetIsSmooth(materialAlpha(material)) || material.metallic < 1.0f ||
+           (hasFeature(VKP_FEATURE_SHEEN) && material.sheenColor != vec3(0.0f)) ||
+           (hasFeature(VKP_FEATURE_CLEARCOAT) && material.clearcoat > 0.0f &&
+            !microfacetIsSmooth(vec2(material.clearcoatRoughness * material.clearcoatRoughness)));
 }
+// Both GGX lobes roughened, the base's and the coat's.
 VKP_FN Material regularizeMetallicRoughnessMaterial(Material material, float roughness) {
+    if (hasFeature(VKP_FEATURE_CLEARCOAT))
+        material.clearcoatRoughness = max(material.clearcoatRoughness, roughness);
     return regularizeMicrofacetMaterial(material, roughness);
 }
 // The base colour: glTF's metal reflects it at normal incidence (OIDN's

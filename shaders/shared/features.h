@@ -102,7 +102,20 @@
 // The grid medium of render --volume (SceneInfo::gridMedium): heterogeneous,
 // delta and ratio tracking over its majorant cells (shared/path/media.h)
 #define VKP_FEATURE_GRID_MEDIUM VKP_FEATURE_BIT(34)
-#define VKP_FEATURE_COUNT 35u  // bits 35 to 63 are free
+// A metallic-roughness material with a clear coat (KHR_materials_clearcoat;
+// Material::clearcoat > 0, shared/metallic_roughness.h)
+#define VKP_FEATURE_CLEARCOAT VKP_FEATURE_BIT(35)
+// A metallic-roughness material with a sheen (KHR_materials_sheen;
+// Material::sheenColor > 0, shared/sheen.h)
+#define VKP_FEATURE_SHEEN VKP_FEATURE_BIT(36)
+// A glass whose surface is a thin wall (KHR_materials_transmission without
+// KHR_materials_volume; Material::flags VKP_MATERIAL_THIN_WALLED): light
+// passes it unbent, and no inside lies behind it
+#define VKP_FEATURE_THIN_WALLED VKP_FEATURE_BIT(37)
+// A metallic-roughness material whose diffuse lobe passes light to its back
+// (KHR_materials_diffuse_transmission; Material::diffuseTransmission > 0)
+#define VKP_FEATURE_DIFFUSE_TRANSMISSION VKP_FEATURE_BIT(38)
+#define VKP_FEATURE_COUNT 39u  // bits 39 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

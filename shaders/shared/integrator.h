@@ -144,6 +144,9 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce
     if (hasFeature(VKP_FEATURE_MICROFACET_COMPENSATION) && sceneInfo().microfacetCompensation != 0u)
         shading.material.multipleScattering =
             multipleScattering(own, dot(shading.surface.shadingNormal, shading.wo));
+    if (hasFeature(VKP_FEATURE_SHEEN))
+        shading.material.sheenLobeAlbedo =
+            sheenLobeAlbedo(shading.material, dot(shading.surface.shadingNormal, shading.wo));
     if (aovsWanted()) recordAov(path.aov, shading);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
         path.radiance += path.throughput *

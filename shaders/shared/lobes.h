@@ -147,6 +147,31 @@ VKP_FN BsdfSample sampleDielectric(vec3 reflectance, vec3 transmittance, float i
     return s;
 }
 
+// A smooth thin wall (glTF's transmission without a volume): air on both
+// sides, so the Fresnel term is the outside's, index ior, from either side,
+// and what passes leaves along -wo, tinted, with no change of index
+// (etaSquared 1). Reflection is chosen with probability F, as for the solid.
+VKP_FN BsdfSample sampleThinDielectric(vec3 reflectance, vec3 transmittance, float ior, vec3 n,
+                                       vec3 wo, float u) {
+    float cosO = dot(n, wo);
+    vec3 nf = cosO > 0.0f ? n : -n;
+    float fresnel = fresnelDielectric(abs(cosO), ior);
+    BsdfSample s;
+    s.delta = true;
+    s.valid = true;
+    s.etaSquared = 1.0f;
+    if (u < fresnel) {
+        s.direction = normalize(reflectAbout(wo, nf));
+        s.weight = reflectance;
+        s.pdf = fresnel;
+        return s;
+    }
+    s.direction = -wo;
+    s.weight = transmittance;
+    s.pdf = 1.0f - fresnel;
+    return s;
+}
+
 VKP_NAMESPACE_END
 
 #endif  // VKPATH_SHARED_LOBES_H

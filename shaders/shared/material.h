@@ -22,11 +22,16 @@ VKP_NAMESPACE_BEGIN
 // Material::flags: a conductor whose reflectance is `reflectance` at every
 // angle (a mirror roughened by path regularisation, shared/bsdf.h).
 #define VKP_MATERIAL_CONSTANT_FRESNEL 2u
+// Material::flags: a glass (smooth or rough) whose surface is a thin wall
+// with air on both sides (glTF's transmission without a volume): what passes
+// leaves unbent, the reflection lobe mirrored through the surface
+// (shared/lobes.h sampleThinDielectric, shared/microfacet.h).
+#define VKP_MATERIAL_THIN_WALLED 4u
 
 // Each field serves the kinds its comment names and is ignored by the others
-// (80 bytes for every kind, five 16-byte texels: kernels read the array as a
-// texel buffer, stages/lib/scene_access.glsl; scene::Material has a field per
-// meaning).
+// (128 bytes for every kind, eight 16-byte texels: kernels read the array as
+// a texel buffer and fetch only the texels their features read,
+// stages/lib/scene_access.glsl; scene::Material has a field per meaning).
 // Material's fields (type, name, first 32-bit word; shared/records.h): the
 // struct, its layout check and its texel decoding come from this list.
 #define VKP_MATERIAL_FIELDS(F)                                                                   \
@@ -52,7 +57,7 @@ VKP_NAMESPACE_BEGIN
     F(float, metallic, 13)                                                                       \
     /* metallic-roughness: the dielectric layer's weight, its Fresnel at grazing incidence */    \
     F(float, specular, 14)                                                                       \
-    /* VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL */                            \
+    /* VKP_MATERIAL_COMPLEX_FRESNEL, VKP_MATERIAL_CONSTANT_FRESNEL, VKP_MATERIAL_THIN_WALLED */  \
     F(uint, flags, 15)                                                                           \
     /* glass, rough glass: absorption coefficient of the inside, per metre (Beer-Lambert; */     \
     /* KHR_materials_volume); 0: clear */                                                        \
@@ -60,7 +65,21 @@ VKP_NAMESPACE_BEGIN
     /* conductor, rough glass, metallic-roughness: multiple-scattering compensation's */         \
     /* (1 - E) / E at the hit's wo, set per hit (shared/path/energy_compensation.h); 0 in the */ \
     /* scene's array */                                                                          \
-    F(float, multipleScattering, 19)
+    F(float, multipleScattering, 19)                                                             \
+    /* metallic-roughness: KHR_materials_sheen's colour (0: no sheen) and roughness */           \
+    F(vec3, sheenColor, 20)                                                                      \
+    F(float, sheenRoughness, 23)                                                                 \
+    /* metallic-roughness: KHR_materials_clearcoat's weight (0: no coat) and roughness */        \
+    F(float, clearcoat, 24)                                                                      \
+    F(float, clearcoatRoughness, 25)                                                             \
+    /* metallic-roughness: the white sheen lobe's albedo E_sheen(mu_o) at the hit's wo, set */   \
+    /* per hit (shared/path/energy_compensation.h); 0 in the scene's array */                    \
+    F(float, sheenLobeAlbedo, 26)                                                                \
+    F(uint, padding, 27)                                                                         \
+    /* metallic-roughness: KHR_materials_diffuse_transmission's colour and share of the */       \
+    /* diffuse lobe that passes to the back (0: none) */                                         \
+    F(vec3, diffuseTransmissionColor, 28)                                                        \
+    F(float, diffuseTransmission, 31)
 struct Material {
     VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -121,11 +140,16 @@ VKP_FN bool materialTransmits(VKP_IN(Material) material) {
     return (materialKindFlags(material.kind) & VKP_KIND_TRANSMITS) != 0u;
 }
 
+// Whether `material` (a glass) is a thin wall: no inside, no refraction.
+VKP_FN bool materialThinWalled(VKP_IN(Material) material) {
+    return hasFeature(VKP_FEATURE_THIN_WALLED) && (material.flags & VKP_MATERIAL_THIN_WALLED) != 0u;
+}
+
 VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 #define VKP_RECORD Material
-VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 5)
+VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 8)
 #undef VKP_RECORD
 #endif
 

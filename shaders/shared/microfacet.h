@@ -294,6 +294,14 @@ VKP_FN float conductorPdf(Conductor c, vec3 wo, vec3 wi) {
 // carries the 1 / eta^2 of the smooth glass (PBR 4th ed., section 9.5.2): the
 // weight is T G2 / (G1 eta^2), BsdfSample::etaSquared = eta^2, and
 // f(wo, wi) / n(wo side)^2 = f(wi, wo) / n(wi side)^2 (Veach's thesis, chapter 5).
+//
+// A thin wall (glTF's transmission without a volume, RoughDielectric::thin)
+// has air on both sides: the index is ior from either side, and what passes
+// is the reflection lobe mirrored through the surface (wi's z negated), so
+// the light leaves unbent on average, blurred by the roughness (the
+// extension's thin-walled BTDF). Reflection keeps F, transmission 1 - F, of
+// the one GGX reflection lobe: the white thin wall's albedo is the
+// conductor's, and its compensation the conductor's table.
 
 struct RoughDielectric {
     vec2 alpha;          // GGX roughness along s and t (alpha = roughness^2)
@@ -304,18 +312,22 @@ struct RoughDielectric {
     // reflection and refraction are scaled by 1 / E (multiple-scattering
     // compensation, shared/microfacet_albedo.h); 0: single scattering
     float multipleScattering;
+    bool thin;  // a thin wall (above)
 };
 
 // u picks the visible normal, uc the reflect/refract choice.
 VKP_FN BsdfSample sampleRoughDielectric(RoughDielectric d, vec3 wo, vec2 u, float uc) {
+    if (d.thin && microfacetIsSmooth(d.alpha))
+        return sampleThinDielectric(d.reflectance, d.transmittance, d.ior, vec3(0.0f, 0.0f, 1.0f),
+                                    wo, uc);
     // Index 1 refracts every microfacet straight through (a delta however
     // rough), so it is the smooth glass too, as in pbrt-v4.
-    if (microfacetIsSmooth(d.alpha) || d.ior == 1.0f)
+    if (!d.thin && (microfacetIsSmooth(d.alpha) || d.ior == 1.0f))
         return sampleDielectric(d.reflectance, d.transmittance, d.ior, vec3(0.0f, 0.0f, 1.0f), wo,
                                 uc);
     if (wo.z == 0.0f) return invalidBsdfSample();
     float side = wo.z > 0.0f ? 1.0f : -1.0f;
-    float eta = wo.z > 0.0f ? d.ior : 1.0f / d.ior;
+    float eta = d.thin || wo.z > 0.0f ? d.ior : 1.0f / d.ior;
     vec3 o = side * wo;
     vec3 m = sampleGgxVisibleNormal(o, d.alpha, u);
     float om = dot(o, m);
@@ -332,6 +344,16 @@ VKP_FN BsdfSample sampleRoughDielectric(RoughDielectric d, vec3 wo, vec2 u, floa
         s.direction = side * i;
         s.pdf = fresnel * visiblePdf / (4.0f * om);
         s.weight = d.reflectance * (ggxG2OverG1(o, i, d.alpha) * (1.0f + d.multipleScattering));
+        s.etaSquared = 1.0f;
+        return s;
+    }
+    if (d.thin) {
+        // The reflection, mirrored through the wall.
+        vec3 r = 2.0f * om * m - o;
+        if (r.z <= 0.0f) return invalidBsdfSample();
+        s.direction = side * vec3(r.x, r.y, -r.z);
+        s.pdf = (1.0f - fresnel) * visiblePdf / (4.0f * om);
+        s.weight = d.transmittance * (ggxG2OverG1(o, r, d.alpha) * (1.0f + d.multipleScattering));
         s.etaSquared = 1.0f;
         return s;
     }
@@ -368,11 +390,36 @@ VKP_FN bool roughDielectricHalfVector(vec3 o, vec3 i, float eta, VKP_OUT(vec3) m
     return reflection ? (om > 0.0f && im > 0.0f) : (om > 0.0f && im < 0.0f);
 }
 
+// The thin wall's lobe at o (o.z > 0) and i (either side; its mirror r
+// above the surface): the GGX reflection's f |cos| of r, and its Fresnel
+// term, F for reflection, 1 - F for transmission.
+struct ThinWallLobe {
+    float reflection;  // D G2 / (4 o.z), compensated
+    float visiblePdf;  // D_wo(m) / (4 wo.m): the density of r
+    float fresnel;     // F or 1 - F, as i reflects or passes
+};
+VKP_FN ThinWallLobe thinWallLobe(RoughDielectric d, vec3 o, vec3 i) {
+    vec3 r = vec3(i.x, i.y, abs(i.z));
+    vec3 m = normalize(o + r);
+    float om = dot(o, m);
+    float fresnel = fresnelDielectric(om, d.ior);
+    ThinWallLobe l;
+    l.reflection =
+        ggxD(m, d.alpha) * ggxG2(o, r, d.alpha) * (1.0f + d.multipleScattering) / (4.0f * o.z);
+    l.visiblePdf = ggxVisibleNormalPdf(o, m, d.alpha) / (4.0f * om);
+    l.fresnel = i.z > 0.0f ? fresnel : 1.0f - fresnel;
+    return l;
+}
+
 // f * |cos wi|, reflection and transmission; 0 in the delta case.
 VKP_FN vec3 evalRoughDielectric(RoughDielectric d, vec3 wo, vec3 wi) {
-    if (microfacetIsSmooth(d.alpha) || d.ior == 1.0f || wo.z == 0.0f || wi.z == 0.0f)
+    if (microfacetIsSmooth(d.alpha) || (!d.thin && d.ior == 1.0f) || wo.z == 0.0f || wi.z == 0.0f)
         return vec3(0.0f);
     float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    if (d.thin) {
+        ThinWallLobe l = thinWallLobe(d, side * wo, side * wi);
+        return (side * wi.z > 0.0f ? d.reflectance : d.transmittance) * (l.fresnel * l.reflection);
+    }
     float eta = wo.z > 0.0f ? d.ior : 1.0f / d.ior;
     vec3 o = side * wo;
     vec3 i = side * wi;
@@ -390,8 +437,13 @@ VKP_FN vec3 evalRoughDielectric(RoughDielectric d, vec3 wo, vec3 wi) {
 }
 
 VKP_FN float roughDielectricPdf(RoughDielectric d, vec3 wo, vec3 wi) {
-    if (microfacetIsSmooth(d.alpha) || d.ior == 1.0f || wo.z == 0.0f || wi.z == 0.0f) return 0.0f;
+    if (microfacetIsSmooth(d.alpha) || (!d.thin && d.ior == 1.0f) || wo.z == 0.0f || wi.z == 0.0f)
+        return 0.0f;
     float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    if (d.thin) {
+        ThinWallLobe l = thinWallLobe(d, side * wo, side * wi);
+        return l.fresnel * l.visiblePdf;
+    }
     float eta = wo.z > 0.0f ? d.ior : 1.0f / d.ior;
     vec3 o = side * wo;
     vec3 i = side * wi;

@@ -32,7 +32,11 @@
 // microfacetAlbedo) and by the CPU reference from the same table:
 //
 //   [conductor: ROUGHNESS x COS] [glass entering: IOR x ROUGHNESS x COS]
-//   [glass leaving: IOR x ROUGHNESS x COS]
+//   [glass leaving: IOR x ROUGHNESS x COS] [sheen: ROUGHNESS x COS]
+//
+// The last block is the white sheen lobe's albedo (shared/sheen.h, its
+// roughness axis KHR_materials_sheen's sheenRoughness), which the sheen's
+// albedo scaling reads (shared/metallic_roughness.h), compensation or not.
 //
 // cos fastest. This header has the layout and the grid's coordinates; the
 // lookups, which read the array through the scene accessor
@@ -56,7 +60,8 @@
     (VKP_ALBEDO_IOR_COUNT * VKP_ALBEDO_ROUGHNESS_COUNT * VKP_ALBEDO_COS_COUNT)
 #define VKP_ALBEDO_ENTERING_OFFSET VKP_ALBEDO_CONDUCTOR_SIZE
 #define VKP_ALBEDO_LEAVING_OFFSET (VKP_ALBEDO_ENTERING_OFFSET + VKP_ALBEDO_GLASS_SIZE)
-#define VKP_ALBEDO_TABLE_SIZE (VKP_ALBEDO_LEAVING_OFFSET + VKP_ALBEDO_GLASS_SIZE)
+#define VKP_ALBEDO_SHEEN_OFFSET (VKP_ALBEDO_LEAVING_OFFSET + VKP_ALBEDO_GLASS_SIZE)
+#define VKP_ALBEDO_TABLE_SIZE (VKP_ALBEDO_SHEEN_OFFSET + VKP_ALBEDO_CONDUCTOR_SIZE)
 
 VKP_NAMESPACE_BEGIN
 

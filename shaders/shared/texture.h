@@ -38,7 +38,13 @@
     2u  // linear: G roughness, B metalness (glTF), multiplying the factors
 #define VKP_SLOT_NORMAL \
     3u  // linear: tangent-space normal, (2 x - 1) scaled in x and y by the normal scale
-#define VKP_SLOTS_PER_MATERIAL 4u
+#define VKP_SLOT_CLEARCOAT 4u             // linear: R multiplies the clear coat's weight
+#define VKP_SLOT_CLEARCOAT_ROUGHNESS 5u   // linear: G multiplies the clear coat's roughness
+#define VKP_SLOT_SHEEN_COLOR 6u           // sRGB colour: multiplies the sheen colour
+#define VKP_SLOT_SHEEN_ROUGHNESS 7u       // linear: A multiplies the sheen roughness
+#define VKP_SLOT_DIFFUSE_TRANSMISSION 8u  // linear: A multiplies the diffuse transmission's share
+#define VKP_SLOT_DIFFUSE_TRANSMISSION_COLOR 9u  // sRGB colour: multiplies its colour
+#define VKP_SLOTS_PER_MATERIAL 10u
 
 VKP_NAMESPACE_BEGIN
 

@@ -306,6 +306,30 @@ TEST(ExportMitsuba, TexturesAreWarnedAbout) {
     EXPECT_TRUE(fs::exists(dir / "tt/scene.xml"));
 }
 
+// glTF's material extensions: the clear coats, sheens and diffuse
+// transmission are left out and said so (10 materials), thin walls become
+// Mitsuba's thindielectric (2 materials, warned: Mitsuba's is smooth and adds
+// the interreflections inside the wall).
+TEST(ExportMitsuba, MaterialExtensionsAreWarnedAbout) {
+    const vkpath::test::TempDir dir;
+    const fs::path source = VKPATH_SOURCE_DIR;
+    const auto r =
+        runVkpath("export-mitsuba " + quoted(source / "assets/material_extensions.gltf") + " " +
+                  quoted(dir / "me") + " -d 32x24");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("clear coats, sheens and diffuse transmission"), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("those materials are written without them (10 materials)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("written as Mitsuba's thindielectric"), std::string::npos) << r.err;
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_file((dir / "me/scene.xml").c_str()));
+    size_t thin = 0;
+    for (const auto& [id, type] : bsdfTypes(doc.child("scene"))) thin += type == "thindielectric";
+    EXPECT_EQ(thin, 2u);
+}
+
 TEST(ExportMitsuba, BadInputIsOneLineAndNothingWritten) {
     const vkpath::test::TempDir dir;
     const fs::path missing = dir / "missing.gltf";

@@ -16,6 +16,7 @@
 #include <random>
 #include <vector>
 
+#include "albedo/albedo_integrals.h"
 #include "image/statistics.h"
 #include "kernels/bsdf_dispatch.h"
 #include "kernels/microfacet_routines.h"
@@ -38,8 +39,12 @@ using test::gpuMaterial;
 constexpr uint32_t SAMPLES = 1000000;
 constexpr double PI = 3.14159265358979323846;
 // Statistical tests in this file: chi-square of the layered material 8;
-// binomial z-tests of its smooth limit's lobe choice 2.
-constexpr int STATISTICAL_TESTS = 10;
+// binomial z-tests of its smooth limit's lobe choice 2; chi-square of the
+// coats, sheens and diffuse transmission 8, the smooth coat's lobe choice 1,
+// their furnaces 7;
+// chi-square of the rough thin walls 3, their furnace 1, the smooth thin
+// wall's choice 1.
+constexpr int STATISTICAL_TESTS = 31;
 const double ALPHA = test::sidakAlpha(0.01, STATISTICAL_TESTS);
 const double Z_CRITICAL = image::normalCritical(ALPHA);
 
@@ -100,7 +105,9 @@ double smithG1(glm::dvec3 w, double alpha) {
     return 2 / (1 + std::sqrt(1 + alpha * alpha * tan2));
 }
 
-// The density of wi (world) given wo (world) for the layered material.
+// The density of wi (world) given wo (world) for the layered material; with
+// diffuse transmission the cosine lobe's mirror image below the surface
+// takes the header's share of the diffuse samples (diffuseTransmissionProbability).
 double layeredDensity(const shared::Material& m, glm::vec3 wo, glm::vec3 wi) {
     const shared::Frame frame = shared::makeFrame(NORMAL);
     glm::dvec3 o(shared::frameToLocal(frame, wo)), i(shared::frameToLocal(frame, wi));
@@ -108,14 +115,16 @@ double layeredDensity(const shared::Material& m, glm::vec3 wo, glm::vec3 wi) {
         o = -o;
         i = -i;
     }
-    if (i.z <= 0) return 0;
     const shared::MetallicRoughness p = shared::materialMetallicRoughness(m);
     const double pSpec = shared::specularProbability(p, float(o.z));
+    const double pass = shared::diffuseTransmissionProbability(p);
+    if (i.z < 0) return (1 - pSpec) * pass * -i.z / PI;
+    if (i.z == 0) return 0;
     const double alpha = double(m.roughness) * m.roughness;
     const glm::dvec3 h = glm::normalize(o + i);
     const double oh = glm::dot(o, h);
     const double visible = oh > 0 ? smithG1(o, alpha) * oh * ggxD(h, alpha) / o.z : 0;
-    return pSpec * visible / (4 * oh) + (1 - pSpec) * i.z / PI;
+    return pSpec * visible / (4 * oh) + (1 - pSpec) * (1 - pass) * i.z / PI;
 }
 
 struct LayeredCase {
@@ -149,7 +158,7 @@ std::vector<LayeredCase> layeredCases() {
 // mixture integrates to at most 1 (less by the specular lobe's losses).
 TEST(MetallicRoughness, SamplesFollowTheMixtureDensity) {
     const auto cases = layeredCases();
-    ASSERT_EQ(int(cases.size()), STATISTICAL_TESTS - 2);
+    ASSERT_EQ(int(cases.size()), 8);
     for (const LayeredCase& c : cases) {
         SCOPED_TRACE(c.name);
         const shared::Material m = gpuMaterial(c.material);
@@ -383,3 +392,375 @@ TEST(MetallicRoughness, SmoothLayerIsADeltaBesideTheDiffuseLobe) {
 }
 
 }  // namespace
+
+// ---- the layers: clear coat and sheen (KHR_materials_clearcoat, KHR_materials_sheen) --------
+
+// A metallic-roughness material under a coat of weight `coat` and roughness
+// `coatRoughness` and a sheen of colour `sheen` and roughness
+// `sheenRoughness`, with the sheen's albedo at wo (cosine cosTheta) set as a
+// path vertex sets it (from the integral the table holds at grid points).
+shared::Material layeredMaterial(scene::Material base, float coat, float coatRoughness,
+                                 glm::vec3 sheen, float sheenRoughness, double cosTheta) {
+    base.clearcoat = coat;
+    base.clearcoatRoughness = coatRoughness;
+    base.sheenColor = sheen;
+    base.sheenRoughness = sheenRoughness;
+    shared::Material m = gpuMaterial(base);
+    if (sheen != glm::vec3(0.0f))
+        m.sheenLobeAlbedo = float(albedo::sheenAlbedo(float(std::abs(cosTheta)), sheenRoughness));
+    return m;
+}
+
+// The density of wi given wo for the layered material: the coat's GGX
+// visible-normal reflection, the sheen's uniform hemisphere and the base's
+// mixture (layeredDensity), each weighted by its layer's probability at wo
+// (the header's layerChoice: the sampler's choice, as specularProbability
+// above).
+double coatAndSheenDensity(const shared::Material& m, glm::vec3 wo, glm::vec3 wi) {
+    const shared::Frame frame = shared::makeFrame(NORMAL);
+    glm::dvec3 o(shared::frameToLocal(frame, wo)), i(shared::frameToLocal(frame, wi));
+    if (o.z < 0) {
+        o = -o;
+        i = -i;
+    }
+    const shared::LayerChoice c =
+        shared::layerChoice(shared::materialMetallicRoughness(m), float(o.z));
+    if (i.z <= 0) return c.base * layeredDensity(m, wo, wi);  // (what passes: the base's)
+    double coat = 0;
+    if (m.clearcoat > 0) {
+        const double alpha = double(m.clearcoatRoughness) * m.clearcoatRoughness;
+        const glm::dvec3 h = glm::normalize(o + i);
+        const double oh = glm::dot(o, h);
+        coat = oh > 0 ? smithG1(o, alpha) * ggxD(h, alpha) / (4 * o.z) : 0;
+    }
+    return c.coat * coat + c.sheen / (2 * PI) + c.base * layeredDensity(m, wo, wi);
+}
+
+struct LayerCase {
+    const char* name;
+    shared::Material material;
+    double cosTheta;
+};
+
+// A green non-metal (roughness 0.5) whose diffuse lobe passes `share` of
+// its light to the back, tinted yellow (KHR_materials_diffuse_transmission).
+scene::Material leaf(float share) {
+    scene::Material m = metallicRoughness({0.1f, 0.5f, 0.1f}, 0.0f, 0.5f);
+    m.diffuseTransmission = share;
+    m.diffuseTransmissionColor = {0.8f, 0.9f, 0.2f};
+    return m;
+}
+
+std::vector<LayerCase> layerCases() {
+    const glm::vec3 pink(1.0f, 0.55f, 0.6f);
+    const scene::Material plastic = metallicRoughness({0.6f, 0.05f, 0.05f}, 0.0f, 0.5f);
+    const scene::Material gold = metallicRoughness({1.0f, 0.77f, 0.34f}, 1.0f, 0.4f);
+    const scene::Material cloth = metallicRoughness({0.3f, 0.02f, 0.04f}, 0.0f, 0.9f);
+    return {
+        {"rough coat over plastic", layeredMaterial(plastic, 1.0f, 0.3f, {}, 0, 0.8), 0.8},
+        {"half a coat over gold, grazing", layeredMaterial(gold, 0.5f, 0.6f, {}, 0, 0.15), 0.15},
+        {"sheen over cloth", layeredMaterial(cloth, 0, 0, pink, 0.4f, 0.6), 0.6},
+        {"narrow sheen, from below", layeredMaterial(cloth, 0, 0, pink, 0.2f, 0.5), -0.5},
+        {"coat and sheen", layeredMaterial(plastic, 0.8f, 0.2f, pink, 0.7f, 0.4), 0.4},
+        {"half the diffuse passes", layeredMaterial(leaf(0.5f), 0, 0, {}, 0, 0.7), 0.7},
+        {"all the diffuse passes, from below", layeredMaterial(leaf(1.0f), 0, 0, {}, 0, -0.6),
+         -0.6},
+        {"a coat over a leaf", layeredMaterial(leaf(0.4f), 0.6f, 0.3f, {}, 0, 0.5), 0.5},
+    };
+}
+
+// Samples through the dispatch follow the layers' mixture (chi-square on the
+// whole sphere, as the base's above), each sample's pdf is the density's to
+// 1e-3, and every sample's weight is the dispatch's own evalBsdf / bsdfPdf
+// (the base's bound of WeightIsEvalOverPdf, 1e-5 + 1e-7 / |cos theta_i| +
+// 4e-6 / alpha of the narrower GGX lobe).
+TEST(MaterialLayers, SamplesFollowTheirDensity) {
+    for (const LayerCase& c : layerCases()) {
+        SCOPED_TRACE(c.name);
+        const glm::vec3 wo = worldDirection(c.cosTheta);
+        const auto results = runDispatch(c.material, wo, 13);
+        test::DirectionGrid grid;
+        grid.frame = shared::makeFrame(NORMAL);
+        auto pdf = [&](glm::vec3 wi) { return coatAndSheenDensity(c.material, wo, wi); };
+        const double alpha = std::min(
+            c.material.roughness * c.material.roughness,
+            c.material.clearcoat > 0 ? c.material.clearcoatRoughness * c.material.clearcoatRoughness
+                                     : 1.0f);
+        std::vector<glm::vec3> valid;
+        double worstPdf = 0, worstWeight = 0;
+        for (const MicrofacetResult& r : results) {
+            if (!(r.flags & 1u)) continue;
+            EXPECT_EQ(r.flags & 2u, 0u) << "a rough lobe's sample marked delta";
+            valid.push_back(r.direction);
+            worstPdf = std::max(worstPdf, std::abs(r.pdf / pdf(r.direction) - 1));
+            const double cosI = std::abs(glm::dot(r.direction, NORMAL));
+            const double bound = 1e-5 + 1e-7 / cosI + 4e-6 / alpha;
+            const glm::vec3 expected = r.eval / r.evalPdf;
+            for (int k = 0; k < 3; ++k)
+                worstWeight =
+                    std::max(worstWeight, std::abs(double(r.weight[k]) - expected[k]) /
+                                              std::max(1e-6, double(expected[k])) / bound);
+        }
+        EXPECT_LT(worstPdf, 1e-3) << "sample pdf against the test's density";
+        EXPECT_LT(worstWeight, 1.0) << "the worst weight error, in units of its bound";
+        EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
+        const auto result =
+            test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
+        EXPECT_GT(result.pValue, ALPHA)
+            << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+    }
+}
+
+// Power: the coat-and-sheen case's samples judged against the mixture with
+// the sheen's uniform lobe taken for the cosine lobe are rejected.
+TEST(MaterialLayers, ChiSquareRejectsACosineSheen) {
+    const LayerCase c = layerCases().at(4);  // coat and sheen
+    const glm::vec3 wo = worldDirection(c.cosTheta);
+    const auto results = runDispatch(c.material, wo, 17);
+    test::DirectionGrid grid;
+    grid.frame = shared::makeFrame(NORMAL);
+    std::vector<glm::vec3> valid;
+    for (const MicrofacetResult& r : results)
+        if (r.flags & 1u) valid.push_back(r.direction);
+    const shared::LayerChoice choice =
+        shared::layerChoice(shared::materialMetallicRoughness(c.material), float(c.cosTheta));
+    auto wrong = [&](glm::vec3 wi) {
+        const double z = std::max(0.0, double(glm::dot(wi, NORMAL)));
+        return coatAndSheenDensity(c.material, wo, wi) +
+               choice.sheen * (z / PI - (z > 0 ? 1 / (2 * PI) : 0));
+    };
+    EXPECT_LT(test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), wrong)
+                  .pValue,
+              1e-10);
+}
+
+// A smooth coat (roughness 0) is a delta: picked with the layer choice's
+// probability (binomial z-test), in the mirror direction, weight clearcoat
+// F_c(cos theta_o) over that probability; the other samples are the base's
+// and the sheen's, with the dispatch's eval and pdf.
+TEST(MaterialLayers, SmoothCoatIsADelta) {
+    const float cosTheta = 0.5f;
+    const shared::Material m = layeredMaterial(metallicRoughness({0.6f, 0.05f, 0.05f}, 0.0f, 0.5f),
+                                               1.0f, 0.0f, {}, 0, cosTheta);
+    const glm::vec3 wo = worldDirection(cosTheta);
+    const shared::MetallicRoughness p = shared::materialMetallicRoughness(m);
+    const double pCoat = shared::layerChoice(p, cosTheta).coat;
+    const double fresnel = 0.04 + 0.96 * std::pow(1.0 - cosTheta, 5.0);
+    const glm::vec3 mirror = shared::reflectAbout(wo, NORMAL);
+    const auto results = runDispatch(m, wo, 19, 200000);
+    size_t delta = 0;
+    for (const MicrofacetResult& r : results) {
+        if (!(r.flags & 1u)) continue;
+        if (r.flags & 2u) {
+            ++delta;
+            EXPECT_LT(glm::length(r.direction - mirror), 1e-5f);
+            EXPECT_NEAR(r.pdf, pCoat, 1e-6);
+            for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.weight[k], fresnel / pCoat, 1e-5);
+        } else {
+            EXPECT_NEAR(r.evalPdf / r.pdf, 1.0f, 1e-4f);
+        }
+        if (testing::Test::HasFailure()) return;
+    }
+    const double n = double(results.size());
+    const double z = (double(delta) - n * pCoat) / std::sqrt(n * pCoat * (1 - pCoat));
+    EXPECT_LT(std::abs(z), Z_CRITICAL)
+        << delta << " delta samples of " << n << ", expected p " << pCoat;
+}
+
+// White furnace: the layers over glTF's white metal (metallic 1, base colour
+// 1, roughness 0.5), compensated to albedo exactly 1 with the conductor's
+// integral at wo (albedo::conductorAlbedo, accurate to 2.2e-4:
+// tests/kernels/albedo_table_test.cpp). The mean weight of 10^6 samples is
+// the material's albedo: a white sheen takes max(sheenColor) min(1, E_sheen)
+// and leaves the base 1 - that, so the sum stays 1; a coat of weight w returns
+// its lobe's albedo E_coat in place of the base's 1 for the share w F_c
+// (E_coat the conductor's integral at the coat's roughness; 1 when smooth).
+// Judged by a z-test with the samples' own standard error, plus 3e-4 for the
+// integrals' accuracy.
+TEST(MaterialLayers, WhiteFurnaceReturnsWhatTheCoatKeeps) {
+    struct Case {
+        const char* name;
+        float coat, coatRoughness, sheenRoughness;
+        double cosTheta;
+    };
+    const Case cases[] = {
+        {"rough coat", 1.0f, 0.3f, 0.0f, 0.7},
+        {"rough coat, grazing", 1.0f, 0.5f, 0.0f, 0.2},
+        {"smooth coat", 1.0f, 0.0f, 0.0f, 0.5},
+        {"white sheen", 0.0f, 0.0f, 0.5f, 0.6},
+        {"narrow white sheen, grazing (its lobe's albedo above 1)", 0.0f, 0.0f, 0.1f, 0.05},
+        {"half a coat over a white sheen", 0.5f, 0.4f, 0.3f, 0.3},
+        {"a coat over white diffuse transmission", 1.0f, 0.3f, 0.0f, 0.5},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const glm::vec3 sheen = c.sheenRoughness > 0 ? glm::vec3(1.0f) : glm::vec3(0.0f);
+        // The last case's base: a white non-metal without a specular layer
+        // whose diffuse lobe passes 0.6 of its light (albedo 1 with both sides).
+        const bool passes = &c == &cases[std::size(cases) - 1];
+        scene::Material base = metallicRoughness(glm::vec3(1.0f), passes ? 0.0f : 1.0f, 0.5f);
+        if (passes) {
+            base.specular = 0.0f;
+            base.diffuseTransmission = 0.6f;
+        }
+        shared::Material m =
+            layeredMaterial(base, c.coat, c.coatRoughness, sheen, c.sheenRoughness, c.cosTheta);
+        const double baseAlbedo = albedo::conductorAlbedo(float(c.cosTheta), 0.5f);
+        if (!passes) m.multipleScattering = float((1 - baseAlbedo) / baseAlbedo);
+        const double coatAlbedo =
+            c.coatRoughness > 0 ? albedo::conductorAlbedo(float(c.cosTheta), c.coatRoughness) : 1;
+        const double fc = c.coat * (0.04 + 0.96 * std::pow(1 - c.cosTheta, 5.0));
+        const double expected = 1 - fc * (1 - coatAlbedo);
+        const auto results = runDispatch(m, worldDirection(c.cosTheta), 23);
+        double sum = 0, sum2 = 0;
+        for (const MicrofacetResult& r : results) {
+            const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
+            sum += w;
+            sum2 += w * w;
+        }
+        const double n = double(results.size());
+        const double mean = sum / n;
+        const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+        EXPECT_LT(std::abs(mean - expected), Z_CRITICAL * standardError + 3e-4)
+            << "mean " << mean << ", expected " << expected << ", standard error " << standardError;
+    }
+}
+
+// ---- thin walls: glTF's transmission without a volume -------------------------------------
+
+scene::Material thinWall(float roughness, glm::vec3 tint = glm::vec3(1.0f)) {
+    scene::Material m;
+    m.kind = roughness > 0 ? scene::MaterialKind::RoughDielectric : scene::MaterialKind::Dielectric;
+    m.roughness = roughness;
+    m.ior = 1.5f;
+    m.reflectance = glm::vec3(1.0f);
+    m.transmittance = tint;
+    m.thinWalled = true;
+    return m;
+}
+
+// The rough thin wall's density, written here in double: the GGX
+// visible-normal reflection of wo (ggxD, smithG1 above), its mirror image
+// through the surface for what passes, F or 1 - F of each (the exact
+// dielectric Fresnel at index 1.5 from either side, lobes.h's, evaluated in
+// double by the textbook formula).
+double fresnelDouble(double cosI, double eta) {
+    const double sin2T = (1 - cosI * cosI) / (eta * eta);
+    if (sin2T >= 1) return 1;
+    const double cosT = std::sqrt(1 - sin2T);
+    const double rs = (cosI - eta * cosT) / (cosI + eta * cosT);
+    const double rp = (eta * cosI - cosT) / (eta * cosI + cosT);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+double thinWallDensity(const shared::Material& m, glm::vec3 wo, glm::vec3 wi) {
+    const shared::Frame frame = shared::makeFrame(NORMAL);
+    glm::dvec3 o(shared::frameToLocal(frame, wo)), i(shared::frameToLocal(frame, wi));
+    if (o.z < 0) {
+        o = -o;
+        i = -i;
+    }
+    const glm::dvec3 r(i.x, i.y, std::abs(i.z));
+    const double alpha = double(m.roughness) * m.roughness;
+    const glm::dvec3 h = glm::normalize(o + r);
+    const double f = fresnelDouble(glm::dot(o, h), m.ior);
+    return (i.z > 0 ? f : 1 - f) * smithG1(o, alpha) * ggxD(h, alpha) / (4 * o.z);
+}
+
+// Samples of the rough thin wall follow that density (chi-square on the
+// whole sphere), each sample's pdf is the density's to 1e-3, what passes
+// keeps etaSquared 1, and every weight is the dispatch's evalBsdf / bsdfPdf
+// (the bound of WeightIsEvalOverPdf). From outside, from behind and near
+// grazing.
+TEST(ThinWall, SamplesFollowTheirDensity) {
+    const struct {
+        const char* name;
+        float roughness;
+        double cosTheta;
+    } cases[] = {{"from outside", 0.4f, 0.7}, {"from behind", 0.3f, -0.5}, {"grazing", 0.6f, 0.1}};
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.name);
+        const shared::Material m = gpuMaterial(thinWall(c.roughness, {0.9f, 0.7f, 0.5f}));
+        const glm::vec3 wo = worldDirection(c.cosTheta);
+        const auto results = runDispatch(m, wo, 29);
+        test::DirectionGrid grid;
+        grid.frame = shared::makeFrame(NORMAL);
+        auto pdf = [&](glm::vec3 wi) { return thinWallDensity(m, wo, wi); };
+        const double alpha = double(c.roughness) * c.roughness;
+        std::vector<glm::vec3> valid;
+        double worstPdf = 0, worstWeight = 0;
+        size_t passed = 0;
+        for (const MicrofacetResult& r : results) {
+            if (!(r.flags & 1u)) continue;
+            ASSERT_EQ(r.flags & 2u, 0u) << "a rough lobe's sample marked delta";
+            ASSERT_EQ(r.etaSquared, 1.0f);
+            valid.push_back(r.direction);
+            passed += glm::dot(r.direction, NORMAL) * c.cosTheta < 0;
+            worstPdf = std::max(worstPdf, std::abs(r.pdf / pdf(r.direction) - 1));
+            const double bound =
+                1e-5 + 1e-7 / std::abs(glm::dot(r.direction, NORMAL)) + 4e-6 / alpha;
+            const glm::vec3 expected = r.eval / r.evalPdf;
+            for (int k = 0; k < 3; ++k)
+                worstWeight =
+                    std::max(worstWeight, std::abs(double(r.weight[k]) - expected[k]) /
+                                              std::max(1e-6, double(expected[k])) / bound);
+        }
+        EXPECT_GT(passed, valid.size() / 2) << "most of the light passes";
+        EXPECT_LT(worstPdf, 1e-3);
+        EXPECT_LT(worstWeight, 1.0);
+        EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
+        const auto result =
+            test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
+        EXPECT_GT(result.pValue, ALPHA)
+            << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+    }
+}
+
+// White furnace of the rough thin wall (roughness 0.5, cos 0.4), compensated
+// with the conductor's integral at wo (its lobe is the conductor's, split
+// between the two sides): the mean weight of 10^6 samples is 1 within the
+// z-test's bound + 3e-4 (the integral's accuracy).
+TEST(ThinWall, WhiteFurnaceReturnsAllTheLight) {
+    shared::Material m = gpuMaterial(thinWall(0.5f));
+    const double e = albedo::conductorAlbedo(0.4f, 0.5f);
+    m.multipleScattering = float((1 - e) / e);
+    const auto results = runDispatch(m, worldDirection(0.4), 31);
+    double sum = 0, sum2 = 0;
+    for (const MicrofacetResult& r : results) {
+        const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
+        sum += w;
+        sum2 += w * w;
+    }
+    const double n = double(results.size()), mean = sum / n;
+    const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+    EXPECT_LT(std::abs(mean - 1), Z_CRITICAL * standardError + 3e-4)
+        << "mean " << mean << ", standard error " << standardError;
+}
+
+// The smooth thin wall reflects with the Fresnel probability at index 1.5
+// (binomial z-test), weight 1 (reflectance 1); what passes leaves along -wo
+// exactly, weight the tint, etaSquared 1.
+TEST(ThinWall, SmoothWallPassesLightUnbent) {
+    const glm::vec3 tint(0.9f, 0.7f, 0.5f);
+    const shared::Material m = gpuMaterial(thinWall(0.0f, tint));
+    const double cosTheta = 0.6;
+    const glm::vec3 wo = worldDirection(cosTheta);
+    const double f = fresnelDouble(cosTheta, 1.5);
+    const auto results = runDispatch(m, wo, 37, 200000);
+    size_t reflected = 0;
+    for (const MicrofacetResult& r : results) {
+        ASSERT_EQ(r.flags, 3u) << "valid deltas";
+        ASSERT_EQ(r.etaSquared, 1.0f);
+        if (glm::dot(r.direction, NORMAL) > 0) {
+            ++reflected;
+            EXPECT_EQ(r.weight, glm::vec3(1.0f));
+        } else {
+            EXPECT_EQ(r.direction, -wo);
+            EXPECT_EQ(r.weight, tint);
+        }
+        if (testing::Test::HasFailure()) return;
+    }
+    const double n = double(results.size());
+    const double z = (double(reflected) - n * f) / std::sqrt(n * f * (1 - f));
+    EXPECT_LT(std::abs(z), Z_CRITICAL) << reflected << " reflected of " << n << ", F " << f;
+}

@@ -77,6 +77,35 @@ TEST(KernelFeatures, MicrofacetCompensationOnlyWithARoughLobe) {
               0u);
 }
 
+// The clear coat, the sheen and the thin wall are bits of their own, set
+// only where a material has one; a sheen brings the albedo tables (its
+// albedo scaling reads them) without compensation's bit when no GGX lobe is
+// rough.
+TEST(KernelFeatures, MaterialExtensionsOnlyWhereAMaterialHasThem) {
+    const wavefront::RenderSettings settings;
+    scene::Scene plain = sphereUnderSky(scene::MaterialKind::MetallicRoughness);
+    plain.materials[0].roughness = 0.0f;
+    const uint64_t layers = VKP_FEATURE_CLEARCOAT | VKP_FEATURE_SHEEN;
+    EXPECT_EQ(featuresOf(plain, settings) & layers, 0u);
+    EXPECT_TRUE(wavefront::buildSceneTables(plain).microfacetAlbedo.empty());
+    scene::Scene coated = plain;
+    coated.materials[0].clearcoat = 0.5f;
+    EXPECT_EQ(featuresOf(coated, settings) & layers, VKP_FEATURE_CLEARCOAT);
+    scene::Scene sheened = plain;
+    sheened.materials[0].sheenColor = {0.0f, 0.2f, 0.0f};
+    EXPECT_EQ(featuresOf(sheened, settings) & layers, VKP_FEATURE_SHEEN);
+    EXPECT_EQ(wavefront::buildSceneTables(sheened).microfacetAlbedo.size(), VKP_ALBEDO_TABLE_SIZE);
+    EXPECT_EQ(featuresOf(sheened, settings) & VKP_FEATURE_MICROFACET_COMPENSATION, 0u);
+    scene::Scene glass = sphereUnderSky(scene::MaterialKind::Dielectric);
+    EXPECT_EQ(featuresOf(glass, settings) & VKP_FEATURE_THIN_WALLED, 0u);
+    glass.materials[0].thinWalled = true;
+    EXPECT_NE(featuresOf(glass, settings) & VKP_FEATURE_THIN_WALLED, 0u);
+    EXPECT_EQ(featuresOf(plain, settings) & VKP_FEATURE_DIFFUSE_TRANSMISSION, 0u);
+    scene::Scene leaf = plain;
+    leaf.materials[0].diffuseTransmission = 0.3f;
+    EXPECT_NE(featuresOf(leaf, settings) & VKP_FEATURE_DIFFUSE_TRANSMISSION, 0u);
+}
+
 TEST(KernelFeatures, NamesTheBitsAndTheGeneralKernel) {
     EXPECT_EQ(wavefront::describeFeatures(VKP_FEATURE_TRIANGLES | VKP_FEATURE_DIFFUSE |
                                           VKP_FEATURE_ROULETTE),

@@ -250,6 +250,11 @@ TEST(TexturedRender, ByAddressEqualsBound) {
         glm::normalize(glm::vec3(-0.3f, 0.3f, 1)), glm::normalize(glm::vec3(-0.3f, -0.3f, 1)),
         glm::normalize(glm::vec3(0.3f, -0.3f, 1)), glm::normalize(glm::vec3(0.3f, 0.3f, 1))};
     s.directionalLights.push_back({glm::normalize(glm::vec3(0.2f, -0.1f, -1)), glm::vec3(2.0f)});
+    // A second square hidden behind the first, so that the primitives (4 x 48
+    // bytes) outgrow the lowered binding below while one material (112) fits.
+    scene::Mesh hidden = texturedSquare();
+    for (glm::vec3& p : hidden.positions) p.z = -3.0f;
+    s.meshes.push_back(hidden);
     wavefront::RenderSettings settings;
     settings.width = settings.height = 16;
     settings.samplesPerPixel = 2;

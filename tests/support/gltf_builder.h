@@ -22,6 +22,13 @@
 #include "scene/gltf_loader.h"
 #include "support/base64.h"
 
+// That `haystack` (a string) holds `needle`, showing it where not.
+#define EXPECT_CONTAINS(haystack, needle)                                    \
+    do {                                                                     \
+        const std::string text_ = (haystack);                                \
+        EXPECT_NE(text_.find(needle), std::string::npos) << "in: " << text_; \
+    } while (0)
+
 namespace vkpath::test {
 
 namespace fs = std::filesystem;

@@ -1,11 +1,12 @@
 // Multiple-scattering compensation of the microfacet lobes
-// (shared/microfacet_albedo.h): part of shared/path_tracer.h, which includes
-// it (no include guard: once per scope, as path_tracer.h). It reads the
+// (shared/microfacet_albedo.h) and the sheen's albedo scaling: part of
+// shared/path_tracer.h, which includes it (no include guard: once per scope,
+// as path_tracer.h). It reads the
 // albedo tables through the accessor
 //
 //   float sceneMicrofacetAlbedo(uint index);  // shared/microfacet_albedo.h's layout
 //
-// ---- multiple-scattering compensation --------------------------------------------------
+// ---- multiple-scattering compensation and the sheen's albedo ----------------------------
 
 // The table entry at (cos, roughness) of the block at `offset`, interpolated
 // linearly on both axes.
@@ -24,7 +25,8 @@ VKP_FN float microfacetAlbedo(VKP_IN(Material) material, float cosO) VKP_SCENE_C
     AlbedoGridCell c = albedoGridCell(albedoGridCosPosition(abs(cosO)), VKP_ALBEDO_COS_COUNT);
     AlbedoGridCell r =
         albedoGridCell(albedoGridRoughnessPosition(material.roughness), VKP_ALBEDO_ROUGHNESS_COUNT);
-    if (!materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC))
+    // (a thin wall's lobe is the conductor's, split between its two sides)
+    if (!materialIs(material, VKP_MATERIAL_ROUGH_DIELECTRIC) || materialThinWalled(material))
         return microfacetAlbedoAt(VKP_ALBEDO_CONDUCTOR_OFFSET, c, r);
     // The rough glass: the table of wo's side, at the index of wi's side over
     // wo's (or its inverse when that is below 1, light leaving the glass).
@@ -48,4 +50,18 @@ VKP_FN float multipleScattering(VKP_IN(Material) material, float cosO) VKP_SCENE
         return 0.0f;
     float albedo = microfacetAlbedo(material, cosO);
     return albedo > 0.0f ? (1.0f - albedo) / albedo : 0.0f;
+}
+
+// Material::sheenLobeAlbedo of `material` for wo at cosine cosO to the
+// shading normal: E_sheen(mu_o) of its white sheen lobe, from which the
+// layered material takes what the sheen reflects and the base loses
+// (shared/metallic_roughness.h); 0 without a sheen.
+VKP_FN float sheenLobeAlbedo(VKP_IN(Material) material, float cosO) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_SHEEN) || !materialIs(material, VKP_MATERIAL_METALLIC_ROUGHNESS) ||
+        material.sheenColor == vec3(0.0f))
+        return 0.0f;
+    AlbedoGridCell c = albedoGridCell(albedoGridCosPosition(abs(cosO)), VKP_ALBEDO_COS_COUNT);
+    AlbedoGridCell r = albedoGridCell(albedoGridRoughnessPosition(material.sheenRoughness),
+                                      VKP_ALBEDO_ROUGHNESS_COUNT);
+    return microfacetAlbedoAt(VKP_ALBEDO_SHEEN_OFFSET, c, r);
 }

@@ -35,7 +35,9 @@ struct Shading {
 // The medium behind the front face of a surface of scene material
 // `materialIndex` (`material` its record).
 VKP_FN uint mediumBehind(VKP_IN(Material) material, uint materialIndex) VKP_SCENE_CONST {
-    return materialTransmits(material) ? 1u + materialIndex : VKP_FOG_MEDIUM;
+    // (a thin wall has the fog on both sides)
+    return materialTransmits(material) && !materialThinWalled(material) ? 1u + materialIndex
+                                                                        : VKP_FOG_MEDIUM;
 }
 
 // The medium that a ray along `direction` from a surface vertex crosses.

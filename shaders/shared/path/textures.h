@@ -42,7 +42,8 @@ VKP_FN vec4 textureSlotValue(uint slot, vec4 texcoords) VKP_SCENE_CONST {
 // base-colour texture and the vertex colour (glTF 2.0 section 3.9.2; a
 // glass's base colour tints its transmission, scene::Material), its
 // emission times the emissive texture, its roughness and metalness times the
-// metallic-roughness texture. Spheres have no texture coordinates.
+// metallic-roughness texture, its clear coat and sheen times theirs. Spheres
+// have no texture coordinates.
 VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
                            Hit hit) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_TEXTURES | VKP_FEATURE_VERTEX_COLORS) || isSphere(primitive))
@@ -77,6 +78,28 @@ VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
                 textureSlotValue(material.textures + VKP_SLOT_METALLIC_ROUGHNESS, texcoords);
             material.roughness *= metallicRoughness.y;
             material.metallic *= metallicRoughness.z;
+        }
+        // KHR_materials_clearcoat: the weight in R, the roughness in G;
+        // KHR_materials_sheen: the colour in RGB (sRGB), the roughness in A;
+        // KHR_materials_diffuse_transmission: the share in A, the colour in
+        // RGB (sRGB).
+        if (hasFeature(VKP_FEATURE_CLEARCOAT) && material.clearcoat > 0.0f) {
+            material.clearcoat *=
+                textureSlotValue(material.textures + VKP_SLOT_CLEARCOAT, texcoords).x;
+            material.clearcoatRoughness *=
+                textureSlotValue(material.textures + VKP_SLOT_CLEARCOAT_ROUGHNESS, texcoords).y;
+        }
+        if (hasFeature(VKP_FEATURE_DIFFUSE_TRANSMISSION) && material.diffuseTransmission > 0.0f) {
+            material.diffuseTransmission *=
+                textureSlotValue(material.textures + VKP_SLOT_DIFFUSE_TRANSMISSION, texcoords).w;
+            material.diffuseTransmissionColor *= vec3(textureSlotValue(
+                material.textures + VKP_SLOT_DIFFUSE_TRANSMISSION_COLOR, texcoords));
+        }
+        if (hasFeature(VKP_FEATURE_SHEEN) && material.sheenColor != vec3(0.0f)) {
+            material.sheenColor *=
+                vec3(textureSlotValue(material.textures + VKP_SLOT_SHEEN_COLOR, texcoords));
+            material.sheenRoughness *=
+                textureSlotValue(material.textures + VKP_SLOT_SHEEN_ROUGHNESS, texcoords).w;
         }
     }
     if (materialTransmits(material))

@@ -59,16 +59,20 @@ vec4 sceneGuideSphere(uint i) { return guideSpheres[i]; }
 // glass-and-diffuse box reads three of the five. Every record's fields are
 // decoded from its texels by its field list (shared/records.h).
 Material sceneMaterial(uint i) {
-    int first = int(5u * i);
-    uvec4 t[5];
+    int first = int(8u * i);
+    uvec4 t[8];
     t[0] = texelFetch(materialsTexels, first);  // reflectance, kind
     t[1] = hasFeature(VKP_FEATURES_TRANSMITS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
                ? texelFetch(materialsTexels, first + 1) : uvec4(0u);  // transmittance (k, F0), ior
     t[2] = hasFeature(VKP_FEATURE_EMISSIVE_SURFACES | VKP_FEATURE_TEXTURES | VKP_FEATURE_NORMAL_MAPS)
                ? texelFetch(materialsTexels, first + 2) : uvec4(0u);  // emission, textures
-    t[3] = hasFeature(VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
+    t[3] = hasFeature(VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE | VKP_FEATURE_THIN_WALLED)
                ? texelFetch(materialsTexels, first + 3) : uvec4(0u);  // roughness, metallic, specular, flags
     t[4] = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialsTexels, first + 4) : uvec4(0u);  // attenuation
+    t[5] = hasFeature(VKP_FEATURE_SHEEN) ? texelFetch(materialsTexels, first + 5) : uvec4(0u);  // sheen
+    t[6] = hasFeature(VKP_FEATURE_CLEARCOAT) ? texelFetch(materialsTexels, first + 6) : uvec4(0u);  // clear coat
+    t[7] = hasFeature(VKP_FEATURE_DIFFUSE_TRANSMISSION) ? texelFetch(materialsTexels, first + 7)
+                                                        : uvec4(0u);  // diffuse transmission
     Material r;
     VKP_RECORD_DECODE(VKP_MATERIAL_FIELDS)
     return r;

@@ -1,0 +1,183 @@
+// The glTF importer's material extensions (host/scene/gltf_materials.cpp):
+// the layers over the metallic-roughness material (KHR_materials_clearcoat
+// and KHR_materials_sheen: their factors, their textures and what is warned
+// about or refused) and thin-walled transmission.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include "support/gltf_builder.h"
+#include "support/temp_dir.h"
+
+namespace {
+
+using namespace vkpath;
+namespace fs = std::filesystem;
+using test::GltfBuilder;
+using test::Json;
+using test::load;
+using test::loadError;
+using test::TempDir;
+
+// One triangle of a material with `extensions` over a base of `pbr`, with a
+// 1 x 1 white PNG beside the file as texture 0 for the layers' textures to name.
+fs::path layeredTriangle(const fs::path& file, const Json& extensions,
+                         const Json& pbr = {{"metallicFactor", 0}}) {
+    const fs::path image = file.parent_path() / "white.png";
+    const uint8_t white[3] = {255, 255, 255};
+    auto out = OIIO::ImageOutput::create(image.string());
+    EXPECT_TRUE(out && out->open(image.string(), OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)) &&
+                out->write_image(OIIO::TypeDesc::UINT8, white) && out->close());
+    GltfBuilder g;
+    g.doc["images"] = {{{"uri", "white.png"}}};
+    g.doc["textures"] = {{{"source", 0}}};
+    const int m = g.material({{"pbrMetallicRoughness", pbr}, {"extensions", extensions}});
+    g.node({{"mesh", g.triangle(m)}});
+    g.camera();
+    return g.writeGltf(file);
+}
+
+TEST(GltfLayers, ClearcoatAndSheenFactorsAndTextures) {
+    TempDir dir;
+    const auto loaded = load(layeredTriangle(
+        dir / "extensions.gltf",
+        {{"KHR_materials_clearcoat",
+          {{"clearcoatFactor", 0.7},
+           {"clearcoatRoughnessFactor", 0.2},
+           {"clearcoatTexture", {{"index", 0}}},
+           {"clearcoatRoughnessTexture",
+            {{"index", 0},
+             {"texCoord", 1},
+             {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0.25}}}}}}}}}},
+         {"KHR_materials_sheen",
+          {{"sheenColorFactor", {0.9, 0.5, 0.1}},
+           {"sheenRoughnessFactor", 0.4},
+           {"sheenColorTexture", {{"index", 0}}},
+           {"sheenRoughnessTexture", {{"index", 0}}}}}}));
+    EXPECT_EQ(loaded.warnings, "");
+    const scene::Material& m = loaded.scene.materials.at(0);
+    EXPECT_EQ(m.kind, scene::MaterialKind::MetallicRoughness);
+    EXPECT_FLOAT_EQ(m.clearcoat, 0.7f);
+    EXPECT_FLOAT_EQ(m.clearcoatRoughness, 0.2f);
+    EXPECT_EQ(m.sheenColor, glm::vec3(0.9f, 0.5f, 0.1f));
+    EXPECT_FLOAT_EQ(m.sheenRoughness, 0.4f);
+    EXPECT_EQ(m.clearcoatTexture.texture, 0);
+    EXPECT_EQ(m.clearcoatRoughnessTexture.texture, 0);
+    EXPECT_EQ(m.clearcoatRoughnessTexture.texCoord, 1u);
+    EXPECT_EQ(m.clearcoatRoughnessTexture.offset, glm::vec2(0.5f, 0.25f));
+    EXPECT_EQ(m.sheenColorTexture.texture, 0);
+    EXPECT_EQ(m.sheenRoughnessTexture.texture, 0);
+}
+
+// A layer keeps glTF's metal and its non-metal without a specular layer in
+// the layered kind (the conductor and the Lambertian have no layers); a
+// layer of factor 0 is none, its texture dropped; the defaults are no layer.
+TEST(GltfLayers, ALayerKeepsTheLayeredKind) {
+    TempDir dir;
+    const auto metal = load(layeredTriangle(dir / "metal.gltf",
+                                            {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1}}}},
+                                            {{"metallicFactor", 1}}));
+    EXPECT_EQ(metal.scene.materials.at(0).kind, scene::MaterialKind::MetallicRoughness);
+    const auto matte = load(layeredTriangle(
+        dir / "matte.gltf", {{"KHR_materials_sheen", {{"sheenColorFactor", {1, 1, 1}}}},
+                             {"KHR_materials_specular", {{"specularFactor", 0}}}}));
+    EXPECT_EQ(matte.scene.materials.at(0).kind, scene::MaterialKind::MetallicRoughness);
+    const auto none =
+        load(layeredTriangle(dir / "none.gltf",
+                             {{"KHR_materials_clearcoat", {{"clearcoatTexture", {{"index", 0}}}}},
+                              {"KHR_materials_sheen", {{"sheenRoughnessFactor", 0.5}}}},
+                             {{"metallicFactor", 1}}));
+    const scene::Material& m = none.scene.materials.at(0);
+    EXPECT_EQ(m.kind, scene::MaterialKind::Conductor);
+    EXPECT_EQ(m.clearcoat, 0.0f);
+    EXPECT_EQ(m.sheenColor, glm::vec3(0.0f));
+    EXPECT_FALSE(m.clearcoatTexture.present());
+}
+
+// Warned: factors outside [0, 1] (clamped), the coat's normal texture (not
+// applied), layers on glass (dropped). Refused in one line naming the file
+// and material: a factor that is not a number, a texture that is not a
+// textureInfo, a texture index out of range.
+TEST(GltfLayers, WarningsAndErrors) {
+    TempDir dir;
+    const auto clamped = load(
+        layeredTriangle(dir / "clamped.gltf",
+                        {{"KHR_materials_clearcoat",
+                          {{"clearcoatFactor", 2}, {"clearcoatNormalTexture", {{"index", 0}}}}}}));
+    EXPECT_EQ(clamped.scene.materials.at(0).clearcoat, 1.0f);
+    EXPECT_CONTAINS(clamped.warnings, "material factors outside [0, 1] are clamped");
+    EXPECT_CONTAINS(clamped.warnings, "clearcoatNormalTexture is not applied");
+    EXPECT_EQ(clamped.warnings.find("textures of material extensions"), std::string::npos)
+        << clamped.warnings;
+
+    const auto glass = load(layeredTriangle(
+        dir / "glass.gltf", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+                             {"KHR_materials_volume", {{"thicknessFactor", 1}}},
+                             {"KHR_materials_sheen", {{"sheenColorFactor", {1, 1, 1}}}}}));
+    EXPECT_EQ(glass.scene.materials.at(0).sheenColor, glm::vec3(0.0f));
+    EXPECT_CONTAINS(glass.warnings, "of transmissive materials are ignored");
+
+    EXPECT_CONTAINS(loadError(layeredTriangle(dir / "nan.gltf", {{"KHR_materials_clearcoat",
+                                                                  {{"clearcoatFactor", "x"}}}})),
+                    "KHR_materials_clearcoat.clearcoatFactor is not a number");
+    EXPECT_CONTAINS(
+        loadError(layeredTriangle(dir / "info.gltf",
+                                  {{"KHR_materials_sheen",
+                                    {{"sheenColorFactor", {1, 1, 1}}, {"sheenColorTexture", 3}}}})),
+        "KHR_materials_sheen.sheenColorTexture is not a textureInfo");
+    const std::string range = loadError(layeredTriangle(
+        dir / "range.gltf",
+        {{"KHR_materials_clearcoat",
+          {{"clearcoatFactor", 1}, {"clearcoatRoughnessTexture", {{"index", 5}}}}}}));
+    EXPECT_CONTAINS(range, "range.gltf");
+    EXPECT_CONTAINS(range, "clearcoatRoughnessTexture names texture 5, of 1");
+}
+
+// KHR_materials_diffuse_transmission: its share and colour with their
+// textures; it keeps a non-metal without a specular layer in the layered
+// kind (the Lambertian has no back); a volume beside it is warned about
+// (vkpath's diffuse transmission is thin-walled).
+TEST(GltfDiffuseTransmission, ShareColourAndTextures) {
+    TempDir dir;
+    const auto leaf = load(layeredTriangle(
+        dir / "leaf.gltf", {{"KHR_materials_specular", {{"specularFactor", 0}}},
+                            {"KHR_materials_diffuse_transmission",
+                             {{"diffuseTransmissionFactor", 0.4},
+                              {"diffuseTransmissionColorFactor", {0.5, 0.9, 0.1}},
+                              {"diffuseTransmissionTexture", {{"index", 0}}},
+                              {"diffuseTransmissionColorTexture", {{"index", 0}}}}}}));
+    EXPECT_EQ(leaf.warnings, "");
+    const scene::Material& m = leaf.scene.materials.at(0);
+    EXPECT_EQ(m.kind, scene::MaterialKind::MetallicRoughness);
+    EXPECT_FLOAT_EQ(m.diffuseTransmission, 0.4f);
+    EXPECT_EQ(m.diffuseTransmissionColor, glm::vec3(0.5f, 0.9f, 0.1f));
+    EXPECT_EQ(m.diffuseTransmissionTexture.texture, 0);
+    EXPECT_EQ(m.diffuseTransmissionColorTexture.texture, 0);
+    const auto thick = load(layeredTriangle(
+        dir / "thick.gltf",
+        {{"KHR_materials_volume", {{"thicknessFactor", 1}}},
+         {"KHR_materials_diffuse_transmission", {{"diffuseTransmissionFactor", 1}}}}));
+    EXPECT_EQ(thick.scene.materials.at(0).diffuseTransmissionColor, glm::vec3(1.0f));
+    EXPECT_CONTAINS(thick.warnings, "KHR_materials_volume of diffuse-transmitting materials");
+}
+
+// KHR_materials_transmission without KHR_materials_volume is a thin wall
+// (smooth or rough glass with no inside: its attenuation is dropped), with
+// the volume a solid; neither is warned about.
+TEST(GltfThinWalls, TransmissionWithoutAVolumeIsAThinWall) {
+    TempDir dir;
+    const Json transmission = {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}};
+    const auto thin = load(layeredTriangle(dir / "thin.gltf", transmission,
+                                           {{"metallicFactor", 0}, {"roughnessFactor", 0.3}}));
+    EXPECT_EQ(thin.warnings, "");
+    EXPECT_EQ(thin.scene.materials.at(0).kind, scene::MaterialKind::RoughDielectric);
+    EXPECT_TRUE(thin.scene.materials.at(0).thinWalled);
+    Json withVolume = transmission;
+    withVolume["KHR_materials_volume"] = {{"thicknessFactor", 1}};
+    const auto solid = load(layeredTriangle(dir / "solid.gltf", withVolume,
+                                            {{"metallicFactor", 0}, {"roughnessFactor", 0}}));
+    EXPECT_EQ(solid.warnings, "");
+    EXPECT_EQ(solid.scene.materials.at(0).kind, scene::MaterialKind::Dielectric);
+    EXPECT_FALSE(solid.scene.materials.at(0).thinWalled);
+}
+
+}  // namespace
