@@ -37,6 +37,7 @@ const std::set<std::string> SUPPORTED_EXTENSIONS = {
     "KHR_materials_clearcoat",
     "KHR_materials_diffuse_transmission",
     "KHR_materials_emissive_strength",
+    "KHR_materials_iridescence",
     "KHR_materials_ior",
     "KHR_materials_sheen",
     "KHR_materials_specular",

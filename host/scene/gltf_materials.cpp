@@ -87,8 +87,9 @@ class MaterialConverter {
         const bool metalVaries = out.metallicRoughnessTexture.present() && metallic > 0.0;
         readLayers(m, out);
         readDiffuseTransmission(m, out);
+        readIridescence(m, out);
         const bool layered = out.clearcoat > 0.0f || out.sheenColor != glm::vec3(0.0f) ||
-                             out.diffuseTransmission > 0.0f;
+                             out.diffuseTransmission > 0.0f || out.iridescence > 0.0f;
         if (transmission >= 0.5) {
             // KHR_materials_transmission: the base colour tints what passes,
             // the specular reflection is untinted. Smooth without a roughness
@@ -108,9 +109,10 @@ class MaterialConverter {
                                       "material", name);
             if (layered) {
                 m_warnings.addCounted(
-                    "KHR_materials_clearcoat, KHR_materials_sheen and "
-                    "KHR_materials_diffuse_transmission of transmissive materials are ignored: "
-                    "vkpath adds them to the metallic-roughness material only",
+                    "KHR_materials_clearcoat, KHR_materials_sheen, "
+                    "KHR_materials_diffuse_transmission and KHR_materials_iridescence of "
+                    "transmissive materials are ignored: vkpath adds them to the "
+                    "metallic-roughness material only",
                     "material", name);
                 dropLayers(out);
             }
@@ -369,7 +371,37 @@ class MaterialConverter {
                 "material", name);
     }
 
+    // KHR_materials_iridescence: a thin film of index iridescenceIor (> 0)
+    // and thickness in [minimum, maximum] nm (each >= 0), its weight and
+    // thickness each times its texture.
+    void readIridescence(const tinygltf::Material& m, Material& out) {
+        const std::string& name = out.name;
+        const char* extension = "KHR_materials_iridescence";
+        out.iridescence =
+            float(factor(extensionNumber(m.extensions, extension, "iridescenceFactor", 0.0, name),
+                         "iridescenceFactor", name));
+        if (out.iridescence == 0.0f) return;
+        const double ior = extensionNumber(m.extensions, extension, "iridescenceIor", 1.3, name);
+        if (!std::isfinite(ior) || ior <= 0.0)
+            fail("material '{}': iridescenceIor {} is not a finite number > 0", name, ior);
+        out.iridescenceIor = float(ior);
+        const auto thickness = [&](const char* key, double fallback) {
+            const double t = extensionNumber(m.extensions, extension, key, fallback, name);
+            if (!std::isfinite(t) || t < 0.0)
+                fail("material '{}': {} {} is not a finite number >= 0", name, key, t);
+            return float(t);
+        };
+        out.iridescenceThicknessMinimum = thickness("iridescenceThicknessMinimum", 100.0);
+        out.iridescenceThicknessMaximum = thickness("iridescenceThicknessMaximum", 400.0);
+        out.iridescenceTexture =
+            extensionTexture(m.extensions, extension, "iridescenceTexture", name);
+        out.iridescenceThicknessTexture =
+            extensionTexture(m.extensions, extension, "iridescenceThicknessTexture", name);
+    }
+
     static void dropLayers(Material& out) {
+        out.iridescence = 0.0f;
+        out.iridescenceTexture = out.iridescenceThicknessTexture = TextureRef{};
         out.clearcoat = 0.0f;
         out.sheenColor = glm::vec3(0.0f);
         out.diffuseTransmission = 0.0f;
@@ -410,7 +442,7 @@ class MaterialConverter {
         for (const auto& [name, value] : m.extensions) {
             // (clearcoatNormalTexture has a warning of its own)
             if (name == "KHR_materials_clearcoat" || name == "KHR_materials_sheen" ||
-                name == "KHR_materials_diffuse_transmission")
+                name == "KHR_materials_diffuse_transmission" || name == "KHR_materials_iridescence")
                 continue;
             for (const std::string& key : value.Keys())
                 if (key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0) return true;

@@ -625,8 +625,8 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
     // written alone) and its alpha (written opaque).
     size_t textured = 0, alphaCovered = 0, layered = 0;
     for (const Material& m : s.materials) {
-        layered +=
-            m.clearcoat > 0.0f || m.sheenColor != glm::vec3(0.0f) || m.diffuseTransmission > 0.0f;
+        layered += m.clearcoat > 0.0f || m.sheenColor != glm::vec3(0.0f) ||
+                   m.diffuseTransmission > 0.0f || m.iridescence > 0.0f;
         textured += m.baseColorTexture.present() || m.emissiveTexture.present() ||
                     m.metallicRoughnessTexture.present();
         alphaCovered += m.alphaMode != AlphaMode::Opaque;
@@ -638,10 +638,11 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         textured));
     if (layered > 0)
         result.warnings.push_back(
-            fmt::format("clear coats, sheens and diffuse transmission (KHR_materials_clearcoat, "
-                        "KHR_materials_sheen, KHR_materials_diffuse_transmission) are not "
-                        "exported: Mitsuba's principled BSDF has Disney's coat and sheen and no "
-                        "diffuse transmission; those materials are written without them ({} "
+            fmt::format("clear coats, sheens, diffuse transmission and thin films "
+                        "(KHR_materials_clearcoat, KHR_materials_sheen, "
+                        "KHR_materials_diffuse_transmission, KHR_materials_iridescence) are not "
+                        "exported: Mitsuba's principled BSDF has Disney's coat and sheen and "
+                        "neither of the others; those materials are written without them ({} "
                         "materials)",
                         layered));
     if (alphaCovered > 0)

@@ -139,6 +139,12 @@ struct Material {
     // passes to the back (0: none) and its colour.
     float diffuseTransmission = 0.0f;
     glm::vec3 diffuseTransmissionColor{1.0f};
+    // KHR_materials_iridescence: the thin film's weight (0: none), index and
+    // thickness range in nm (the maximum without a thickness texture)
+    float iridescence = 0.0f;
+    float iridescenceIor = 1.3f;
+    float iridescenceThicknessMinimum = 100.0f;
+    float iridescenceThicknessMaximum = 400.0f;
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
     // `emission`; both are sRGB-encoded. The others hold linear data.
@@ -153,6 +159,8 @@ struct Material {
     TextureRef sheenRoughnessTexture;       // A: multiplies sheenRoughness
     TextureRef diffuseTransmissionTexture;  // A: multiplies diffuseTransmission
     TextureRef diffuseTransmissionColorTexture;  // RGB (sRGB): multiplies its colour
+    TextureRef iridescenceTexture;               // R: multiplies iridescence
+    TextureRef iridescenceThicknessTexture;      // G: picks the thickness between min and max
     // Alpha (glTF): a point's alpha is `alpha` x the base-colour texture's
     // alpha x COLOR_0's alpha. Spheres are opaque whatever the mode.
     AlphaMode alphaMode = AlphaMode::Opaque;

@@ -52,6 +52,10 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
         g.clearcoatRoughness = m.clearcoatRoughness;
         g.diffuseTransmission = m.diffuseTransmission;
         g.diffuseTransmissionColor = m.diffuseTransmissionColor;
+        g.iridescence = m.iridescence;
+        g.iridescenceIor = m.iridescenceIor;
+        g.iridescenceThicknessMinimum = m.iridescenceThicknessMinimum;
+        g.iridescenceThickness = m.iridescenceThicknessMaximum;
     }
     return g;
 }

@@ -19,7 +19,8 @@ bool usesTextures(const scene::Material& m) {
            m.metallicRoughnessTexture.present() || m.normalTexture.present() ||
            m.clearcoatTexture.present() || m.clearcoatRoughnessTexture.present() ||
            m.sheenColorTexture.present() || m.sheenRoughnessTexture.present() ||
-           m.diffuseTransmissionTexture.present() || m.diffuseTransmissionColorTexture.present();
+           m.diffuseTransmissionTexture.present() || m.diffuseTransmissionColorTexture.present() ||
+           m.iridescenceTexture.present() || m.iridescenceThicknessTexture.present();
 }
 
 namespace {
@@ -60,6 +61,10 @@ class Builder {
                 slot(m.diffuseTransmissionTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_DIFFUSE_TRANSMISSION_COLOR] =
                 slot(m.diffuseTransmissionColorTexture, true, m.name);
+            m_tables.slots[first + VKP_SLOT_IRIDESCENCE] =
+                slot(m.iridescenceTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_IRIDESCENCE_THICKNESS] =
+                slot(m.iridescenceThicknessTexture, false, m.name);
             m_tables.materialSlots[i] = first;
         }
         return std::move(m_tables);

@@ -292,6 +292,9 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.coatAlpha = vec2(material.clearcoatRoughness * material.clearcoatRoughness);
     p.diffuseTransmission = material.diffuseTransmission;
     p.diffuseTransmissionColor = material.diffuseTransmissionColor;
+    p.iridescence = material.iridescence;
+    p.iridescenceIor = material.iridescenceIor;
+    p.iridescenceThickness = material.iridescenceThickness;
     return p;
 }
 VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo,

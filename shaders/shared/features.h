@@ -115,7 +115,10 @@
 // A metallic-roughness material whose diffuse lobe passes light to its back
 // (KHR_materials_diffuse_transmission; Material::diffuseTransmission > 0)
 #define VKP_FEATURE_DIFFUSE_TRANSMISSION VKP_FEATURE_BIT(38)
-#define VKP_FEATURE_COUNT 39u  // bits 39 to 63 are free
+// A metallic-roughness material under a thin film (KHR_materials_iridescence;
+// Material::iridescence > 0, shared/thin_film.h)
+#define VKP_FEATURE_IRIDESCENCE VKP_FEATURE_BIT(39)
+#define VKP_FEATURE_COUNT 40u  // bits 40 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

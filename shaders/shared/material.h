@@ -29,7 +29,7 @@ VKP_NAMESPACE_BEGIN
 #define VKP_MATERIAL_THIN_WALLED 4u
 
 // Each field serves the kinds its comment names and is ignored by the others
-// (128 bytes for every kind, eight 16-byte texels: kernels read the array as
+// (144 bytes for every kind, nine 16-byte texels: kernels read the array as
 // a texel buffer and fetch only the texels their features read,
 // stages/lib/scene_access.glsl; scene::Material has a field per meaning).
 // Material's fields (type, name, first 32-bit word; shared/records.h): the
@@ -79,7 +79,14 @@ VKP_NAMESPACE_BEGIN
     /* metallic-roughness: KHR_materials_diffuse_transmission's colour and share of the */       \
     /* diffuse lobe that passes to the back (0: none) */                                         \
     F(vec3, diffuseTransmissionColor, 28)                                                        \
-    F(float, diffuseTransmission, 31)
+    F(float, diffuseTransmission, 31)                                                            \
+    /* metallic-roughness: KHR_materials_iridescence's weight (0: no film), the film's index */  \
+    /* and its thickness in nm, from the minimum to the thickness (the maximum, until a */       \
+    /* thickness texture picks between them per hit) */                                          \
+    F(float, iridescence, 32)                                                                    \
+    F(float, iridescenceIor, 33)                                                                 \
+    F(float, iridescenceThicknessMinimum, 34)                                                    \
+    F(float, iridescenceThickness, 35)
 struct Material {
     VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -149,7 +156,7 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 #define VKP_RECORD Material
-VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 8)
+VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 9)
 #undef VKP_RECORD
 #endif
 

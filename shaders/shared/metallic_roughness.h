@@ -24,6 +24,13 @@
 // weighted by the Fresnel terms at wo.n): chosen with probability p, weight
 // F / p, pdf p, delta; eval and pdf are then the diffuse lobe's alone.
 //
+// A thin film may lie on it (KHR_materials_iridescence, shared/thin_film.h):
+// both Fresnel terms, the metal's and the dielectric layer's, become
+// mix(F, F_film, iridescence), F_film the film's reflectance over the same
+// base (its F0; the dielectric's without the specular weight, which then
+// multiplies it), in air (a clear coat above does not change the film's
+// outside index here).
+//
 // Its diffuse lobe may pass light to the back (KHR_materials_diffuse_
 // transmission): diffuse_brdf(base) becomes mix(diffuse_brdf(base),
 // diffuse_btdf(diffuseTransmissionColor), diffuseTransmission), the btdf the
@@ -70,6 +77,7 @@
 #include "shared/microfacet.h"
 #include "shared/sampling.h"
 #include "shared/sheen.h"
+#include "shared/thin_film.h"
 
 VKP_NAMESPACE_BEGIN
 
@@ -94,7 +102,15 @@ struct MetallicRoughness {
     // The diffuse lobe's share that passes to the back and its colour (0: none)
     float diffuseTransmission;
     vec3 diffuseTransmissionColor;
+    // The thin film's weight (0: none), index and thickness (nm)
+    float iridescence;
+    float iridescenceIor;
+    float iridescenceThickness;
 };
+
+VKP_FN bool hasIridescence(MetallicRoughness p) {
+    return hasFeature(VKP_FEATURE_IRIDESCENCE) && p.iridescence > 0.0f;
+}
 
 VKP_FN bool hasDiffuseTransmission(MetallicRoughness p) {
     return hasFeature(VKP_FEATURE_DIFFUSE_TRANSMISSION) && p.diffuseTransmission > 0.0f;
@@ -111,13 +127,27 @@ VKP_FN float meanComponent(vec3 v) {
 VKP_FN vec3 dielectricLayerFresnel(MetallicRoughness p, float c) {
     float x = 1.0f - clamp(c, 0.0f, 1.0f);
     float x2 = x * x;
-    return p.specularF0 + (vec3(p.specularF90) - p.specularF0) * (x2 * x2 * x);
+    vec3 fd = p.specularF0 + (vec3(p.specularF90) - p.specularF0) * (x2 * x2 * x);
+    if (!hasIridescence(p) || !(p.specularF90 > 0.0f)) return fd;
+    vec3 film = p.specularF90 * thinFilmFresnel(1.0f, p.iridescenceIor, p.iridescenceThickness,
+                                                1.0f - x, p.specularF0 / p.specularF90);
+    return mix(fd, film, p.iridescence);
+}
+
+// The metal's Fresnel term: Schlick's with F0 the base colour, under the film.
+VKP_FN vec3 metalFresnel(MetallicRoughness p, float c) {
+    vec3 f = fresnelSchlick(p.baseColor, c);
+    if (!hasIridescence(p)) return f;
+    return mix(f,
+               thinFilmFresnel(1.0f, p.iridescenceIor, p.iridescenceThickness, clamp(c, 0.0f, 1.0f),
+                               p.baseColor),
+               p.iridescence);
 }
 
 // The Fresnel factor of the specular lobe as a whole: (1 - metallic) F_d +
 // metallic x Schlick(base colour).
 VKP_FN vec3 metallicRoughnessSpecularFresnel(MetallicRoughness p, float c) {
-    return mix(dielectricLayerFresnel(p, c), fresnelSchlick(p.baseColor, c), p.metallic);
+    return mix(dielectricLayerFresnel(p, c), metalFresnel(p, c), p.metallic);
 }
 
 // The diffuse lobe's albedo before the Fresnel weight: its reflection's and,
@@ -142,7 +172,7 @@ VKP_FN float diffuseTransmissionProbability(MetallicRoughness p) {
 // terms at the macro normal (h = n): (specular, diffuse).
 VKP_FN vec2 metallicRoughnessLobeWeights(MetallicRoughness p, float cosO) {
     vec3 fd = dielectricLayerFresnel(p, cosO);
-    float es = meanComponent(mix(fd, fresnelSchlick(p.baseColor, cosO), p.metallic));
+    float es = meanComponent(mix(fd, metalFresnel(p, cosO), p.metallic));
     vec2 a = diffuseAlbedos(p);
     float ed = (1.0f - p.metallic) * (1.0f - largestComponent(fd)) * (a.x + a.y);
     return vec2(es, ed);

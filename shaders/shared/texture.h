@@ -44,7 +44,10 @@
 #define VKP_SLOT_SHEEN_ROUGHNESS 7u       // linear: A multiplies the sheen roughness
 #define VKP_SLOT_DIFFUSE_TRANSMISSION 8u  // linear: A multiplies the diffuse transmission's share
 #define VKP_SLOT_DIFFUSE_TRANSMISSION_COLOR 9u  // sRGB colour: multiplies its colour
-#define VKP_SLOTS_PER_MATERIAL 10u
+#define VKP_SLOT_IRIDESCENCE 10u                // linear: R multiplies the thin film's weight
+#define VKP_SLOT_IRIDESCENCE_THICKNESS \
+    11u  // linear: G picks the film's thickness between its minimum and maximum
+#define VKP_SLOTS_PER_MATERIAL 12u
 
 VKP_NAMESPACE_BEGIN
 

@@ -40,11 +40,11 @@ constexpr uint32_t SAMPLES = 1000000;
 constexpr double PI = 3.14159265358979323846;
 // Statistical tests in this file: chi-square of the layered material 8;
 // binomial z-tests of its smooth limit's lobe choice 2; chi-square of the
-// coats, sheens and diffuse transmission 8, the smooth coat's lobe choice 1,
+// coats, sheens, diffuse transmission and thin films 10, the smooth coat's lobe choice 1,
 // their furnaces 7;
 // chi-square of the rough thin walls 3, their furnace 1, the smooth thin
 // wall's choice 1.
-constexpr int STATISTICAL_TESTS = 31;
+constexpr int STATISTICAL_TESTS = 33;
 const double ALPHA = test::sidakAlpha(0.01, STATISTICAL_TESTS);
 const double Z_CRITICAL = image::normalCritical(ALPHA);
 
@@ -442,6 +442,14 @@ struct LayerCase {
     double cosTheta;
 };
 
+// `m` under a thin film of index 1.3 and `thickness` nm (KHR_materials_iridescence).
+scene::Material film(scene::Material m, float thickness) {
+    m.iridescence = 1.0f;
+    m.iridescenceIor = 1.3f;
+    m.iridescenceThicknessMaximum = thickness;
+    return m;
+}
+
 // A green non-metal (roughness 0.5) whose diffuse lobe passes `share` of
 // its light to the back, tinted yellow (KHR_materials_diffuse_transmission).
 scene::Material leaf(float share) {
@@ -466,6 +474,11 @@ std::vector<LayerCase> layerCases() {
         {"all the diffuse passes, from below", layeredMaterial(leaf(1.0f), 0, 0, {}, 0, -0.6),
          -0.6},
         {"a coat over a leaf", layeredMaterial(leaf(0.4f), 0.6f, 0.3f, {}, 0, 0.5), 0.5},
+        {"a thin film on plastic", layeredMaterial(film(plastic, 300.0f), 0, 0, {}, 0, 0.6), 0.6},
+        {"a thin film on silver, grazing",
+         layeredMaterial(film(metallicRoughness(glm::vec3(0.9f), 1.0f, 0.3f), 400.0f), 0, 0, {}, 0,
+                         0.2),
+         0.2},
     };
 }
 

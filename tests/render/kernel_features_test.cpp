@@ -104,6 +104,9 @@ TEST(KernelFeatures, MaterialExtensionsOnlyWhereAMaterialHasThem) {
     scene::Scene leaf = plain;
     leaf.materials[0].diffuseTransmission = 0.3f;
     EXPECT_NE(featuresOf(leaf, settings) & VKP_FEATURE_DIFFUSE_TRANSMISSION, 0u);
+    EXPECT_EQ(featuresOf(leaf, settings) & VKP_FEATURE_IRIDESCENCE, 0u);
+    leaf.materials[0].iridescence = 0.5f;
+    EXPECT_NE(featuresOf(leaf, settings) & VKP_FEATURE_IRIDESCENCE, 0u);
 }
 
 TEST(KernelFeatures, NamesTheBitsAndTheGeneralKernel) {

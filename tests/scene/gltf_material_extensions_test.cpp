@@ -160,6 +160,45 @@ TEST(GltfDiffuseTransmission, ShareColourAndTextures) {
     EXPECT_CONTAINS(thick.warnings, "KHR_materials_volume of diffuse-transmitting materials");
 }
 
+// KHR_materials_iridescence: weight, index, thickness range and textures
+// (the defaults 1.3, 100 and 400 nm); an index or thickness that is not a
+// finite number in range is one line naming it.
+TEST(GltfIridescence, FilmIndexThicknessAndTextures) {
+    TempDir dir;
+    const auto filmed = load(layeredTriangle(dir / "film.gltf",
+                                             {{"KHR_materials_iridescence",
+                                               {{"iridescenceFactor", 0.8},
+                                                {"iridescenceIor", 1.4},
+                                                {"iridescenceThicknessMinimum", 200},
+                                                {"iridescenceThicknessMaximum", 700},
+                                                {"iridescenceTexture", {{"index", 0}}},
+                                                {"iridescenceThicknessTexture", {{"index", 0}}}}}},
+                                             {{"metallicFactor", 1}}));
+    EXPECT_EQ(filmed.warnings, "");
+    const scene::Material& m = filmed.scene.materials.at(0);
+    EXPECT_EQ(m.kind, scene::MaterialKind::MetallicRoughness);
+    EXPECT_FLOAT_EQ(m.iridescence, 0.8f);
+    EXPECT_FLOAT_EQ(m.iridescenceIor, 1.4f);
+    EXPECT_FLOAT_EQ(m.iridescenceThicknessMinimum, 200.0f);
+    EXPECT_FLOAT_EQ(m.iridescenceThicknessMaximum, 700.0f);
+    EXPECT_EQ(m.iridescenceTexture.texture, 0);
+    EXPECT_EQ(m.iridescenceThicknessTexture.texture, 0);
+    const auto defaults = load(layeredTriangle(
+        dir / "defaults.gltf", {{"KHR_materials_iridescence", {{"iridescenceFactor", 1}}}}));
+    EXPECT_FLOAT_EQ(defaults.scene.materials.at(0).iridescenceIor, 1.3f);
+    EXPECT_FLOAT_EQ(defaults.scene.materials.at(0).iridescenceThicknessMinimum, 100.0f);
+    EXPECT_FLOAT_EQ(defaults.scene.materials.at(0).iridescenceThicknessMaximum, 400.0f);
+    EXPECT_CONTAINS(loadError(layeredTriangle(
+                        dir / "ior.gltf", {{"KHR_materials_iridescence",
+                                            {{"iridescenceFactor", 1}, {"iridescenceIor", 0}}}})),
+                    "iridescenceIor 0 is not a finite number > 0");
+    EXPECT_CONTAINS(loadError(layeredTriangle(
+                        dir / "thick.gltf",
+                        {{"KHR_materials_iridescence",
+                          {{"iridescenceFactor", 1}, {"iridescenceThicknessMaximum", -5}}}})),
+                    "iridescenceThicknessMaximum -5 is not a finite number >= 0");
+}
+
 // KHR_materials_transmission without KHR_materials_volume is a thin wall
 // (smooth or rough glass with no inside: its attenuation is dropped), with
 // the volume a solid; neither is warned about.

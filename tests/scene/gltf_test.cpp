@@ -682,11 +682,11 @@ INSTANTIATE_TEST_SUITE_P(
                         {"KHR_materials_anisotropy": {"anisotropyStrength": 1}}})",
                     LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0),
                     "'KHR_materials_anisotropy' is not supported"},
-        MaterialRow{"IridescenceIsWarned",
+        MaterialRow{"DispersionIsWarned",
                     R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
-                        {"KHR_materials_iridescence": {"iridescenceFactor": 1}}})",
+                        {"KHR_materials_dispersion": {"dispersion": 20}}})",
                     LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0),
-                    "'KHR_materials_iridescence' is not supported"},
+                    "'KHR_materials_dispersion' is not supported"},
         MaterialRow{
             "EmissiveWithStrength",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [1, 0.5, 0.25],
@@ -1015,7 +1015,7 @@ TEST(GltfEnvironment, BadEnvironmentsAreOneLineErrors) {
 TEST(GltfWarnings, OneLinePerKind) {
     TempDir dir;
     GltfBuilder g;
-    g.doc["extensionsUsed"] = {"KHR_materials_anisotropy", "KHR_materials_iridescence"};
+    g.doc["extensionsUsed"] = {"KHR_materials_anisotropy", "KHR_materials_dispersion"};
     g.doc["textures"] = {{{"source", 0}}};
     g.doc["images"] = {{{"uri", "wood.png"}}};
     writeText(dir / "wood.png", "not decoded");
@@ -1040,7 +1040,7 @@ TEST(GltfWarnings, OneLinePerKind) {
     EXPECT_EQ(countLinesContaining(loaded.warnings, "images that cannot be decoded (png)"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "(1 image, first: image 0 (cannot decode"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_anisotropy'"), 1u);
-    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_iridescence'"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_dispersion'"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "degenerate triangles"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "(5 triangles"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "default camera"), 1u);

@@ -82,7 +82,8 @@ VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
         // KHR_materials_clearcoat: the weight in R, the roughness in G;
         // KHR_materials_sheen: the colour in RGB (sRGB), the roughness in A;
         // KHR_materials_diffuse_transmission: the share in A, the colour in
-        // RGB (sRGB).
+        // RGB (sRGB); KHR_materials_iridescence: the weight in R, the
+        // thickness between the minimum (0) and the maximum (1) in G.
         if (hasFeature(VKP_FEATURE_CLEARCOAT) && material.clearcoat > 0.0f) {
             material.clearcoat *=
                 textureSlotValue(material.textures + VKP_SLOT_CLEARCOAT, texcoords).x;
@@ -94,6 +95,13 @@ VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
                 textureSlotValue(material.textures + VKP_SLOT_DIFFUSE_TRANSMISSION, texcoords).w;
             material.diffuseTransmissionColor *= vec3(textureSlotValue(
                 material.textures + VKP_SLOT_DIFFUSE_TRANSMISSION_COLOR, texcoords));
+        }
+        if (hasFeature(VKP_FEATURE_IRIDESCENCE) && material.iridescence > 0.0f) {
+            material.iridescence *=
+                textureSlotValue(material.textures + VKP_SLOT_IRIDESCENCE, texcoords).x;
+            material.iridescenceThickness = mix(
+                material.iridescenceThicknessMinimum, material.iridescenceThickness,
+                textureSlotValue(material.textures + VKP_SLOT_IRIDESCENCE_THICKNESS, texcoords).y);
         }
         if (hasFeature(VKP_FEATURE_SHEEN) && material.sheenColor != vec3(0.0f)) {
             material.sheenColor *=
