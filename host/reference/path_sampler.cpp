@@ -12,12 +12,15 @@ std::unique_ptr<PathSampler> makeSmoothPathSampler(const char*, const wavefront:
                                                    const shared::SceneInfo&);
 std::unique_ptr<PathSampler> makeSmoothAovsPathSampler(const char*, const wavefront::SceneTables&,
                                                        const shared::SceneInfo&);
+std::unique_ptr<PathSampler> makeCorePathSampler(const char*, const wavefront::SceneTables&,
+                                                 const shared::SceneInfo&);
 
 namespace {
 
-const std::array<CpuProfile, 2> PROFILES = {{
+const std::array<CpuProfile, 3> PROFILES = {{
     {"smooth", VKP_CPU_PROFILE_SMOOTH, makeSmoothPathSampler},
     {"smooth-aovs", VKP_CPU_PROFILE_SMOOTH_AOVS, makeSmoothAovsPathSampler},
+    {"core", VKP_CPU_PROFILE_CORE, makeCorePathSampler},
 }};
 
 }  // namespace

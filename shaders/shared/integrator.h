@@ -112,10 +112,11 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce
         x = instanceTransform(hit.instance);
         primitive = placedTriangle(primitive, x);
     }
-    Material own = materialAt(sceneMaterial(primitive.material), primitive, hit);
-    shading.material = own;
-    if (hasFeature(VKP_FEATURE_REGULARIZE) && path.afterNonDelta)
-        shading.material = regularizedMaterial(own, sceneInfo().regularizeAlpha);
+    // The material as it is (path regularisation widens it last, below: the
+    // medium behind it, its shading normal and its compensation follow its
+    // own parameters; one copy of the record, which the CPU reference pays
+    // per copy).
+    shading.material = materialAt(sceneMaterial(primitive.material), primitive, hit);
     shading.surface = surfacePoint(primitive, path.ray, hit);
     if (instanced) {
         shading.surface.spawnOffset =
@@ -129,7 +130,7 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce
     if (mediaOn()) {
         // The segment's medium: the inside of the surface it reaches from
         // behind (shared/path/media.h).
-        shading.medium = mediumBehind(own, primitive.material);
+        shading.medium = mediumBehind(shading.material, primitive.material);
         uint crossed = dot(path.ray.direction, shading.surface.normal) > 0.0f ? shading.medium
                                                                               : VKP_FOG_MEDIUM;
         if (crossMedium(path, crossed, hit.t, key, bounce, shading))
@@ -140,13 +141,15 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     // Compensation follows the material's own roughness: a lobe that path
-    // regularisation roughened keeps its own (none for a mirror or smooth glass).
+    // regularisation roughens keeps its own (none for a mirror or smooth glass).
     if (hasFeature(VKP_FEATURE_MICROFACET_COMPENSATION) && sceneInfo().microfacetCompensation != 0u)
         shading.material.multipleScattering =
-            multipleScattering(own, dot(shading.surface.shadingNormal, shading.wo));
+            multipleScattering(shading.material, dot(shading.surface.shadingNormal, shading.wo));
     if (hasFeature(VKP_FEATURE_SHEEN))
         shading.material.sheenLobeAlbedo =
             sheenLobeAlbedo(shading.material, dot(shading.surface.shadingNormal, shading.wo));
+    if (hasFeature(VKP_FEATURE_REGULARIZE) && path.afterNonDelta)
+        shading.material = regularizedMaterial(shading.material, sceneInfo().regularizeAlpha);
     if (aovsWanted()) recordAov(path.aov, shading);
     if (hasFeature(VKP_FEATURE_EMISSIVE_SURFACES))
         path.radiance += path.throughput *

@@ -34,7 +34,8 @@ TEST(CpuProfiles, AreProperSubsetsFewestFeaturesFirst) {
 }
 
 // The smooth profile holds the Scotty3D scenes' features; a conductor is
-// outside it, and so is path regularisation.
+// outside it (the core profile holds it), and so is path regularisation; a
+// sheen is outside every profile.
 TEST(CpuProfiles, ARenderRunsTheProfileThatHoldsItsFeatures) {
     wavefront::RenderSettings settings;
     settings.width = 8;
@@ -50,15 +51,21 @@ TEST(CpuProfiles, ARenderRunsTheProfileThatHoldsItsFeatures) {
         test::sphereInEnvironment(scene::MaterialKind::Conductor, glm::vec3(0.5f));
     const reference::ReferenceRenderer rough(conductor, settings);
     EXPECT_NE(rough.features() & VKP_FEATURE_CONDUCTOR, 0u);
-    EXPECT_EQ(rough.sampler().features(), VKP_FEATURES_ALL);
-    EXPECT_NE(rough.describe().find("no profile holds"), std::string::npos) << rough.describe();
+    EXPECT_STREQ(rough.sampler().name(), "core");
+
+    scene::Scene sheened =
+        test::sphereInEnvironment(scene::MaterialKind::MetallicRoughness, glm::vec3(0.5f));
+    sheened.materials[0].sheenColor = glm::vec3(1.0f);
+    const reference::ReferenceRenderer cloth(sheened, settings);
+    EXPECT_EQ(cloth.sampler().features(), VKP_FEATURES_ALL);
+    EXPECT_NE(cloth.describe().find("no profile holds"), std::string::npos) << cloth.describe();
 
     settings.regularize = 0.2f;
     const scene::Scene mirror =
         test::sphereInEnvironment(scene::MaterialKind::Mirror, glm::vec3(0.5f));
     const reference::ReferenceRenderer regularized(mirror, settings);
     EXPECT_NE(regularized.features() & VKP_FEATURE_REGULARIZE, 0u);
-    EXPECT_EQ(regularized.sampler().features(), VKP_FEATURES_ALL);
+    EXPECT_STREQ(regularized.sampler().name(), "core");
 
     settings.regularize = 0.0f;
     settings.specialize = false;
