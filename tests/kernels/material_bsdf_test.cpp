@@ -436,6 +436,67 @@ double coatAndSheenDensity(const shared::Material& m, glm::vec3 wo, glm::vec3 wi
     return c.coat * coat + c.sheen / (2 * PI) + c.base * layeredDensity(m, wo, wi);
 }
 
+// What a run of non-delta samples says against a density `pdf`: the valid
+// directions (for the chi-square), the worst sample pdf against the density
+// (relative), and the worst weight against the dispatch's own evalBsdf /
+// bsdfPdf in units of WeightIsEvalOverPdf's bound for a narrowest GGX
+// alpha `alpha`.
+struct SampleCheck {
+    std::vector<glm::vec3> valid;
+    double worstPdf = 0;
+    double worstWeight = 0;
+};
+
+template <typename Pdf>
+SampleCheck checkSamples(const std::vector<MicrofacetResult>& results, const Pdf& pdf,
+                         double alpha) {
+    SampleCheck check;
+    for (const MicrofacetResult& r : results) {
+        if (!(r.flags & 1u)) continue;
+        EXPECT_EQ(r.flags & 2u, 0u) << "a rough lobe's sample marked delta";
+        check.valid.push_back(r.direction);
+        check.worstPdf = std::max(check.worstPdf, std::abs(r.pdf / pdf(r.direction) - 1));
+        const double bound = 1e-5 + 1e-7 / std::abs(glm::dot(r.direction, NORMAL)) + 4e-6 / alpha;
+        const glm::vec3 expected = r.eval / r.evalPdf;
+        for (int k = 0; k < 3; ++k)
+            check.worstWeight =
+                std::max(check.worstWeight, std::abs(double(r.weight[k]) - expected[k]) /
+                                                std::max(1e-6, double(expected[k])) / bound);
+    }
+    EXPECT_LT(check.worstPdf, 1e-3) << "sample pdf against the test's density";
+    EXPECT_LT(check.worstWeight, 1.0) << "the worst weight error, in units of its bound";
+    return check;
+}
+
+// The chi-square test of the valid samples of `total` against `pdf` on the
+// whole sphere (the lost ones their own cell), which integrates to at most 1.
+template <typename Pdf>
+void expectChiSquareFits(const std::vector<glm::vec3>& valid, size_t total, const Pdf& pdf) {
+    test::DirectionGrid grid;
+    grid.frame = shared::makeFrame(NORMAL);
+    EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
+    const auto result = test::chiSquareDirectionsWithLosses(grid, valid, total - valid.size(), pdf);
+    EXPECT_GT(result.pValue, ALPHA)
+        << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+}
+
+// That the mean weight of `results` (invalid samples 0: the material's
+// albedo at wo) is `expected` within the z-test's bound of its standard
+// error plus `accuracy`.
+void expectMeanWeight(const std::vector<MicrofacetResult>& results, double expected,
+                      double accuracy) {
+    double sum = 0, sum2 = 0;
+    for (const MicrofacetResult& r : results) {
+        const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
+        sum += w;
+        sum2 += w * w;
+    }
+    const double n = double(results.size()), mean = sum / n;
+    const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+    EXPECT_LT(std::abs(mean - expected), Z_CRITICAL * standardError + accuracy)
+        << "mean " << mean << ", expected " << expected << ", standard error " << standardError;
+}
+
 struct LayerCase {
     const char* name;
     shared::Material material;
@@ -492,35 +553,12 @@ TEST(MaterialLayers, SamplesFollowTheirDensity) {
         SCOPED_TRACE(c.name);
         const glm::vec3 wo = worldDirection(c.cosTheta);
         const auto results = runDispatch(c.material, wo, 13);
-        test::DirectionGrid grid;
-        grid.frame = shared::makeFrame(NORMAL);
         auto pdf = [&](glm::vec3 wi) { return coatAndSheenDensity(c.material, wo, wi); };
         const double alpha = std::min(
             c.material.roughness * c.material.roughness,
             c.material.clearcoat > 0 ? c.material.clearcoatRoughness * c.material.clearcoatRoughness
                                      : 1.0f);
-        std::vector<glm::vec3> valid;
-        double worstPdf = 0, worstWeight = 0;
-        for (const MicrofacetResult& r : results) {
-            if (!(r.flags & 1u)) continue;
-            EXPECT_EQ(r.flags & 2u, 0u) << "a rough lobe's sample marked delta";
-            valid.push_back(r.direction);
-            worstPdf = std::max(worstPdf, std::abs(r.pdf / pdf(r.direction) - 1));
-            const double cosI = std::abs(glm::dot(r.direction, NORMAL));
-            const double bound = 1e-5 + 1e-7 / cosI + 4e-6 / alpha;
-            const glm::vec3 expected = r.eval / r.evalPdf;
-            for (int k = 0; k < 3; ++k)
-                worstWeight =
-                    std::max(worstWeight, std::abs(double(r.weight[k]) - expected[k]) /
-                                              std::max(1e-6, double(expected[k])) / bound);
-        }
-        EXPECT_LT(worstPdf, 1e-3) << "sample pdf against the test's density";
-        EXPECT_LT(worstWeight, 1.0) << "the worst weight error, in units of its bound";
-        EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
-        const auto result =
-            test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
-        EXPECT_GT(result.pValue, ALPHA)
-            << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+        expectChiSquareFits(checkSamples(results, pdf, alpha).valid, results.size(), pdf);
     }
 }
 
@@ -624,18 +662,7 @@ TEST(MaterialLayers, WhiteFurnaceReturnsWhatTheCoatKeeps) {
             c.coatRoughness > 0 ? albedo::conductorAlbedo(float(c.cosTheta), c.coatRoughness) : 1;
         const double fc = c.coat * (0.04 + 0.96 * std::pow(1 - c.cosTheta, 5.0));
         const double expected = 1 - fc * (1 - coatAlbedo);
-        const auto results = runDispatch(m, worldDirection(c.cosTheta), 23);
-        double sum = 0, sum2 = 0;
-        for (const MicrofacetResult& r : results) {
-            const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
-            sum += w;
-            sum2 += w * w;
-        }
-        const double n = double(results.size());
-        const double mean = sum / n;
-        const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-        EXPECT_LT(std::abs(mean - expected), Z_CRITICAL * standardError + 3e-4)
-            << "mean " << mean << ", expected " << expected << ", standard error " << standardError;
+        expectMeanWeight(runDispatch(m, worldDirection(c.cosTheta), 23), expected, 3e-4);
     }
 }
 
@@ -696,36 +723,16 @@ TEST(ThinWall, SamplesFollowTheirDensity) {
         const shared::Material m = gpuMaterial(thinWall(c.roughness, {0.9f, 0.7f, 0.5f}));
         const glm::vec3 wo = worldDirection(c.cosTheta);
         const auto results = runDispatch(m, wo, 29);
-        test::DirectionGrid grid;
-        grid.frame = shared::makeFrame(NORMAL);
         auto pdf = [&](glm::vec3 wi) { return thinWallDensity(m, wo, wi); };
-        const double alpha = double(c.roughness) * c.roughness;
-        std::vector<glm::vec3> valid;
-        double worstPdf = 0, worstWeight = 0;
+        const SampleCheck check = checkSamples(results, pdf, double(c.roughness) * c.roughness);
         size_t passed = 0;
         for (const MicrofacetResult& r : results) {
             if (!(r.flags & 1u)) continue;
-            ASSERT_EQ(r.flags & 2u, 0u) << "a rough lobe's sample marked delta";
             ASSERT_EQ(r.etaSquared, 1.0f);
-            valid.push_back(r.direction);
             passed += glm::dot(r.direction, NORMAL) * c.cosTheta < 0;
-            worstPdf = std::max(worstPdf, std::abs(r.pdf / pdf(r.direction) - 1));
-            const double bound =
-                1e-5 + 1e-7 / std::abs(glm::dot(r.direction, NORMAL)) + 4e-6 / alpha;
-            const glm::vec3 expected = r.eval / r.evalPdf;
-            for (int k = 0; k < 3; ++k)
-                worstWeight =
-                    std::max(worstWeight, std::abs(double(r.weight[k]) - expected[k]) /
-                                              std::max(1e-6, double(expected[k])) / bound);
         }
-        EXPECT_GT(passed, valid.size() / 2) << "most of the light passes";
-        EXPECT_LT(worstPdf, 1e-3);
-        EXPECT_LT(worstWeight, 1.0);
-        EXPECT_LE(test::integrateOverSphere(grid, pdf), 1.0 + 1e-3);
-        const auto result =
-            test::chiSquareDirectionsWithLosses(grid, valid, results.size() - valid.size(), pdf);
-        EXPECT_GT(result.pValue, ALPHA)
-            << "chi2 " << result.statistic << ", dof " << result.degreesOfFreedom;
+        EXPECT_GT(passed, check.valid.size() / 2) << "most of the light passes";
+        expectChiSquareFits(check.valid, results.size(), pdf);
     }
 }
 
@@ -737,17 +744,7 @@ TEST(ThinWall, WhiteFurnaceReturnsAllTheLight) {
     shared::Material m = gpuMaterial(thinWall(0.5f));
     const double e = albedo::conductorAlbedo(0.4f, 0.5f);
     m.multipleScattering = float((1 - e) / e);
-    const auto results = runDispatch(m, worldDirection(0.4), 31);
-    double sum = 0, sum2 = 0;
-    for (const MicrofacetResult& r : results) {
-        const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
-        sum += w;
-        sum2 += w * w;
-    }
-    const double n = double(results.size()), mean = sum / n;
-    const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-    EXPECT_LT(std::abs(mean - 1), Z_CRITICAL * standardError + 3e-4)
-        << "mean " << mean << ", standard error " << standardError;
+    expectMeanWeight(runDispatch(m, worldDirection(0.4), 31), 1.0, 3e-4);
 }
 
 // The smooth thin wall reflects with the Fresnel probability at index 1.5
