@@ -70,7 +70,7 @@ TEST(LayerFurnace, WhiteLayersOverAWhiteBaseReturnAllTheLight) {
         s.materials[0].clearcoat = c.clearcoat;
         s.materials[0].sheenColor = c.sheen;
         s.materials[0].sheenRoughness = 0.5f;
-        const auto r = test::renderGpu(s, test::squareSettings(48, 64, 5));
+        const auto r = test::renderGpu(s, test::squareSettings(48, 32, 5));
         EXPECT_EQ(r.nonFiniteSamples, 0u);
         const auto sphere = image::regionMean(r.image, r.varianceOfMean, onTheSphere);
         ASSERT_GT(sphere.pixels, 100u);
@@ -82,7 +82,7 @@ TEST(LayerFurnace, WhiteLayersOverAWhiteBaseReturnAllTheLight) {
     s.materials[0].reflectance = glm::vec3(0.0f);
     s.materials[0].sheenColor = glm::vec3(0.5f);
     s.materials[0].sheenRoughness = 0.5f;
-    const auto r = test::renderGpu(s, test::squareSettings(48, 64, 5));
+    const auto r = test::renderGpu(s, test::squareSettings(48, 32, 5));
     const auto sphere = image::regionMean(r.image, r.varianceOfMean, onTheSphere);
     EXPECT_LT(sphere.mean, 0.5);
 }
@@ -135,7 +135,7 @@ scene::Scene layeredSquare(bool textured, bool layered) {
 }
 
 TEST(LayerTextures, ZeroTexelsRemoveTheLayers) {
-    const auto settings = test::squareSettings(48, 16, 4);
+    const auto settings = test::squareSettings(48, 8, 4);
     const auto textured = test::renderGpu(layeredSquare(true, true), settings);
     const auto factors = test::renderGpu(layeredSquare(false, true), settings);
     const auto bare = test::renderGpu(layeredSquare(false, false), settings);
@@ -214,7 +214,7 @@ TEST(DiffuseTransmissionRender, ASquareShowsTheSkyBehindIt) {
         s.camera.position = {0, 0, 3 * side};
         s.camera.target = {0, 0, 0};
         s.camera.xfovDegrees = 30.0f;
-        const auto r = test::renderGpu(s, test::squareSettings(32, 64, 4));
+        const auto r = test::renderGpu(s, test::squareSettings(32, 32, 4));
         EXPECT_EQ(r.nonFiniteSamples, 0u);
         for (int c = 0; c < 3; ++c) {
             double sum = 0, variance = 0;
