@@ -319,6 +319,7 @@ Context::~Context() {
 void Context::destroy() {
     if (m_device) {
         vkDeviceWaitIdle(m_device);
+        m_keptKernels.clear();
         if (m_pipelineCache) {
             try {
                 savePipelineCache();
@@ -343,6 +344,21 @@ void Context::destroy() {
     m_device = VK_NULL_HANDLE;
     m_messenger = VK_NULL_HANDLE;
     m_instance = VK_NULL_HANDLE;
+}
+
+std::shared_ptr<const CompiledKernel> Context::compiledKernel(
+    const std::string& key, const std::function<std::shared_ptr<const CompiledKernel>()>& compile) {
+    const std::lock_guard lock(m_keptKernelsMutex);
+    const auto kept = std::find_if(m_keptKernels.begin(), m_keptKernels.end(),
+                                   [&](const auto& entry) { return entry.first == key; });
+    if (kept != m_keptKernels.end()) {
+        m_keptKernels.splice(m_keptKernels.begin(), m_keptKernels, kept);
+        return kept->second;
+    }
+    std::shared_ptr<const CompiledKernel> compiled = compile();
+    m_keptKernels.emplace_front(key, compiled);
+    if (m_keptKernels.size() > KEPT_KERNELS) m_keptKernels.pop_back();
+    return compiled;
 }
 
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::debugCallback(

@@ -10,11 +10,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <list>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace vkpath::vk {
+
+struct CompiledKernel;
 
 struct ContextOptions {
     // Enables VK_LAYER_KHRONOS_validation and a debug messenger that prints every
@@ -116,6 +121,17 @@ class Context {
     // Writes the pipeline cache to disk now (also done on destruction).
     void savePipelineCache() const;
 
+    // The compiled kernel under `key` (vk/kernel.cpp says what it holds),
+    // compiled by `compile` the first time. A driver may take seconds per
+    // pipeline (lavapipe: 0.5-1.5 s for a wavefront stage, most of it outside
+    // its pipeline cache), and renderers of one scene, or of scenes with the
+    // same features, ask for the same pipelines: the context keeps the
+    // KEPT_KERNELS most recently used.
+    std::shared_ptr<const CompiledKernel> compiledKernel(
+        const std::string& key,
+        const std::function<std::shared_ptr<const CompiledKernel>()>& compile);
+    static constexpr size_t KEPT_KERNELS = 24;
+
   private:
     static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
         VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
@@ -140,6 +156,9 @@ class Context {
     VkCommandPool m_commandPool = VK_NULL_HANDLE;
     VkFence m_fence = VK_NULL_HANDLE;
     VkPipelineCache m_pipelineCache = VK_NULL_HANDLE;
+    std::mutex m_keptKernelsMutex;
+    // Most recently used first.
+    std::list<std::pair<std::string, std::shared_ptr<const CompiledKernel>>> m_keptKernels;
     VkPhysicalDeviceMemoryProperties m_memory{};
     DeviceInfo m_info;
 };

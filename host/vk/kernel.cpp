@@ -118,34 +118,53 @@ DescriptorSet& DescriptorSet::operator=(DescriptorSet&& other) noexcept {
     return *this;
 }
 
-Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& options)
-    : m_context(context), m_name(name), m_workgroupSize(options.workgroupSize) {
-    const std::vector<uint32_t> spirv = decorateNoContraction(shaders::findKernel(name));
-    m_reflection = reflectSpirv(spirv);
-    const DeviceInfo& info = context.info();
-    if (m_workgroupSize == 0 || m_workgroupSize > info.maxWorkgroupSize[0] ||
-        m_workgroupSize > info.maxWorkgroupInvocations)
-        throw std::invalid_argument(
-            fmt::format("kernel {}: workgroup size {} is not supported (max {})", m_name,
-                        m_workgroupSize, info.maxWorkgroupSize[0]));
-    if (m_reflection.pushConstantSize > info.maxPushConstantsSize)
-        throw std::invalid_argument(
-            fmt::format("kernel {}: {} bytes of push constants exceed the device's {}", m_name,
-                        m_reflection.pushConstantSize, info.maxPushConstantsSize));
+// A kernel's Vulkan objects, shared by every Kernel built with the same name,
+// workgroup size and specialisation in one context (Context::compiledKernel).
+struct CompiledKernel {
+    VkDevice device = VK_NULL_HANDLE;
+    SpirvReflection reflection;
+    std::map<VkDescriptorType, uint32_t> perSet;
+    VkShaderModule module = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
 
-    VkDevice device = context.device();
+    CompiledKernel(Context& context, const std::string& name, uint32_t workgroupSize,
+                   const std::vector<SpecializationConstant>& specialization);
+    ~CompiledKernel() { release(); }
+    CompiledKernel(const CompiledKernel&) = delete;
+    CompiledKernel& operator=(const CompiledKernel&) = delete;
+
+  private:
+    void release();
+};
+
+CompiledKernel::CompiledKernel(Context& context, const std::string& name, uint32_t workgroupSize,
+                               const std::vector<SpecializationConstant>& specialization)
+    : device(context.device()) {
+    const std::vector<uint32_t> spirv = decorateNoContraction(shaders::findKernel(name));
+    reflection = reflectSpirv(spirv);
+    const DeviceInfo& info = context.info();
+    if (workgroupSize == 0 || workgroupSize > info.maxWorkgroupSize[0] ||
+        workgroupSize > info.maxWorkgroupInvocations)
+        throw std::invalid_argument(
+            fmt::format("kernel {}: workgroup size {} is not supported (max {})", name,
+                        workgroupSize, info.maxWorkgroupSize[0]));
+    if (reflection.pushConstantSize > info.maxPushConstantsSize)
+        throw std::invalid_argument(
+            fmt::format("kernel {}: {} bytes of push constants exceed the device's {}", name,
+                        reflection.pushConstantSize, info.maxPushConstantsSize));
     try {
         VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
         moduleInfo.codeSize = spirv.size() * sizeof(uint32_t);
         moduleInfo.pCode = spirv.data();
-        VK_CHECK(vkCreateShaderModule(device, &moduleInfo, nullptr, &m_module));
+        VK_CHECK(vkCreateShaderModule(device, &moduleInfo, nullptr, &module));
 
         std::vector<VkDescriptorSetLayoutBinding> bindings;
-        std::map<VkDescriptorType, uint32_t> perSet;
-        for (const SpirvBinding& b : m_reflection.bindings) {
+        for (const SpirvBinding& b : reflection.bindings) {
             if (b.set != 0)
                 throw std::invalid_argument(
-                    fmt::format("kernel {}: only descriptor set 0 is supported", m_name));
+                    fmt::format("kernel {}: only descriptor set 0 is supported", name));
             VkDescriptorSetLayoutBinding binding{};
             binding.binding = b.binding;
             binding.descriptorType = descriptorType(b.kind);
@@ -158,18 +177,18 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
             VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         setInfo.bindingCount = static_cast<uint32_t>(bindings.size());
         setInfo.pBindings = bindings.data();
-        VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &m_setLayout));
+        VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
 
-        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, m_reflection.pushConstantSize};
+        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, reflection.pushConstantSize};
         VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
         layoutInfo.setLayoutCount = 1;
-        layoutInfo.pSetLayouts = &m_setLayout;
-        layoutInfo.pushConstantRangeCount = m_reflection.pushConstantSize ? 1 : 0;
+        layoutInfo.pSetLayouts = &setLayout;
+        layoutInfo.pushConstantRangeCount = reflection.pushConstantSize ? 1 : 0;
         layoutInfo.pPushConstantRanges = &range;
-        VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &m_pipelineLayout));
+        VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &pipelineLayout));
 
-        std::vector<SpecializationConstant> constants = options.specialization;
-        constants.push_back({0, m_workgroupSize});
+        std::vector<SpecializationConstant> constants = specialization;
+        constants.push_back({0, workgroupSize});
         std::vector<VkSpecializationMapEntry> entries;
         std::vector<uint32_t> values;
         for (const SpecializationConstant& c : constants) {
@@ -177,45 +196,67 @@ Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& opt
                 {c.id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
             values.push_back(c.value);
         }
-        VkSpecializationInfo specialization{static_cast<uint32_t>(entries.size()), entries.data(),
-                                            values.size() * sizeof(uint32_t), values.data()};
+        VkSpecializationInfo specializationInfo{static_cast<uint32_t>(entries.size()),
+                                                entries.data(), values.size() * sizeof(uint32_t),
+                                                values.data()};
 
         VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
         pipelineInfo.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        pipelineInfo.stage.module = m_module;
+        pipelineInfo.stage.module = module;
         pipelineInfo.stage.pName = "main";
-        pipelineInfo.stage.pSpecializationInfo = &specialization;
-        pipelineInfo.layout = m_pipelineLayout;
+        pipelineInfo.stage.pSpecializationInfo = &specializationInfo;
+        pipelineInfo.layout = pipelineLayout;
         VK_CHECK(vkCreateComputePipelines(device, context.pipelineCache(), 1, &pipelineInfo,
-                                          nullptr, &m_pipeline));
-        m_pool = std::make_shared<DescriptorSetPool>(device, m_setLayout, std::move(perSet));
+                                          nullptr, &pipeline));
     } catch (...) {
         release();
         throw;
     }
 }
 
-Kernel::~Kernel() {
-    release();
+void CompiledKernel::release() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (pipelineLayout) vkDestroyPipelineLayout(device, pipelineLayout, nullptr);
+    if (setLayout) vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
+    if (module) vkDestroyShaderModule(device, module, nullptr);
+    pipeline = VK_NULL_HANDLE;
+    pipelineLayout = VK_NULL_HANDLE;
+    setLayout = VK_NULL_HANDLE;
+    module = VK_NULL_HANDLE;
 }
 
-void Kernel::release() {
-    VkDevice device = m_context.device();
+// What makes two kernels' pipelines the same: the embedded SPIR-V (by name),
+// the workgroup size and every specialisation constant.
+static std::string compiledKernelKey(std::string_view name, const KernelOptions& options) {
+    std::string key = fmt::format("{} {}", name, options.workgroupSize);
+    for (const SpecializationConstant& c : options.specialization)
+        key += fmt::format(" {}={}", c.id, c.value);
+    return key;
+}
+
+Kernel::Kernel(Context& context, std::string_view name, const KernelOptions& options)
+    : m_context(context), m_name(name), m_workgroupSize(options.workgroupSize) {
+    m_compiled = context.compiledKernel(compiledKernelKey(name, options), [&] {
+        return std::make_shared<const CompiledKernel>(context, m_name, m_workgroupSize,
+                                                      options.specialization);
+    });
+    m_pool = std::make_shared<DescriptorSetPool>(context.device(), m_compiled->setLayout,
+                                                 m_compiled->perSet);
+}
+
+Kernel::~Kernel() {
+    // Sets still allocated hold the pool; the pipeline stays with the context.
     m_pool.reset();
-    if (m_pipeline) vkDestroyPipeline(device, m_pipeline, nullptr);
-    if (m_pipelineLayout) vkDestroyPipelineLayout(device, m_pipelineLayout, nullptr);
-    if (m_setLayout) vkDestroyDescriptorSetLayout(device, m_setLayout, nullptr);
-    if (m_module) vkDestroyShaderModule(device, m_module, nullptr);
-    m_pipeline = VK_NULL_HANDLE;
-    m_pipelineLayout = VK_NULL_HANDLE;
-    m_setLayout = VK_NULL_HANDLE;
-    m_module = VK_NULL_HANDLE;
+}
+
+const SpirvReflection& Kernel::reflection() const {
+    return m_compiled->reflection;
 }
 
 DescriptorSet Kernel::bindDeclared(const std::map<uint32_t, const Buffer*>& available) {
     std::vector<BufferBinding> buffers;
-    for (const SpirvBinding& b : m_reflection.bindings) {
+    for (const SpirvBinding& b : m_compiled->reflection.bindings) {
         const auto it = available.find(b.binding);
         if (it == available.end())
             throw std::invalid_argument(
@@ -227,7 +268,7 @@ DescriptorSet Kernel::bindDeclared(const std::map<uint32_t, const Buffer*>& avai
 
 DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
     std::set<uint32_t> declared;
-    for (const SpirvBinding& b : m_reflection.bindings) declared.insert(b.binding);
+    for (const SpirvBinding& b : m_compiled->reflection.bindings) declared.insert(b.binding);
     std::set<uint32_t> given;
     for (const BufferBinding& b : buffers) {
         if (!declared.contains(b.binding))
@@ -258,7 +299,8 @@ DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
         write.dstSet = set;
         write.dstBinding = b.binding;
         write.descriptorCount = 1;
-        const auto it = std::find_if(m_reflection.bindings.begin(), m_reflection.bindings.end(),
+        const auto it = std::find_if(m_compiled->reflection.bindings.begin(),
+                                     m_compiled->reflection.bindings.end(),
                                      [&](const SpirvBinding& s) { return s.binding == b.binding; });
         write.descriptorType = descriptorType(it->kind);
         if (it->kind == DescriptorKind::UniformTexelBuffer) {
@@ -276,16 +318,16 @@ DescriptorSet Kernel::bind(std::span<const BufferBinding> buffers) {
 
 void Kernel::bindPipeline(VkCommandBuffer cmd, const DescriptorSet& set,
                           std::span<const std::byte> push) const {
-    if (push.size() != m_reflection.pushConstantSize)
+    if (push.size() != m_compiled->reflection.pushConstantSize)
         throw std::invalid_argument(
             fmt::format("kernel {}: {} bytes of push constants given, the kernel declares {}",
-                        m_name, push.size(), m_reflection.pushConstantSize));
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipeline);
+                        m_name, push.size(), m_compiled->reflection.pushConstantSize));
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_compiled->pipeline);
     VkDescriptorSet handle = set.handle();
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_pipelineLayout, 0, 1, &handle, 0,
-                            nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_compiled->pipelineLayout, 0, 1,
+                            &handle, 0, nullptr);
     if (!push.empty())
-        vkCmdPushConstants(cmd, m_pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+        vkCmdPushConstants(cmd, m_compiled->pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                            static_cast<uint32_t>(push.size()), push.data());
 }
 

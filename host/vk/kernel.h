@@ -1,6 +1,8 @@
 // The kernel harness: one compute pipeline built from an embedded kernel, with
 // its descriptor-set layout and push-constant range taken from the SPIR-V
-// itself. Tests and the wavefront integrator use the same class:
+// itself. Kernels of the same name, workgroup size and specialisation share
+// one pipeline, compiled once per context (Context::compiledKernel). Tests and the wavefront
+// integrator use the same class:
 //
 //   vkpath::vk::Kernel fill(context, "rng_fill");
 //   double ms = fill.dispatch(count, {{0, &bits}}, push);
@@ -42,6 +44,7 @@ struct BufferBinding {
 };
 
 class DescriptorSetPool;
+struct CompiledKernel;
 
 // A descriptor set for one kernel, holding its buffers; freed on destruction.
 class DescriptorSet {
@@ -67,7 +70,7 @@ class Kernel {
 
     const std::string& name() const { return m_name; }
     uint32_t workgroupSize() const { return m_workgroupSize; }
-    const SpirvReflection& reflection() const { return m_reflection; }
+    const SpirvReflection& reflection() const;
 
     // A descriptor set with every binding the kernel declares filled; throws
     // naming the kernel if one is missing, unknown or given twice.
@@ -100,18 +103,13 @@ class Kernel {
     }
 
   private:
-    void release();
     void bindPipeline(VkCommandBuffer cmd, const DescriptorSet& set,
                       std::span<const std::byte> push) const;
 
     Context& m_context;
     std::string m_name;
     uint32_t m_workgroupSize = 0;
-    SpirvReflection m_reflection;
-    VkShaderModule m_module = VK_NULL_HANDLE;
-    VkDescriptorSetLayout m_setLayout = VK_NULL_HANDLE;
-    VkPipelineLayout m_pipelineLayout = VK_NULL_HANDLE;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    std::shared_ptr<const CompiledKernel> m_compiled;
     std::shared_ptr<DescriptorSetPool> m_pool;
 };
 

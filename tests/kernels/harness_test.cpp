@@ -37,6 +37,28 @@ TEST(KernelHarness, RejectsWrongBindingsAndPushSize) {
     EXPECT_THROW(vk::Kernel(context, "generate", {.workgroupSize = 100000}), std::invalid_argument);
 }
 
+// Kernels of one name, workgroup size and specialisation share the context's
+// pipeline (what a renderer built again for the same scene relies on to skip
+// the driver's compiler); any difference gets a pipeline of its own. Each
+// kernel keeps its own descriptor sets.
+TEST(KernelHarness, SameOptionsShareOnePipeline) {
+    vk::Context& context = test::context();
+    const vk::Kernel first(context, "rng_fill", {.workgroupSize = 32});
+    const vk::Kernel again(context, "rng_fill", {.workgroupSize = 32});
+    const vk::Kernel wider(context, "rng_fill", {.workgroupSize = 64});
+    const vk::Kernel specialised(context, "rng_fill",
+                                 {.workgroupSize = 32, .specialization = {{7, 1}}});
+    EXPECT_EQ(&first.reflection(), &again.reflection());
+    EXPECT_NE(&first.reflection(), &wider.reflection());
+    EXPECT_NE(&first.reflection(), &specialised.reflection());
+
+    vk::Buffer a(context, 64), b(context, 64);
+    vk::Kernel fillA(context, "rng_fill"), fillB(context, "rng_fill");
+    const vk::DescriptorSet setA = fillA.bind({{0, &a}});
+    const vk::DescriptorSet setB = fillB.bind({{0, &b}});
+    EXPECT_NE(setA.handle(), setB.handle());
+}
+
 TEST(KernelHarness, SpecialisedWorkgroupSizesGiveTheSameResult) {
     vk::Context& context = test::context();
     const uint32_t count = 1000;  // not a multiple of any size below: the bound check matters
