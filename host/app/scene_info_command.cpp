@@ -48,10 +48,12 @@ KernelPlan planKernels(const scene::Scene& s) {
     plan.features = wavefront::renderFeatures(tables, info);
     plan.sceneBytes = wavefront::deviceBytes(tables);
     const uint32_t shadowRays = wavefront::shadowRaysPerVertex(plan.features, info.lightSamples);
+    const wavefront::PathExtras extras{.wavelengths =
+                                           (plan.features & VKP_FEATURE_DISPERSION) != 0};
     plan.wavefrontPathBytes =
-        wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, shadowRays);
+        wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, shadowRays, extras);
     plan.megakernelPathBytes =
-        wavefront::pathStateBytes(wavefront::KernelForm::Megakernel, shadowRays);
+        wavefront::pathStateBytes(wavefront::KernelForm::Megakernel, shadowRays, extras);
     return plan;
 }
 

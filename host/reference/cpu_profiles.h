@@ -45,7 +45,8 @@
 #define VKP_CPU_PROFILE_SMOOTH_AOVS (VKP_CPU_PROFILE_SMOOTH | VKP_FEATURE_AOVS)
 
 // Everything but participating media and glTF's material extensions (the
-// coat, sheen, thin wall, diffuse transmission and thin film): the
+// coat, sheen, thin wall, diffuse transmission, thin film, anisotropy and
+// dispersion): the
 // microfacet materials, textures, normal maps, alpha, instances,
 // regularisation, the light tree and the AOVs. Without it such scenes ran
 // the general build, which those features' code made 0.82x as fast on the
@@ -54,6 +55,7 @@
 #define VKP_CPU_PROFILE_CORE                                                                     \
     ((VKP_FEATURE_BIT(VKP_FEATURE_COUNT) - 1u) &                                                 \
      ~(VKP_FEATURE_MEDIA | VKP_FEATURE_GRID_MEDIUM | VKP_FEATURE_CLEARCOAT | VKP_FEATURE_SHEEN | \
-       VKP_FEATURE_THIN_WALLED | VKP_FEATURE_DIFFUSE_TRANSMISSION | VKP_FEATURE_IRIDESCENCE))
+       VKP_FEATURE_THIN_WALLED | VKP_FEATURE_DIFFUSE_TRANSMISSION | VKP_FEATURE_IRIDESCENCE |    \
+       VKP_FEATURE_ANISOTROPY | VKP_FEATURE_DISPERSION))
 
 #endif  // VKPATH_REFERENCE_CPU_PROFILES_H

@@ -33,22 +33,15 @@ constexpr uint32_t GLB_CHUNK_JSON = 0x4E4F534A;         // "JSON"
 constexpr uint32_t GLB_CHUNK_BIN = 0x004E4942;          // "BIN\0"
 
 const std::set<std::string> SUPPORTED_EXTENSIONS = {
-    "KHR_lights_punctual",
-    "KHR_materials_clearcoat",
-    "KHR_materials_diffuse_transmission",
-    "KHR_materials_emissive_strength",
-    "KHR_materials_iridescence",
-    "KHR_materials_ior",
-    "KHR_materials_sheen",
-    "KHR_materials_specular",
-    "KHR_materials_transmission",
-    "KHR_materials_variants",
-    "KHR_materials_volume",
-    "KHR_materials_volume_scatter",
-    "KHR_mesh_quantization",
-    "KHR_texture_transform",
-    "VKPATH_environment",
-    "VKPATH_sphere",
+    "KHR_lights_punctual",        "KHR_materials_anisotropy",
+    "KHR_materials_clearcoat",    "KHR_materials_diffuse_transmission",
+    "KHR_materials_dispersion",   "KHR_materials_emissive_strength",
+    "KHR_materials_iridescence",  "KHR_materials_ior",
+    "KHR_materials_sheen",        "KHR_materials_specular",
+    "KHR_materials_transmission", "KHR_materials_variants",
+    "KHR_materials_volume",       "KHR_materials_volume_scatter",
+    "KHR_mesh_quantization",      "KHR_texture_transform",
+    "VKPATH_environment",         "VKPATH_sphere",
 };
 
 // ---------------------------------------------------------------------------

@@ -362,9 +362,28 @@ class Importer {
                  m_model, m_accessors, nodeIndex, nodeName(nodeIndex), world, m_file, m_warnings)) {
             if (primitive.usesDefaultMaterial) primitive.mesh.material = defaultMaterial();
             primitive.mesh.instanced = instanced;
+            warnIfAnisotropyHasNoFrame(primitive.mesh);
             m_scene.meshes.push_back(std::move(primitive.mesh));
         }
         return {first, uint32_t(m_scene.meshes.size()) - first};
+    }
+
+    // KHR_materials_anisotropy turns its direction in the tangent frame, made
+    // from texture coordinates (wavefront/surface_tables.cpp): a mesh without
+    // them renders its material isotropic.
+    void warnIfAnisotropyHasNoFrame(const Mesh& mesh) {
+        const Material& material = m_scene.materials[mesh.material];
+        if (material.anisotropy == 0.0f ||
+            (materialKindInfo(material.kind).flags & VKP_KIND_MICROFACET) == 0)
+            return;
+        const TextureRef& frame =
+            material.normalTexture.present() ? material.normalTexture : material.anisotropyTexture;
+        const auto& uvs = frame.texCoord == 0 ? mesh.texcoords0 : mesh.texcoords1;
+        if (uvs.size() != mesh.positions.size())
+            m_warnings.addCounted(
+                "anisotropic materials on meshes without texture coordinates render isotropic "
+                "(the direction needs a tangent frame)",
+                "mesh", mesh.name);
     }
 
     // ---- spheres ----------------------------------------------------------------

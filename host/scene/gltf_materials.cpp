@@ -67,8 +67,8 @@ class MaterialConverter {
                 "material", name);
         if (usesUnreadExtensionTexture(m))
             m_warnings.addCounted(
-                "textures of material extensions other than clearcoat and sheen are ignored; "
-                "their factors are used",
+                "the textures of KHR_materials_specular, KHR_materials_transmission and "
+                "KHR_materials_volume are ignored; their factors are used",
                 "material", name);
         readAlphaMode(m, out);
         // KHR_materials_specular: the dielectric layer's weight and the tint of
@@ -88,13 +88,15 @@ class MaterialConverter {
         readLayers(m, out);
         readDiffuseTransmission(m, out);
         readIridescence(m, out);
+        readAnisotropy(m, out);
         const bool layered = out.clearcoat > 0.0f || out.sheenColor != glm::vec3(0.0f) ||
                              out.diffuseTransmission > 0.0f || out.iridescence > 0.0f;
         if (transmission >= 0.5) {
             // KHR_materials_transmission: the base colour tints what passes,
             // the specular reflection is untinted. Smooth without a roughness
             // texture: the exact delta glass.
-            const bool smooth = roughness == 0.0 && !out.metallicRoughnessTexture.present();
+            const bool smooth = roughness == 0.0 && !out.metallicRoughnessTexture.present() &&
+                                out.anisotropy == 0.0f;
             out.kind = smooth ? MaterialKind::Dielectric : MaterialKind::RoughDielectric;
             out.reflectance = glm::vec3(1.0f);
             out.transmittance = base;
@@ -119,6 +121,7 @@ class MaterialConverter {
             // Without KHR_materials_volume the surface is a thin wall: light
             // passes unbent and nothing lies inside.
             out.thinWalled = !m.extensions.count("KHR_materials_volume");
+            readDispersion(m, out);
         } else {
             // glTF 2.0 Appendix B, specialised where it is exactly a simpler
             // kind: wholly metal is the conductor with Schlick's F0 = base
@@ -146,8 +149,11 @@ class MaterialConverter {
                 "as opaque",
                 "material", name);
         // A texture that no longer changes anything is not uploaded.
-        if (out.kind == MaterialKind::Diffuse || out.kind == MaterialKind::Dielectric)
+        if (out.kind == MaterialKind::Diffuse || out.kind == MaterialKind::Dielectric) {
             out.metallicRoughnessTexture = TextureRef{};
+            out.anisotropy = 0.0f;
+            out.anisotropyTexture = TextureRef{};
+        }
 
         glm::dvec3 emissive(0.0);
         if (!m.emissiveFactor.empty()) {
@@ -399,6 +405,43 @@ class MaterialConverter {
             extensionTexture(m.extensions, extension, "iridescenceThicknessTexture", name);
     }
 
+    // KHR_materials_anisotropy: the strength (times the texture's B) and the
+    // direction (the texture's RG, else the tangent) turned by the rotation;
+    // for the GGX lobes of the metallic-roughness material, the metal
+    // (conductor) and rough glass alike.
+    void readAnisotropy(const tinygltf::Material& m, Material& out) {
+        const std::string& name = out.name;
+        const char* extension = "KHR_materials_anisotropy";
+        out.anisotropy =
+            float(factor(extensionNumber(m.extensions, extension, "anisotropyStrength", 0.0, name),
+                         "anisotropyStrength", name));
+        const double rotation =
+            extensionNumber(m.extensions, extension, "anisotropyRotation", 0.0, name);
+        if (!std::isfinite(rotation))
+            fail("material '{}': anisotropyRotation is not a finite number", name);
+        out.anisotropyRotation = float(rotation);
+        if (out.anisotropy == 0.0f) return;
+        out.anisotropyTexture =
+            extensionTexture(m.extensions, extension, "anisotropyTexture", name);
+    }
+
+    // KHR_materials_dispersion: 20 / the Abbe number, >= 0, of a glass with
+    // an inside (the extension changes volumetric refraction only: a thin
+    // wall, or an opaque material, has none to change).
+    void readDispersion(const tinygltf::Material& m, Material& out) {
+        const double dispersion =
+            extensionNumber(m.extensions, "KHR_materials_dispersion", "dispersion", 0.0, out.name);
+        if (!std::isfinite(dispersion) || dispersion < 0.0)
+            fail("material '{}': dispersion {} is not a finite number >= 0", out.name, dispersion);
+        if (dispersion > 0.0 && out.thinWalled)
+            m_warnings.addCounted(
+                "KHR_materials_dispersion without KHR_materials_volume is ignored: a thin wall "
+                "does not bend the light",
+                "material", out.name);
+        else
+            out.dispersion = float(dispersion);
+    }
+
     static void dropLayers(Material& out) {
         out.iridescence = 0.0f;
         out.iridescenceTexture = out.iridescenceThicknessTexture = TextureRef{};
@@ -442,7 +485,8 @@ class MaterialConverter {
         for (const auto& [name, value] : m.extensions) {
             // (clearcoatNormalTexture has a warning of its own)
             if (name == "KHR_materials_clearcoat" || name == "KHR_materials_sheen" ||
-                name == "KHR_materials_diffuse_transmission" || name == "KHR_materials_iridescence")
+                name == "KHR_materials_diffuse_transmission" ||
+                name == "KHR_materials_iridescence" || name == "KHR_materials_anisotropy")
                 continue;
             for (const std::string& key : value.Keys())
                 if (key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0) return true;

@@ -623,8 +623,10 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         notes.metallicRoughness));
     // What the export leaves out of a material: its textures (the factors are
     // written alone) and its alpha (written opaque).
-    size_t textured = 0, alphaCovered = 0, layered = 0;
+    size_t textured = 0, alphaCovered = 0, layered = 0, anisotropic = 0, dispersive = 0;
     for (const Material& m : s.materials) {
+        anisotropic += m.anisotropy > 0.0f;
+        dispersive += m.dispersion > 0.0f;
         layered += m.clearcoat > 0.0f || m.sheenColor != glm::vec3(0.0f) ||
                    m.diffuseTransmission > 0.0f || m.iridescence > 0.0f;
         textured += m.baseColorTexture.present() || m.emissiveTexture.present() ||
@@ -645,6 +647,19 @@ MitsubaExportResult exportMitsuba(const Scene& s, const MitsubaExportSettings& s
                         "neither of the others; those materials are written without them ({} "
                         "materials)",
                         layered));
+    if (anisotropic > 0)
+        result.warnings.push_back(
+            fmt::format("anisotropy (KHR_materials_anisotropy) is not exported: Mitsuba's "
+                        "alpha_u and alpha_v follow its own surface parametrisation, not glTF's "
+                        "tangents and rotation; those materials are written isotropic ({} "
+                        "materials)",
+                        anisotropic));
+    if (dispersive > 0)
+        result.warnings.push_back(
+            fmt::format("dispersion (KHR_materials_dispersion) is not exported: Mitsuba's RGB "
+                        "dielectric has one index; those materials are written with their "
+                        "index at 587.6 nm ({} materials)",
+                        dispersive));
     if (alphaCovered > 0)
         result.warnings.push_back(
             fmt::format("alpha (glTF alphaMode MASK and BLEND) is not exported: Mitsuba renders "

@@ -128,6 +128,9 @@ struct Material {
     // transmission without KHR_materials_volume), no inside and no attenuation
     bool thinWalled = false;
     float scatterAnisotropy = 0.0f;  // the inside's Henyey-Greenstein g, in (-1, 1)
+    // Dielectric, RoughDielectric with an inside: KHR_materials_dispersion's
+    // 20 / Abbe number (0: the index is the same at every wavelength)
+    float dispersion = 0.0f;
     // MetallicRoughness: the layers over it (shaders/shared/metallic_roughness.h).
     // KHR_materials_clearcoat: the coat's weight in [0, 1] (0: none) and roughness;
     // KHR_materials_sheen: the sheen's colour (0: none) and roughness.
@@ -145,6 +148,11 @@ struct Material {
     float iridescenceIor = 1.3f;
     float iridescenceThicknessMinimum = 100.0f;
     float iridescenceThicknessMaximum = 400.0f;
+    // KHR_materials_anisotropy (conductor, rough glass, metallic-roughness):
+    // the strength (0: isotropic) and the direction's rotation from the
+    // tangent, counter-clockwise in radians
+    float anisotropy = 0.0f;
+    float anisotropyRotation = 0.0f;
     // Textures (glTF): the base colour multiplies `reflectance` (or a glass's
     // `transmittance`, which the base colour tints), the emissive texture
     // `emission`; both are sRGB-encoded. The others hold linear data.
@@ -161,6 +169,7 @@ struct Material {
     TextureRef diffuseTransmissionColorTexture;  // RGB (sRGB): multiplies its colour
     TextureRef iridescenceTexture;               // R: multiplies iridescence
     TextureRef iridescenceThicknessTexture;      // G: picks the thickness between min and max
+    TextureRef anisotropyTexture;  // RG: direction in the tangent frame (2 x - 1), B: strength
     // Alpha (glTF): a point's alpha is `alpha` x the base-colour texture's
     // alpha x COLOR_0's alpha. Spheres are opaque whatever the mode.
     AlphaMode alphaMode = AlphaMode::Opaque;

@@ -36,10 +36,16 @@ shared::Material toGpu(const scene::Material& m, uint32_t textures = VKP_NO_TEXT
     const bool glass = (scene::materialKindInfo(m.kind).flags & VKP_KIND_TRANSMITS) != 0;
     g.attenuation = glass && !m.thinWalled ? m.attenuation : glm::vec3(0.0f);
     if (glass && m.thinWalled) g.flags = VKP_MATERIAL_THIN_WALLED;
+    if (glass && !m.thinWalled) g.dispersion = m.dispersion;
     if (m.kind == scene::MaterialKind::Conductor && m.conductorEta != glm::vec3(0.0f)) {
         g.flags = VKP_MATERIAL_COMPLEX_FRESNEL;
         g.reflectance = m.conductorEta;
         g.transmittance = m.conductorK;
+    }
+    if ((scene::materialKindInfo(m.kind).flags & VKP_KIND_MICROFACET) != 0 && m.anisotropy > 0.0f) {
+        g.anisotropy = m.anisotropy;
+        g.anisotropyDirection =
+            glm::vec3(std::cos(m.anisotropyRotation), std::sin(m.anisotropyRotation), 0.0f);
     }
     if (m.kind == scene::MaterialKind::MetallicRoughness) {
         // The dielectric layer's Fresnel at normal incidence (KHR_materials_specular,
@@ -170,6 +176,11 @@ struct LightEntry {
 };
 
 // Emits from its front face only.
+// A material whose emission lies under a clear coat (KHR_materials_clearcoat).
+bool coated(const scene::Material& m) {
+    return m.kind == scene::MaterialKind::MetallicRoughness && m.clearcoat > 0.0f;
+}
+
 LightEntry triangleLight(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 emission) {
     LightEntry e;
     e.record.type = VKP_LIGHT_TRIANGLE;
@@ -373,11 +384,12 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
             // A textured emitter is not light-sampled (its emission varies over
             // the triangle, which the light's constant record cannot say): it
             // is found by BSDF samples alone, with weight 1, which is unbiased.
-            // So is one with holes (alpha): a light sample could land in one.
+            // So is one with holes (alpha): a light sample could land in one;
+            // and one under a clear coat, which dims it by angle.
             const bool holes =
                 !t.materialAlpha.empty() && t.materialAlpha[mesh.material].mode != VKP_ALPHA_OPAQUE;
             if (!m.emissive()) continue;
-            if (m.emissiveTexture.present() || holes) {
+            if (m.emissiveTexture.present() || holes || coated(m)) {
                 t.info.unsampledEmitters = 1;
                 continue;
             }
@@ -392,6 +404,10 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
         const scene::Sphere& s = scene.spheres[i];
         const scene::Material& m = scene.materials.at(s.material);
         if (!m.emissive() || bvh::isDegenerateSphere(s.center, s.radius)) continue;
+        if (coated(m)) {
+            t.info.unsampledEmitters = 1;
+            continue;
+        }
         surfaceLight[{VKP_PRIMITIVE_SPHERE, i}] = uint32_t(t.lights.size());
         addLight(sphereLight(s, m.emission));
     }

@@ -55,6 +55,8 @@ constexpr std::array<std::pair<uint64_t, const char*>, VKP_FEATURE_COUNT> FEATUR
     {VKP_FEATURE_THIN_WALLED, "thin-walled"},
     {VKP_FEATURE_DIFFUSE_TRANSMISSION, "diffuse-transmission"},
     {VKP_FEATURE_IRIDESCENCE, "iridescence"},
+    {VKP_FEATURE_ANISOTROPY, "anisotropy"},
+    {VKP_FEATURE_DISPERSION, "dispersion"},
 }};
 
 // The name of feature bit `bit`; every bit has one (a static_assert below).
@@ -87,6 +89,8 @@ uint64_t sceneFeatures(const SceneTables& t) {
         if (m.flags & VKP_MATERIAL_THIN_WALLED) f |= VKP_FEATURE_THIN_WALLED;
         if (m.diffuseTransmission > 0.0f) f |= VKP_FEATURE_DIFFUSE_TRANSMISSION;
         if (m.iridescence > 0.0f) f |= VKP_FEATURE_IRIDESCENCE;
+        if (m.anisotropy > 0.0f) f |= VKP_FEATURE_ANISOTROPY;
+        if (m.dispersion > 0.0f) f |= VKP_FEATURE_DISPERSION;
         if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE)
             f |= VKP_FEATURE_TEXTURES;
         if (!t.materialAlpha.empty() && t.materialAlpha[p.material].mode != VKP_ALPHA_OPAQUE &&

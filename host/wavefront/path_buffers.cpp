@@ -12,17 +12,17 @@
 namespace vkpath::wavefront {
 
 PathBuffers allocatePathBuffers(vk::Context& context, const RenderSettings& settings,
-                                KernelForm form, uint32_t shadowSamples, uint64_t pathStateBudget) {
+                                KernelForm form, uint32_t shadowSamples, PathExtras extras,
+                                uint64_t pathStateBudget) {
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     PathBuffers paths;
-    uint32_t w =
-        pathsPerWave(settings, form, shadowSamples, context.info(), pixels, pathStateBudget);
+    uint32_t w = pathsPerWave(settings, form, shadowSamples, extras, context.info(), pixels,
+                              pathStateBudget);
     const uint32_t asked = w;
     for (;;) {
         try {
             for (const PathBufferRow& row : pathBufferRows()) {
-                const uint64_t bytes =
-                    bytesPerPath(row, form, shadowSamples, settings.surfaceAovs) * w;
+                const uint64_t bytes = bytesPerPath(row, form, shadowSamples, extras) * w;
                 if (bytes == 0) continue;
                 paths.buffers.emplace(
                     row.binding, vk::Buffer(context, bytes, vk::MemoryKind::DeviceLocal, row.name));
@@ -37,8 +37,8 @@ PathBuffers allocatePathBuffers(vk::Context& context, const RenderSettings& sett
             paths.bytes = 0;
             RenderSettings fewer = settings;
             fewer.maxPathsInFlight = w / 2;
-            const uint32_t next =
-                pathsPerWave(fewer, form, shadowSamples, context.info(), pixels, pathStateBudget);
+            const uint32_t next = pathsPerWave(fewer, form, shadowSamples, extras, context.info(),
+                                               pixels, pathStateBudget);
             if (next < std::min(settings.workgroupSize, asked) || next >= w)
                 throw vk::VulkanError(
                     e.result(),

@@ -8,6 +8,7 @@
 
 #include "vk/buffer.h"
 #include "wavefront/render_types.h"
+#include "wavefront/wave_sizing.h"
 
 namespace vkpath::vk {
 class Context;
@@ -31,7 +32,8 @@ struct PathBuffers {
 // later rather than fail an allocation. maxDeviceMemoryBytes bounds a render
 // up front instead: `pathStateBudget`.)
 PathBuffers allocatePathBuffers(vk::Context& context, const RenderSettings& settings,
-                                KernelForm form, uint32_t shadowSamples, uint64_t pathStateBudget);
+                                KernelForm form, uint32_t shadowSamples, PathExtras extras,
+                                uint64_t pathStateBudget);
 
 // Adds each per-path binding to `bindings`: its buffer, or `placeholder`
 // where the render does not use the row.

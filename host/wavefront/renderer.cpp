@@ -117,7 +117,9 @@ void GpuRenderer::setUp() {
     // Light samples traced per vertex: none where no stage could queue one.
     const uint32_t shadowSamples = shadowRaysPerVertex(m_features, info.lightSamples);
     r->shadowStage = m_form == KernelForm::Wavefront && shadowSamples > 0;
-    const uint64_t budget = pathStateBudget(settings, m_scene.bytes(), m_form, shadowSamples);
+    const PathExtras extras{settings.surfaceAovs, (m_features & VKP_FEATURE_DISPERSION) != 0};
+    const uint64_t budget =
+        pathStateBudget(settings, m_scene.bytes(), m_form, shadowSamples, extras);
     // The SceneInfo, then the guide spheres it counts (stages/lib/scene_access.glsl).
     std::vector<std::byte> sceneInfoBytes(sizeof(info) + info.guideSphereCount * sizeof(glm::vec4));
     std::memcpy(sceneInfoBytes.data(), &info, sizeof(info));
@@ -150,7 +152,7 @@ void GpuRenderer::setUp() {
     if (settings.adaptive)
         r->pixelList = vk::Buffer(context, pixels * sizeof(glm::uvec2), vk::MemoryKind::DeviceLocal,
                                   "pixelList");
-    r->paths = allocatePathBuffers(context, settings, m_form, shadowSamples, budget);
+    r->paths = allocatePathBuffers(context, settings, m_form, shadowSamples, extras, budget);
     m_memory = {
         {"scene", m_scene.bytes()},
         {"path state", r->paths.bytes},

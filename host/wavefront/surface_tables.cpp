@@ -55,13 +55,14 @@ uint32_t meshAttributes(const scene::Scene& scene, const scene::Mesh& mesh) {
 }
 
 // A mesh's vertices as the tables hold them: its own, or as tangent
-// generation split them, with tangents where its material has a normal map.
+// generation split them, with tangents where its material has a normal map
+// or anisotropy.
 struct MeshVertices {
     std::vector<uint32_t>
         source;  // per table vertex its mesh vertex; empty: the mesh's own, in order
     std::vector<glm::uvec3>
         triangles;  // the mesh's triangles over the table vertices; empty: its own
-    std::vector<glm::vec4> tangents;  // per table vertex; empty: no normal map
+    std::vector<glm::vec4> tangents;  // per table vertex; empty: no tangent frame
 
     size_t count(const scene::Mesh& mesh) const {
         return source.empty() ? mesh.positions.size() : source.size();
@@ -72,10 +73,18 @@ struct MeshVertices {
 MeshVertices meshVertices(const scene::Scene& scene, const scene::Mesh& mesh) {
     MeshVertices v;
     if (mesh.material >= scene.materials.size()) return v;
-    const scene::TextureRef& map = scene.materials[mesh.material].normalTexture;
+    const scene::Material& material = scene.materials[mesh.material];
+    const bool anisotropic =
+        material.anisotropy > 0.0f &&
+        (scene::materialKindInfo(material.kind).flags & VKP_KIND_MICROFACET) != 0;
+    if (!material.normalTexture.present() && !anisotropic) return v;
+    // The frame follows the normal map's texture coordinates, else the
+    // anisotropy texture's, else TEXCOORD_0.
+    const scene::TextureRef& map =
+        material.normalTexture.present() ? material.normalTexture : material.anisotropyTexture;
     const size_t n = mesh.positions.size();
     const std::vector<glm::vec2>& uvs = map.texCoord == 0 ? mesh.texcoords0 : mesh.texcoords1;
-    if (!map.present() || n == 0 || uvs.size() != n) return v;  // no map, or nothing to read it at
+    if (n == 0 || uvs.size() != n) return v;  // nothing to make the frame from
     // Tangents from the file, except without normals: glTF 2.0 (3.7.2.1)
     // has flat shading then, and the file's tangents are to be ignored.
     const bool hasNormals = mesh.normals.size() == n;

@@ -20,7 +20,8 @@ bool usesTextures(const scene::Material& m) {
            m.clearcoatTexture.present() || m.clearcoatRoughnessTexture.present() ||
            m.sheenColorTexture.present() || m.sheenRoughnessTexture.present() ||
            m.diffuseTransmissionTexture.present() || m.diffuseTransmissionColorTexture.present() ||
-           m.iridescenceTexture.present() || m.iridescenceThicknessTexture.present();
+           m.iridescenceTexture.present() || m.iridescenceThicknessTexture.present() ||
+           m.anisotropyTexture.present();
 }
 
 namespace {
@@ -65,6 +66,7 @@ class Builder {
                 slot(m.iridescenceTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_IRIDESCENCE_THICKNESS] =
                 slot(m.iridescenceThicknessTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_ANISOTROPY] = slot(m.anisotropyTexture, false, m.name);
             m_tables.materialSlots[i] = first;
         }
         return std::move(m_tables);

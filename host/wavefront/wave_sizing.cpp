@@ -15,15 +15,17 @@ namespace vkpath::wavefront {
 namespace {
 
 constexpr PathBufferRow PATH_BUFFERS[] = {
-    {VKP_WF_RAYS, "rays", sizeof(shared::Ray), false, false, false},
-    {VKP_WF_HITS, "hits", sizeof(shared::Hit), false, false, false},
-    {VKP_WF_THROUGHPUT, "throughput", sizeof(glm::vec3), false, false, false},
-    {VKP_WF_RADIANCE, "radiance", sizeof(glm::vec3), false, true, false},
-    {VKP_WF_VERTEX, "vertices", sizeof(shared::PathVertex), false, false, false},
-    {VKP_WF_QUEUES, "queues", 3 * sizeof(uint32_t), false, false, false},  // stages/lib/queues.glsl
-    {VKP_WF_SHADOW_RAYS, "shadowRays", sizeof(shared::Ray), true, false, false},
-    {VKP_WF_SHADOW_RADIANCE, "shadowRadiance", sizeof(glm::vec3), true, false, false},
-    {VKP_WF_PATH_AOV, "aovs", sizeof(shared::PathAov), false, true, true},
+    {VKP_WF_RAYS, "rays", sizeof(shared::Ray), false, false, false, false},
+    {VKP_WF_HITS, "hits", sizeof(shared::Hit), false, false, false, false},
+    {VKP_WF_THROUGHPUT, "throughput", sizeof(glm::vec3), false, false, false, false},
+    {VKP_WF_RADIANCE, "radiance", sizeof(glm::vec3), false, true, false, false},
+    {VKP_WF_VERTEX, "vertices", sizeof(shared::PathVertex), false, false, false, false},
+    {VKP_WF_QUEUES, "queues", 3 * sizeof(uint32_t), false, false, false,
+     false},  // stages/lib/queues.glsl
+    {VKP_WF_SHADOW_RAYS, "shadowRays", sizeof(shared::Ray), true, false, false, false},
+    {VKP_WF_SHADOW_RADIANCE, "shadowRadiance", sizeof(glm::vec3), true, false, false, false},
+    {VKP_WF_PATH_AOV, "aovs", sizeof(shared::PathAov), false, true, true, false},
+    {VKP_WF_PATH_WAVELENGTH, "wavelengths", sizeof(float), false, false, false, true},
 };
 
 }  // namespace
@@ -33,16 +35,16 @@ std::span<const PathBufferRow> pathBufferRows() {
 }
 
 uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples,
-                      bool aovs) {
+                      PathExtras extras) {
     if (form == KernelForm::Megakernel && !row.megakernel) return 0;
-    if (row.aovs && !aovs) return 0;
+    if ((row.aovs && !extras.aovs) || (row.wavelengths && !extras.wavelengths)) return 0;
     return row.perLightSample ? row.bytes * shadowSamples : row.bytes;
 }
 
-uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, bool aovs) {
+uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, PathExtras extras) {
     uint64_t total = 0;
     for (const PathBufferRow& row : PATH_BUFFERS)
-        total += bytesPerPath(row, form, shadowRaysPerVertex, aovs);
+        total += bytesPerPath(row, form, shadowRaysPerVertex, extras);
     return total;
 }
 
@@ -67,7 +69,7 @@ uint32_t defaultPathsInFlight(const vk::DeviceInfo& device) {
 }
 
 uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelForm form,
-                         uint32_t shadowSamples) {
+                         uint32_t shadowSamples, PathExtras extras) {
     if (!s.maxDeviceMemoryBytes) return UINT64_MAX;
     const uint64_t pixels = uint64_t(s.width) * s.height;
     const uint64_t taken =
@@ -76,7 +78,7 @@ uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelFor
                                (s.surfaceAovs ? sizeof(shared::FilmAovPixel) : 0));
     const uint64_t left = *s.maxDeviceMemoryBytes - std::min(taken, *s.maxDeviceMemoryBytes);
     const uint64_t fewest = std::min<uint64_t>(s.workgroupSize, pixels * s.samplesPerPixel);
-    if (left / pathStateBytes(form, shadowSamples, s.surfaceAovs) < fewest)
+    if (left / pathStateBytes(form, shadowSamples, extras) < fewest)
         throw InputError(fmt::format(
             "--max-device-memory {:.3g} MiB: the scene and the film take {:.3g} MiB, leaving room "
             "for "
@@ -86,11 +88,12 @@ uint64_t pathStateBudget(const RenderSettings& s, uint64_t sceneBytes, KernelFor
 }
 
 uint32_t pathsPerWave(const RenderSettings& s, KernelForm form, uint32_t shadowSamples,
-                      const vk::DeviceInfo& device, uint64_t pixels, uint64_t pathStateBudget) {
-    const uint64_t total = pathStateBytes(form, shadowSamples, s.surfaceAovs);
+                      PathExtras extras, const vk::DeviceInfo& device, uint64_t pixels,
+                      uint64_t pathStateBudget) {
+    const uint64_t total = pathStateBytes(form, shadowSamples, extras);
     uint64_t largest = 1;
     for (const PathBufferRow& row : PATH_BUFFERS)
-        largest = std::max(largest, bytesPerPath(row, form, shadowSamples, s.surfaceAovs));
+        largest = std::max(largest, bytesPerPath(row, form, shadowSamples, extras));
     uint64_t limit = s.maxPathsInFlight.value_or(defaultPathsInFlight(device));
     limit = std::min<uint64_t>(limit, device.deviceLocalMemory / 4 / total);
     limit = std::min<uint64_t>(limit, pathStateBudget / total);

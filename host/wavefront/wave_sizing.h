@@ -24,20 +24,28 @@ struct PathBufferRow {
     bool perLightSample;  // holds one element per traced light sample
     bool megakernel;      // the megakernel uses it too (else only the wavefront stages)
     bool aovs;            // only renders with the AOVs use it (RenderSettings::surfaceAovs)
+    bool wavelengths;     // only kernels with dispersion use it (VKP_FEATURE_DISPERSION)
+};
+
+// What a render keeps per path besides every render's state.
+struct PathExtras {
+    bool aovs = false;         // the AOVs (RenderSettings::surfaceAovs)
+    bool wavelengths = false;  // each path's wavelength (kernels with VKP_FEATURE_DISPERSION)
 };
 
 // Every per-path buffer, one row each.
 std::span<const PathBufferRow> pathBufferRows();
 
 // Bytes per path of `row` in a render of this form that traces `shadowSamples`
-// light samples per vertex (and keeps the AOVs, `aovs`); 0 when the render
-// does not use it (a placeholder is bound to it).
-uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples, bool aovs);
+// light samples per vertex and keeps `extras`; 0 when the render does not
+// use it (a placeholder is bound to it).
+uint64_t bytesPerPath(const PathBufferRow& row, KernelForm form, uint32_t shadowSamples,
+                      PathExtras extras);
 
 // Device bytes one path in flight takes in the per-path buffers of a kernel
 // form whose kernels queue `shadowRaysPerVertex` shadow rays per vertex
-// (kernel_features.h), with or without the AOVs.
-uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, bool aovs = false);
+// (kernel_features.h) and keeps `extras`.
+uint64_t pathStateBytes(KernelForm form, uint32_t shadowRaysPerVertex, PathExtras extras = {});
 
 // The kernel form a device gets without --kernel (measured:
 // docs/BENCHMARKS.md, "Kernel forms and specialisation").
@@ -61,14 +69,15 @@ inline constexpr uint64_t MAX_ROUNDS_PER_WAVE = 65535;
 // limit without it). Throws
 // InputError when that leaves room for less than one workgroup's paths.
 uint64_t pathStateBudget(const RenderSettings& settings, uint64_t sceneBytes, KernelForm form,
-                         uint32_t shadowSamples);
+                         uint32_t shadowSamples, PathExtras extras);
 
 // How many paths a wave holds: as many as memory (and `pathStateBudget`
 // bytes of path state) allows up to the setting, rounded so that a wave holds
 // whole samples of every pixel (or, for images larger than a wave, a whole
 // sample is split into equal waves).
 uint32_t pathsPerWave(const RenderSettings& settings, KernelForm form, uint32_t shadowSamples,
-                      const vk::DeviceInfo& device, uint64_t pixels, uint64_t pathStateBudget);
+                      PathExtras extras, const vk::DeviceInfo& device, uint64_t pixels,
+                      uint64_t pathStateBudget);
 
 // Pixels per film window: as many as one storage-buffer binding holds
 // (maxStorageBufferRange) and one dispatch of accumulate reaches (the

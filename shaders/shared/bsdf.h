@@ -13,6 +13,7 @@
 #include "shared/metallic_roughness.h"
 #include "shared/microfacet.h"
 #include "shared/microfacet_albedo.h"
+#include "shared/precise_math.h"
 #include "shared/sampling.h"
 
 VKP_NAMESPACE_BEGIN
@@ -187,10 +188,39 @@ VKP_FN vec3 albedoDielectricMaterial(VKP_IN(Material)) {
     return vec3(1.0f);
 }
 
-// Rough conductor (microfacet.h); alpha = roughness^2 (glTF 2.0 Appendix B,
-// and the Disney convention).
+// Whether `material`'s GGX lobe is rougher along Material::anisotropyDirection
+// than across it (KHR_materials_anisotropy).
+VKP_FN bool materialAnisotropic(VKP_IN(Material) material) {
+    return hasFeature(VKP_FEATURE_ANISOTROPY) && material.anisotropy > 0.0f;
+}
+
+// The GGX alphas of a microfacet kind along the local frame's s and t
+// (materialFrame): alpha = roughness^2 (glTF 2.0 Appendix B, and the Disney
+// convention) both ways; anisotropic, KHR_materials_anisotropy's
+// alpha_t = mix(alpha, 1, strength^2) along the direction and alpha_b =
+// alpha across it, each at least VKP_MICROFACET_SMOOTH_ALPHA (the extension
+// clamps alpha_b to 0.001): an anisotropic lobe is never a delta.
 VKP_FN vec2 materialAlpha(VKP_IN(Material) material) {
-    return vec2(material.roughness * material.roughness);
+    float alpha = material.roughness * material.roughness;
+    if (!materialAnisotropic(material)) return vec2(alpha);
+    float along = alpha + (1.0f - alpha) * (material.anisotropy * material.anisotropy);
+    return max(vec2(along, alpha), vec2(VKP_MICROFACET_SMOOTH_ALPHA));
+}
+
+// The local frame of a microfacet kind at shading normal ns: any frame
+// (makeFrame) for an isotropic lobe; for an anisotropic one, s along
+// Material::anisotropyDirection made orthogonal to ns, the direction of
+// materialAlpha's first alpha.
+VKP_FN Frame materialFrame(VKP_IN(Material) material, vec3 ns) {
+    if (!materialAnisotropic(material)) return makeFrame(ns);
+    vec3 s = material.anisotropyDirection - dot(material.anisotropyDirection, ns) * ns;
+    float length2 = dot(s, s);
+    if (!(length2 > 1e-12f)) return makeFrame(ns);
+    Frame f;
+    f.s = s / sqrt(length2);
+    f.t = exactCross(ns, f.s);
+    f.n = ns;
+    return f;
 }
 
 VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
@@ -207,17 +237,17 @@ VKP_FN Conductor materialConductor(VKP_IN(Material) material) {
 }
 VKP_FN BsdfSample sampleConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
                                           float /*uc*/) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return sampleToWorld(frame,
                          sampleConductor(materialConductor(material), frameToLocal(frame, wo), u));
 }
 VKP_FN vec3 evalConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return evalConductor(materialConductor(material), frameToLocal(frame, wo),
                          frameToLocal(frame, wi));
 }
 VKP_FN float pdfConductorMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return conductorPdf(materialConductor(material), frameToLocal(frame, wo),
                         frameToLocal(frame, wi));
 }
@@ -250,17 +280,17 @@ VKP_FN RoughDielectric materialRoughDielectric(VKP_IN(Material) material) {
 }
 VKP_FN BsdfSample sampleRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec2 u,
                                                 float uc) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return sampleToWorld(frame, sampleRoughDielectric(materialRoughDielectric(material),
                                                       frameToLocal(frame, wo), u, uc));
 }
 VKP_FN vec3 evalRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return evalRoughDielectric(materialRoughDielectric(material), frameToLocal(frame, wo),
                                frameToLocal(frame, wi));
 }
 VKP_FN float pdfRoughDielectricMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return roughDielectricPdf(materialRoughDielectric(material), frameToLocal(frame, wo),
                               frameToLocal(frame, wi));
 }
@@ -299,17 +329,17 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
 }
 VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo,
                                                   vec2 u, float uc) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material),
                                                         frameToLocal(frame, wo), u, uc));
 }
 VKP_FN vec3 evalMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return evalMetallicRoughness(materialMetallicRoughness(material), frameToLocal(frame, wo),
                                  frameToLocal(frame, wi));
 }
 VKP_FN float pdfMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
-    Frame frame = makeFrame(ns);
+    Frame frame = materialFrame(material, ns);
     return metallicRoughnessPdf(materialMetallicRoughness(material), frameToLocal(frame, wo),
                                 frameToLocal(frame, wi));
 }

@@ -20,7 +20,9 @@
 // chosen through the light tree (path/light_choice.h), and point and spot
 // lights' range (lights.h). 7: scattering inside glass
 // (KHR_materials_volume_scatter, path/media.h), which files that have it
-// rendered without before.
-#define VKP_ESTIMATOR_VERSION 7u
+// rendered without before. 8: anisotropy (KHR_materials_anisotropy) and
+// dispersion (KHR_materials_dispersion, shared/spectral.h), which files that
+// have them rendered without before, and emission dimmed by a clear coat.
+#define VKP_ESTIMATOR_VERSION 8u
 
 #endif  // VKPATH_SHARED_DIMENSIONS_H

@@ -118,7 +118,14 @@
 // A metallic-roughness material under a thin film (KHR_materials_iridescence;
 // Material::iridescence > 0, shared/thin_film.h)
 #define VKP_FEATURE_IRIDESCENCE VKP_FEATURE_BIT(39)
-#define VKP_FEATURE_COUNT 40u  // bits 40 to 63 are free
+// A microfacet material rougher along one direction of its surface than
+// across it (KHR_materials_anisotropy; Material::anisotropy > 0)
+#define VKP_FEATURE_ANISOTROPY VKP_FEATURE_BIT(40)
+// Glass whose index varies with the wavelength (KHR_materials_dispersion;
+// Material::dispersion > 0): paths that meet it follow one wavelength
+// (shared/spectral.h), kept per path (PathState::wavelength)
+#define VKP_FEATURE_DISPERSION VKP_FEATURE_BIT(41)
+#define VKP_FEATURE_COUNT 42u  // bits 42 to 63 are free
 
 // Each material kind's bit, VKP_FEATURE_<its NAME>, from the registry.
 #define VKP_KIND_FEATURE_CONSTANT(id, NAME, Type, key, label, feature, flags, regularized) \

@@ -81,6 +81,19 @@ VKP_FN bool scattersInMedium(VKP_INOUT(PathState) path, VKP_IN(Shading) shading,
     return bounce < sceneInfo().maxDepth;
 }
 
+// At a hit on dispersive glass (Material::dispersion > 0): a path that
+// follows no wavelength yet takes one (its number VKP_DIM_WAVELENGTH, the
+// same at every bounce) and its throughput the weight w(lambda); the glass's
+// index becomes its index at the path's wavelength (shared/spectral.h).
+VKP_FN void disperse(VKP_INOUT(PathState) path, VKP_INOUT(Material) material,
+                     RngKey key) VKP_SCENE_CONST {
+    if (path.wavelength == 0.0f) {
+        path.wavelength = wavelengthOf(rngUniform(key, VKP_DIM_WAVELENGTH));
+        path.throughput *= spectralWeight(path.wavelength);
+    }
+    material.ior = dispersedIor(material.ior, material.dispersion, path.wavelength);
+}
+
 // Stage "shade", first part: adds what the ray of bounce `bounce` sees at
 // `hit` (emission with its MIS weight, or the environment on a miss), or,
 // with media, where it scatters before. Returns whether the path scatters
@@ -140,6 +153,13 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce
     }
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
+    if (hasFeature(VKP_FEATURE_DISPERSION) && shading.material.dispersion > 0.0f)
+        disperse(path, shading.material, key);
+    if (hasFeature(VKP_FEATURE_ANISOTROPY) && shading.material.anisotropy > 0.0f) {
+        shading.material.anisotropyDirection =
+            anisotropyDirectionAt(shading.material, primitive, hit, shading.surface.shadingNormal);
+        if (shading.material.anisotropyDirection == vec3(0.0f)) shading.material.anisotropy = 0.0f;
+    }
     // Compensation follows the material's own roughness: a lobe that path
     // regularisation roughens keeps its own (none for a mirror or smooth glass).
     if (hasFeature(VKP_FEATURE_MICROFACET_COMPENSATION) && sceneInfo().microfacetCompensation != 0u)

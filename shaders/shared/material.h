@@ -29,7 +29,7 @@ VKP_NAMESPACE_BEGIN
 #define VKP_MATERIAL_THIN_WALLED 4u
 
 // Each field serves the kinds its comment names and is ignored by the others
-// (144 bytes for every kind, nine 16-byte texels: kernels read the array as
+// (160 bytes for every kind, ten 16-byte texels: kernels read the array as
 // a texel buffer and fetch only the texels their features read,
 // stages/lib/scene_access.glsl; scene::Material has a field per meaning).
 // Material's fields (type, name, first 32-bit word; shared/records.h): the
@@ -75,7 +75,9 @@ VKP_NAMESPACE_BEGIN
     /* metallic-roughness: the white sheen lobe's albedo E_sheen(mu_o) at the hit's wo, set */   \
     /* per hit (shared/path/energy_compensation.h); 0 in the scene's array */                    \
     F(float, sheenLobeAlbedo, 26)                                                                \
-    F(uint, padding, 27)                                                                         \
+    /* glass, rough glass with an inside: KHR_materials_dispersion's 20 / Abbe number (0: */     \
+    /* the index is the same at every wavelength; shared/spectral.h) */                          \
+    F(float, dispersion, 27)                                                                     \
     /* metallic-roughness: KHR_materials_diffuse_transmission's colour and share of the */       \
     /* diffuse lobe that passes to the back (0: none) */                                         \
     F(vec3, diffuseTransmissionColor, 28)                                                        \
@@ -86,7 +88,13 @@ VKP_NAMESPACE_BEGIN
     F(float, iridescence, 32)                                                                    \
     F(float, iridescenceIor, 33)                                                                 \
     F(float, iridescenceThicknessMinimum, 34)                                                    \
-    F(float, iridescenceThickness, 35)
+    F(float, iridescenceThickness, 35)                                                           \
+    /* conductor, rough glass, metallic-roughness: KHR_materials_anisotropy's strength (0: */    \
+    /* isotropic) and direction: in the scene's array the tangent frame's (cos, sin, 0) of */    \
+    /* its rotation; per hit, after the texture, the unit world-space direction along which */   \
+    /* the lobe is rougher (shared/path/shading_normals.h) */                                    \
+    F(vec3, anisotropyDirection, 36)                                                             \
+    F(float, anisotropy, 39)
 struct Material {
     VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -156,7 +164,7 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 #define VKP_RECORD Material
-VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 9)
+VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 10)
 #undef VKP_RECORD
 #endif
 

@@ -304,12 +304,18 @@ VKP_FN float sheenAlbedo(MetallicRoughness p) {
     return largestComponent(p.sheenColor) * min(p.sheenLobeAlbedo, 1.0f);
 }
 
+// clearcoat F_c(c): the share of the light a coat of weight `clearcoat`
+// reflects at cosine c (its index 1.5: Schlick's F0 = 0.04).
+VKP_FN float clearcoatFresnel(float clearcoat, float c) {
+    float x = 1.0f - clamp(c, 0.0f, 1.0f);
+    float x2 = x * x;
+    return clearcoat * (0.04f + 0.96f * (x2 * x2 * x));
+}
+
 // clearcoat F_c(cos theta_o): the share of the coat in the mix.
 VKP_FN float coatWeight(MetallicRoughness p, float cosO) {
     if (!hasClearcoat(p)) return 0.0f;
-    float x = 1.0f - clamp(cosO, 0.0f, 1.0f);
-    float x2 = x * x;
-    return p.clearcoat * (0.04f + 0.96f * (x2 * x2 * x));
+    return clearcoatFresnel(p.clearcoat, cosO);
 }
 
 // The probabilities of sampling the coat, the sheen and the base at wo:

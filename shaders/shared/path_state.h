@@ -12,6 +12,7 @@
 #include "shared/ray.h"
 #include "shared/rng.h"
 #include "shared/scene_data.h"
+#include "shared/spectral.h"
 
 VKP_NAMESPACE_BEGIN
 
@@ -40,7 +41,10 @@ struct PathState {
     float bsdfPdf;       // density of the direction sampled there (MIS at the next hit)
     bool specular;       // the camera or a delta BSDF produced the ray (no MIS)
     bool afterNonDelta;  // a non-delta lobe scattered the path before (path regularisation applies)
-    PathAov aov;         // read and written only with VKP_FEATURE_AOVS and SceneInfo::aovs
+    // The wavelength in nm the path follows since it met dispersive glass
+    // (shared/spectral.h); 0 before. Kept only with VKP_FEATURE_DISPERSION.
+    float wavelength;
+    PathAov aov;  // read and written only with VKP_FEATURE_AOVS and SceneInfo::aovs
 };
 
 // What a path's rays were, for RenderResult's counters.
@@ -87,6 +91,7 @@ VKP_FN PathState startPath(VKP_IN(Camera) camera, uint pixel, RngKey key) {
     path.bsdfPdf = 0.0f;
     path.specular = true;
     path.afterNonDelta = false;
+    path.wavelength = 0.0f;
     path.aov.albedo = vec3(0.0f);
     path.aov.normal = vec3(0.0f);
     path.aov.found = 0u;

@@ -47,7 +47,9 @@
 #define VKP_SLOT_IRIDESCENCE 10u                // linear: R multiplies the thin film's weight
 #define VKP_SLOT_IRIDESCENCE_THICKNESS \
     11u  // linear: G picks the film's thickness between its minimum and maximum
-#define VKP_SLOTS_PER_MATERIAL 12u
+#define VKP_SLOT_ANISOTROPY \
+    12u  // linear: RG the direction in the tangent frame (2 x - 1), B multiplies the strength
+#define VKP_SLOTS_PER_MATERIAL 13u
 
 VKP_NAMESPACE_BEGIN
 

@@ -60,9 +60,11 @@
 #define VKP_WF_GRID_DENSITY 39  // float[voxels]: the grid medium's densities
 #define VKP_WF_GRID_MAJORANT \
     40  // float[cells]: the grid medium's majorant per cell of GridMedium::majorantCell^3 voxels
+#define VKP_WF_PATH_WAVELENGTH \
+    41  // float[W]: each path's wavelength (PathState::wavelength), with dispersion
 // The first binding after the stages' own: kernels that bind the scene as the
 // stages do put their own buffers from here (python/kernels/routines.h).
-#define VKP_WF_FIRST_FREE_BINDING 41
+#define VKP_WF_FIRST_FREE_BINDING 42
 
 VKP_NAMESPACE_BEGIN
 

@@ -46,8 +46,9 @@ TEST(CameraStage, GpuRaysMatchCpu) {
     vk::Buffer vertices(context, count * sizeof(shared::PathVertex)),
         queues(context, 3 * count * sizeof(uint32_t));
     vk::Buffer counters(context, sizeof(shared::QueueCounters));
-    vk::Buffer noPixelList(context, sizeof(glm::uvec2));  // a uniform wave reads no list
-    vk::Buffer noAovs(context, sizeof(shared::PathAov));  // SceneInfo::aovs is 0
+    vk::Buffer noPixelList(context, sizeof(glm::uvec2));     // a uniform wave reads no list
+    vk::Buffer noAovs(context, sizeof(shared::PathAov));     // SceneInfo::aovs is 0
+    vk::Buffer wavelengths(context, count * sizeof(float));  // the general kernel keeps them
     vk::Kernel generate(context, "generate");
     generate.dispatch(count,
                       {{VKP_WF_SCENE_INFO, &infoBuffer},
@@ -59,7 +60,8 @@ TEST(CameraStage, GpuRaysMatchCpu) {
                        {VKP_WF_QUEUES, &queues},
                        {VKP_WF_COUNTERS, &counters},
                        {VKP_WF_PIXEL_LIST, &noPixelList},
-                       {VKP_WF_PATH_AOV, &noAovs}},
+                       {VKP_WF_PATH_AOV, &noAovs},
+                       {VKP_WF_PATH_WAVELENGTH, &wavelengths}},
                       shared::WavePush{sampleIndex, 0, count, 0, 0});
     const auto gpu = rays.download<shared::Ray>();
     // Every path starts alive in ray queue 0 with throughput 1.

@@ -20,7 +20,7 @@ TEST(KernelHarness, ReflectsBindingsAndPushConstants) {
     EXPECT_EQ(bindings, (std::vector<uint32_t>{VKP_WF_SCENE_INFO, VKP_WF_CAMERA, VKP_WF_RAYS,
                                                VKP_WF_THROUGHPUT, VKP_WF_RADIANCE, VKP_WF_VERTEX,
                                                VKP_WF_QUEUES, VKP_WF_COUNTERS, VKP_WF_PIXEL_LIST,
-                                               VKP_WF_PATH_AOV}));
+                                               VKP_WF_PATH_AOV, VKP_WF_PATH_WAVELENGTH}));
     EXPECT_EQ(generate.reflection().pushConstantSize, sizeof(shared::WavePush));
 }
 

@@ -107,6 +107,16 @@ TEST(KernelFeatures, MaterialExtensionsOnlyWhereAMaterialHasThem) {
     EXPECT_EQ(featuresOf(leaf, settings) & VKP_FEATURE_IRIDESCENCE, 0u);
     leaf.materials[0].iridescence = 0.5f;
     EXPECT_NE(featuresOf(leaf, settings) & VKP_FEATURE_IRIDESCENCE, 0u);
+    EXPECT_EQ(featuresOf(leaf, settings) & VKP_FEATURE_ANISOTROPY, 0u);
+    leaf.materials[0].anisotropy = 0.5f;
+    EXPECT_NE(featuresOf(leaf, settings) & VKP_FEATURE_ANISOTROPY, 0u);
+    // Dispersion on solid glass only: a thin wall bends no light.
+    scene::Scene prism = plain;
+    prism.materials[0].kind = scene::MaterialKind::Dielectric;
+    prism.materials[0].dispersion = 0.5f;
+    EXPECT_NE(featuresOf(prism, settings) & VKP_FEATURE_DISPERSION, 0u);
+    prism.materials[0].thinWalled = true;
+    EXPECT_EQ(featuresOf(prism, settings) & VKP_FEATURE_DISPERSION, 0u);
 }
 
 TEST(KernelFeatures, NamesTheBitsAndTheGeneralKernel) {
@@ -130,12 +140,18 @@ TEST(KernelFeatures, NoShadowStageOrMemoryWhereNothingCanBeLightSampled) {
     };
     // A mirror under the sky: a light to sample but no surface to sample it
     // from. Specialised, the shadow rays and their contributions (32 + 12
-    // bytes a path) are not allocated; the general kernels keep them.
+    // bytes a path) are not allocated; the general kernels keep them, and the
+    // wavelength of dispersion (4 bytes), which no specialised kernel of a
+    // scene without dispersive glass keeps.
     const scene::Scene mirror = sphereUnderSky(scene::MaterialKind::Mirror);
     EXPECT_EQ(pathState(mirror, true),
               wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0));
-    EXPECT_EQ(pathState(mirror, false),
-              wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1));
+    EXPECT_EQ(pathState(mirror, false), wavefront::pathStateBytes(wavefront::KernelForm::Wavefront,
+                                                                  1, {.wavelengths = true}));
+    EXPECT_EQ(
+        wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0, {.wavelengths = true}) -
+            wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0),
+        sizeof(float));
     EXPECT_EQ(wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 1) -
                   wavefront::pathStateBytes(wavefront::KernelForm::Wavefront, 0),
               sizeof(shared::Ray) + sizeof(glm::vec3));

@@ -1,7 +1,8 @@
 // The glTF importer's material extensions (host/scene/gltf_materials.cpp):
 // the layers over the metallic-roughness material (KHR_materials_clearcoat
 // and KHR_materials_sheen: their factors, their textures and what is warned
-// about or refused) and thin-walled transmission.
+// about or refused), diffuse transmission, thin films, anisotropy and
+// thin-walled transmission.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -197,6 +198,89 @@ TEST(GltfIridescence, FilmIndexThicknessAndTextures) {
                         {{"KHR_materials_iridescence",
                           {{"iridescenceFactor", 1}, {"iridescenceThicknessMaximum", -5}}}})),
                     "iridescenceThicknessMaximum -5 is not a finite number >= 0");
+}
+
+// KHR_materials_anisotropy: the strength (clamped to [0, 1]), the rotation
+// (any finite angle) and the texture, on the metallic-roughness material,
+// the metal and rough glass; smooth glass with anisotropy becomes rough
+// glass; a Lambertian material drops it. A mesh with the material and no
+// texture coordinates (no tangent frame to turn the direction in) is warned
+// about.
+TEST(GltfAnisotropy, StrengthRotationTextureAndKinds) {
+    TempDir dir;
+    const Json brushed = {{"KHR_materials_anisotropy",
+                           {{"anisotropyStrength", 0.6},
+                            {"anisotropyRotation", 1.2},
+                            {"anisotropyTexture", {{"index", 0}}}}}};
+    for (const auto& [pbr, kind] :
+         {std::pair{Json{{"metallicFactor", 1}, {"roughnessFactor", 0}},
+                    scene::MaterialKind::Conductor},
+          std::pair{Json{{"metallicFactor", 0.5}, {"roughnessFactor", 0.4}},
+                    scene::MaterialKind::MetallicRoughness}}) {
+        const auto loaded = load(layeredTriangle(dir / "brushed.gltf", brushed, pbr));
+        const scene::Material& m = loaded.scene.materials.at(0);
+        EXPECT_EQ(m.kind, kind);
+        EXPECT_FLOAT_EQ(m.anisotropy, 0.6f);
+        EXPECT_FLOAT_EQ(m.anisotropyRotation, 1.2f);
+        EXPECT_EQ(m.anisotropyTexture.texture, 0);
+        EXPECT_CONTAINS(loaded.warnings,
+                        "anisotropic materials on meshes without texture "
+                        "coordinates render isotropic");
+    }
+    Json glass = brushed;
+    glass["KHR_materials_transmission"] = {{"transmissionFactor", 1}};
+    const auto rough = load(layeredTriangle(dir / "glass.gltf", glass, {{"roughnessFactor", 0}}));
+    EXPECT_EQ(rough.scene.materials.at(0).kind, scene::MaterialKind::RoughDielectric);
+    EXPECT_FLOAT_EQ(rough.scene.materials.at(0).anisotropy, 0.6f);
+    const auto lambertian = load(layeredTriangle(
+        dir / "paper.gltf", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 0.6}}},
+                             {"KHR_materials_specular", {{"specularFactor", 0}}}}));
+    EXPECT_EQ(lambertian.scene.materials.at(0).kind, scene::MaterialKind::Diffuse);
+    EXPECT_EQ(lambertian.scene.materials.at(0).anisotropy, 0.0f);
+
+    // With texture coordinates the frame is made from them: no warning.
+    GltfBuilder g;
+    const int m =
+        g.material({{"pbrMetallicRoughness", {{"metallicFactor", 1}}},
+                    {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 1.5}}}}}});
+    g.node({{"mesh", g.uvSphere(8, true, m)}});
+    g.camera();
+    const auto sphere = load(g.writeGltf(dir / "sphere.gltf"));
+    EXPECT_FLOAT_EQ(sphere.scene.materials.at(0).anisotropy, 1.0f);
+    EXPECT_EQ(sphere.warnings.find("isotropic"), std::string::npos) << sphere.warnings;
+    EXPECT_CONTAINS(sphere.warnings, "material factors outside [0, 1] are clamped");
+
+    EXPECT_CONTAINS(
+        loadError(layeredTriangle(dir / "turned.gltf",
+                                  {{"KHR_materials_anisotropy",
+                                    {{"anisotropyStrength", 1}, {"anisotropyRotation", "left"}}}})),
+        "anisotropyRotation");
+}
+
+// KHR_materials_dispersion: read on glass with a volume (a solid), ignored
+// with a warning on a thin wall, ignored silently on opaque materials (it
+// changes volumetric refraction only); a negative factor is an error.
+TEST(GltfDispersion, OnSolidGlassOnly) {
+    TempDir dir;
+    Json solid = {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+                  {"KHR_materials_volume", {{"thicknessFactor", 1}}},
+                  {"KHR_materials_dispersion", {{"dispersion", 0.5}}}};
+    const Json smooth = {{"metallicFactor", 0}, {"roughnessFactor", 0}};
+    const auto glass = load(layeredTriangle(dir / "solid.gltf", solid, smooth));
+    EXPECT_EQ(glass.warnings, "");
+    EXPECT_EQ(glass.scene.materials.at(0).kind, scene::MaterialKind::Dielectric);
+    EXPECT_FLOAT_EQ(glass.scene.materials.at(0).dispersion, 0.5f);
+    Json thin = solid;
+    thin.erase("KHR_materials_volume");
+    const auto wall = load(layeredTriangle(dir / "thin.gltf", thin));
+    EXPECT_EQ(wall.scene.materials.at(0).dispersion, 0.0f);
+    EXPECT_CONTAINS(wall.warnings, "KHR_materials_dispersion without KHR_materials_volume");
+    const auto opaque = load(layeredTriangle(
+        dir / "opaque.gltf", {{"KHR_materials_dispersion", {{"dispersion", 0.5}}}}));
+    EXPECT_EQ(opaque.scene.materials.at(0).dispersion, 0.0f);
+    solid["KHR_materials_dispersion"]["dispersion"] = -1;
+    EXPECT_CONTAINS(loadError(layeredTriangle(dir / "negative.gltf", solid)),
+                    "dispersion -1 is not a finite number >= 0");
 }
 
 // KHR_materials_transmission without KHR_materials_volume is a thin wall

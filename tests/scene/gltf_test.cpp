@@ -677,16 +677,6 @@ INSTANTIATE_TEST_SUITE_P(
             1.0f,
             0.2f,
             0.0f},
-        MaterialRow{"AnisotropyIsWarned",
-                    R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
-                        {"KHR_materials_anisotropy": {"anisotropyStrength": 1}}})",
-                    LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0),
-                    "'KHR_materials_anisotropy' is not supported"},
-        MaterialRow{"DispersionIsWarned",
-                    R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions":
-                        {"KHR_materials_dispersion": {"dispersion": 20}}})",
-                    LAYERED, glm::vec3(1), glm::vec3(1), 1.5f, glm::vec3(0),
-                    "'KHR_materials_dispersion' is not supported"},
         MaterialRow{
             "EmissiveWithStrength",
             R"({"pbrMetallicRoughness": {"metallicFactor": 0}, "emissiveFactor": [1, 0.5, 0.25],
@@ -1015,15 +1005,16 @@ TEST(GltfEnvironment, BadEnvironmentsAreOneLineErrors) {
 TEST(GltfWarnings, OneLinePerKind) {
     TempDir dir;
     GltfBuilder g;
-    g.doc["extensionsUsed"] = {"KHR_materials_anisotropy", "KHR_materials_dispersion"};
+    g.doc["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness", "EXT_lights_image_based"};
     g.doc["textures"] = {{{"source", 0}}};
     g.doc["images"] = {{{"uri", "wood.png"}}};
     writeText(dir / "wood.png", "not decoded");
     for (int i = 0; i < 3; ++i)
-        g.material({{"name", "textured" + std::to_string(i)},
-                    {"pbrMetallicRoughness",
-                     {{"metallicFactor", 0}, {"baseColorTexture", {{"index", 0}}}}},
-                    {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 1}}}}}});
+        g.material(
+            {{"name", "textured" + std::to_string(i)},
+             {"pbrMetallicRoughness",
+              {{"metallicFactor", 0}, {"baseColorTexture", {{"index", 0}}}}},
+             {"extensions", {{"KHR_materials_pbrSpecularGlossiness", {{"glossinessFactor", 1}}}}}});
     // Two meshes with degenerate triangles (repeated vertices): 2 + 3 dropped.
     const int positions = g.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
     g.node({{"mesh", g.mesh(positions, g.indices({0, 1, 2, 0, 0, 1, 1, 2, 2}, U16), -1, 0)}});
@@ -1039,8 +1030,8 @@ TEST(GltfWarnings, OneLinePerKind) {
     // Three materials use the one image that cannot be decoded: one line, one image.
     EXPECT_EQ(countLinesContaining(loaded.warnings, "images that cannot be decoded (png)"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "(1 image, first: image 0 (cannot decode"), 1u);
-    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_anisotropy'"), 1u);
-    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_dispersion'"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "'KHR_materials_pbrSpecularGlossiness'"), 1u);
+    EXPECT_EQ(countLinesContaining(loaded.warnings, "'EXT_lights_image_based'"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "degenerate triangles"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "(5 triangles"), 1u);
     EXPECT_EQ(countLinesContaining(loaded.warnings, "default camera"), 1u);

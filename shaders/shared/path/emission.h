@@ -23,13 +23,19 @@ VKP_FN vec3 escapedRadiance(vec3 direction, bool specular, float bsdfPdf) VKP_SC
 // Emission at a hit: `surface` on `primitive`, leaf primitive `index`,
 // reached along `direction` from `previous` (the last vertex, its normal
 // `previousNormal` as the path keeps it) by a ray of BSDF density `bsdfPdf`.
-// Triangles emit from their front face only.
+// Triangles emit from their front face only. A clear coat lies over the
+// emission (KHR_materials_clearcoat) and dims it by the share it reflects,
+// clearcoat F_c(n.v) at the shading normal; the host does not light-sample
+// such emitters (host/wavefront/gpu_scene.cpp), whose record could not say it.
 VKP_FN vec3 emittedRadiance(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, uint index,
                             VKP_IN(SurfacePoint) surface, vec3 direction, vec3 previous,
                             uint previousNormal, bool specular, float bsdfPdf) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_EMISSIVE_SURFACES)) return vec3(0.0f);
     vec3 le = material.emission;
     if (!isSphere(primitive) && dot(direction, surface.normal) >= 0.0f) return vec3(0.0f);
+    if (hasFeature(VKP_FEATURE_CLEARCOAT) && material.clearcoat > 0.0f)
+        le *=
+            1.0f - clearcoatFresnel(material.clearcoat, abs(dot(surface.shadingNormal, direction)));
     SceneInfo info = sceneInfo();
     if (le == vec3(0.0f) || specular || lightSampleCount() == 0u || info.lightCount == 0u)
         return le;

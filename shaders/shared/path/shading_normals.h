@@ -3,18 +3,37 @@
 
 // ---- shading normals ------------------------------------------------------------------
 
+// The tangent frame at barycentrics (b1, b2) of `triangle`, whose vertices
+// have tangents, about the unit normal n: the tangent T (interpolated, made
+// orthogonal to n: Gram-Schmidt) and the bitangent B = w (n x T) (glTF 2.0
+// section 3.7.2.1; +Y up the image, since T and w were made for glTF's v-down
+// coordinates). False where T is degenerate.
+VKP_FN bool tangentFrame(VKP_IN(TriangleVertices) triangle, float b1, float b2, vec3 n,
+                         bool instanced, VKP_IN(InstanceTransform) x, VKP_OUT(vec3) t,
+                         VKP_OUT(vec3) b) VKP_SCENE_CONST {
+    uvec3 v = triangle.vertex;
+    vec4 tangent = (1.0f - b1 - b2) * placedVertexTangent(v.x, instanced, x) +
+                   b1 * placedVertexTangent(v.y, instanced, x) +
+                   b2 * placedVertexTangent(v.z, instanced, x);
+    t = vec3(tangent) - dot(n, vec3(tangent)) * n;
+    float t2 = dot(t, t);
+    if (!(t2 > 1e-12f)) return false;
+    t /= sqrt(t2);
+    b = (tangent.w < 0.0f ? -1.0f : 1.0f) * exactCross(n, t);
+    return true;
+}
+
 // The normal map's normal at barycentrics (b1, b2) of `triangle`, whose
-// material has a normal map and whose vertices have tangents; `n` is the
-// normal it perturbs (interpolated or geometric, unit). glTF 2.0, section
-// 3.9.3 (normalTexture): the texel's RGB is a tangent-space normal
-// 2 x - 1, its x and y scaled by normalTexture.scale, in the frame of the
-// tangent T (interpolated, made orthogonal to n: Gram-Schmidt), the
-// bitangent B = w (n x T) (section 3.7.2.1; +Y up the image, since T and w
-// were made for glTF's v-down coordinates) and n. `n` itself where the
-// frame or the map's normal is degenerate.
+// vertices have tangents; `n` is the normal it perturbs (interpolated or
+// geometric, unit). glTF 2.0, section 3.9.3 (normalTexture): the texel's RGB
+// is a tangent-space normal 2 x - 1, its x and y scaled by
+// normalTexture.scale, in the tangent frame about n. `n` itself where the
+// material has no normal map (its triangles may have tangents for its
+// anisotropy) or the frame or the map's normal is degenerate.
 VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) triangle, float b1,
                             float b2, vec3 n, bool instanced,
                             VKP_IN(InstanceTransform) x) VKP_SCENE_CONST {
+    if (material.textures == VKP_NO_TEXTURE) return n;
     TextureSlot slot = sceneTextureSlot(material.textures + VKP_SLOT_NORMAL);
     if (slot.texture == VKP_NO_TEXTURE) return n;
     float b0 = 1.0f - b1 - b2;
@@ -23,14 +42,8 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
                      b2 * sceneVertexTexcoords(v.z);
     vec3 mapped =
         2.0f * vec3(textureSlotValue(material.textures + VKP_SLOT_NORMAL, texcoords)) - 1.0f;
-    vec4 tangent = b0 * placedVertexTangent(v.x, instanced, x) +
-                   b1 * placedVertexTangent(v.y, instanced, x) +
-                   b2 * placedVertexTangent(v.z, instanced, x);
-    vec3 t = vec3(tangent) - dot(n, vec3(tangent)) * n;
-    float t2 = dot(t, t);
-    if (!(t2 > 1e-12f)) return n;
-    t /= sqrt(t2);
-    vec3 b = (tangent.w < 0.0f ? -1.0f : 1.0f) * exactCross(n, t);
+    vec3 t, b;
+    if (!tangentFrame(triangle, b1, b2, n, instanced, x, t, b)) return n;
     vec3 world = (slot.scale * mapped.x) * t + (slot.scale * mapped.y) * b + mapped.z * n;
     float length2 = dot(world, world);
     if (!(length2 > 1e-12f)) return n;
@@ -74,4 +87,27 @@ VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primit
     }
     if (mapped) n = normalMapNormal(material, triangle, b1, b2, n, instanced, x);
     return adaptShadingNormal(geometric, n, wo);
+}
+
+// Material::anisotropyDirection at a hit on `primitive` (of an object: in its
+// space) whose shading normal is ns: the material's direction d in the
+// tangent frame (after its texture, shared/path/textures.h) as
+// d.x T + d.y B in the tangent frame about ns (KHR_materials_anisotropy).
+// vec3(0) where the hit has no tangent frame (spheres, and meshes without
+// tangents or texture coordinates to make them from: the importer warns),
+// which leaves the lobe isotropic.
+VKP_FN vec3 anisotropyDirectionAt(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive,
+                                  Hit hit, vec3 ns) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_NORMAL_MAPS) || isSphere(primitive)) return vec3(0.0f);
+    TriangleVertices triangle = sceneTriangleVertices(primitive.id);
+    if ((triangle.attributes & VKP_TRIANGLE_TANGENTS) == 0u) return vec3(0.0f);
+    bool instanced = hasFeature(VKP_FEATURE_INSTANCES) && hit.instance != VKP_NO_INSTANCE;
+    InstanceTransform x;
+    if (instanced) x = instanceTransform(hit.instance);
+    vec3 t, b;
+    if (!tangentFrame(triangle, hit.barycentrics.x, hit.barycentrics.y, ns, instanced, x, t, b))
+        return vec3(0.0f);
+    vec3 d = material.anisotropyDirection.x * t + material.anisotropyDirection.y * b;
+    float length2 = dot(d, d);
+    return length2 > 1e-12f ? d / sqrt(length2) : vec3(0.0f);
 }

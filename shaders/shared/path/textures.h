@@ -42,8 +42,8 @@ VKP_FN vec4 textureSlotValue(uint slot, vec4 texcoords) VKP_SCENE_CONST {
 // base-colour texture and the vertex colour (glTF 2.0 section 3.9.2; a
 // glass's base colour tints its transmission, scene::Material), its
 // emission times the emissive texture, its roughness and metalness times the
-// metallic-roughness texture, its clear coat and sheen times theirs. Spheres
-// have no texture coordinates.
+// metallic-roughness texture, its clear coat, sheen, diffuse transmission,
+// thin film and anisotropy times theirs. Spheres have no texture coordinates.
 VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
                            Hit hit) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_TEXTURES | VKP_FEATURE_VERTEX_COLORS) || isSphere(primitive))
@@ -102,6 +102,18 @@ VKP_FN Material materialAt(Material material, VKP_IN(BvhPrimitive) primitive,
             material.iridescenceThickness = mix(
                 material.iridescenceThicknessMinimum, material.iridescenceThickness,
                 textureSlotValue(material.textures + VKP_SLOT_IRIDESCENCE_THICKNESS, texcoords).y);
+        }
+        // KHR_materials_anisotropy: the direction in RG (2 x - 1 in the
+        // tangent frame, turned by the rotation), the strength's factor in B;
+        // without the texture the direction is the tangent, turned.
+        if (hasFeature(VKP_FEATURE_ANISOTROPY) && material.anisotropy > 0.0f &&
+            sceneTextureSlot(material.textures + VKP_SLOT_ANISOTROPY).texture != VKP_NO_TEXTURE) {
+            vec3 texel = vec3(textureSlotValue(material.textures + VKP_SLOT_ANISOTROPY, texcoords));
+            vec2 d = 2.0f * vec2(texel) - 1.0f;
+            vec2 turn = vec2(material.anisotropyDirection);  // (cos, sin) of the rotation
+            material.anisotropyDirection =
+                vec3(turn.x * d.x - turn.y * d.y, turn.y * d.x + turn.x * d.y, 0.0f);
+            material.anisotropy *= texel.z;
         }
         if (hasFeature(VKP_FEATURE_SHEEN) && material.sheenColor != vec3(0.0f)) {
             material.sheenColor *=

@@ -6,6 +6,7 @@ layout(binding = VKP_WF_RAYS, scalar) buffer RayBuffer { Ray rays[]; };
 layout(binding = VKP_WF_THROUGHPUT, scalar) buffer ThroughputBuffer { vec3 throughput[]; };
 layout(binding = VKP_WF_RADIANCE, scalar) buffer RadianceBuffer { vec3 radiance[]; };
 layout(binding = VKP_WF_VERTEX, scalar) buffer VertexBuffer { PathVertex vertices[]; };
+layout(binding = VKP_WF_PATH_WAVELENGTH, scalar) buffer WavelengthBuffer { float wavelengths[]; };
 
 PathState loadPath(uint slot) {
     PathState path;
@@ -19,6 +20,7 @@ PathState loadPath(uint slot) {
     path.afterNonDelta = (floatBitsToUint(v.bsdfPdf) & 0x80000000u) != 0u;
     path.etaScale = abs(v.specularEtaScale);
     path.specular = v.specularEtaScale < 0.0;
+    path.wavelength = hasFeature(VKP_FEATURE_DISPERSION) ? wavelengths[slot] : 0.0;
     return path;
 }
 
@@ -33,6 +35,7 @@ void storePathVertex(uint slot, PathState path) {
     v.bsdfPdf = path.afterNonDelta ? -path.bsdfPdf : path.bsdfPdf;  // (-0.0 keeps the sign bit)
     v.specularEtaScale = path.specular ? -path.etaScale : path.etaScale;
     vertices[slot] = v;
+    if (hasFeature(VKP_FEATURE_DISPERSION)) wavelengths[slot] = path.wavelength;
 }
 
 // The AOVs (SceneInfo::aovs, with VKP_FEATURE_AOVS): set by generate, carried

@@ -59,8 +59,8 @@ vec4 sceneGuideSphere(uint i) { return guideSpheres[i]; }
 // glass-and-diffuse box reads three of the five. Every record's fields are
 // decoded from its texels by its field list (shared/records.h).
 Material sceneMaterial(uint i) {
-    int first = int(9u * i);
-    uvec4 t[9];
+    int first = int(10u * i);
+    uvec4 t[10];
     t[0] = texelFetch(materialsTexels, first);  // reflectance, kind
     t[1] = hasFeature(VKP_FEATURES_TRANSMITS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
                ? texelFetch(materialsTexels, first + 1) : uvec4(0u);  // transmittance (k, F0), ior
@@ -70,10 +70,11 @@ Material sceneMaterial(uint i) {
                ? texelFetch(materialsTexels, first + 3) : uvec4(0u);  // roughness, metallic, specular, flags
     t[4] = hasFeature(VKP_FEATURE_ABSORPTION) ? texelFetch(materialsTexels, first + 4) : uvec4(0u);  // attenuation
     t[5] = hasFeature(VKP_FEATURE_SHEEN) ? texelFetch(materialsTexels, first + 5) : uvec4(0u);  // sheen
-    t[6] = hasFeature(VKP_FEATURE_CLEARCOAT) ? texelFetch(materialsTexels, first + 6) : uvec4(0u);  // clear coat
+    t[6] = hasFeature(VKP_FEATURE_CLEARCOAT | VKP_FEATURE_DISPERSION) ? texelFetch(materialsTexels, first + 6) : uvec4(0u);  // clear coat, dispersion
     t[7] = hasFeature(VKP_FEATURE_DIFFUSE_TRANSMISSION) ? texelFetch(materialsTexels, first + 7)
                                                         : uvec4(0u);  // diffuse transmission
     t[8] = hasFeature(VKP_FEATURE_IRIDESCENCE) ? texelFetch(materialsTexels, first + 8) : uvec4(0u);  // thin film
+    t[9] = hasFeature(VKP_FEATURE_ANISOTROPY) ? texelFetch(materialsTexels, first + 9) : uvec4(0u);  // anisotropy
     Material r;
     VKP_RECORD_DECODE(VKP_MATERIAL_FIELDS)
     return r;
