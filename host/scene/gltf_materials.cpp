@@ -328,11 +328,17 @@ class MaterialConverter {
             out.clearcoatTexture = extensionTexture(m.extensions, coat, "clearcoatTexture", name);
             out.clearcoatRoughnessTexture =
                 extensionTexture(m.extensions, coat, "clearcoatRoughnessTexture", name);
-            if (extensionValue(m.extensions, coat, "clearcoatNormalTexture", name))
-                m_warnings.addCounted(
-                    "clearcoatNormalTexture is not applied: the clear coat takes the base's "
-                    "shading normal",
-                    "material", name);
+            out.clearcoatNormalTexture =
+                extensionTexture(m.extensions, coat, "clearcoatNormalTexture", name);
+            if (const tinygltf::Value* info =
+                    extensionValue(m.extensions, coat, "clearcoatNormalTexture", name);
+                info && info->Has("scale")) {
+                const tinygltf::Value& scale = info->Get("scale");
+                if (!scale.IsNumber() || !std::isfinite(scale.GetNumberAsDouble()))
+                    fail("material '{}': clearcoatNormalTexture.scale is not a finite number",
+                         name);
+                out.clearcoatNormalScale = float(scale.GetNumberAsDouble());
+            }
         }
         const char* sheen = "KHR_materials_sheen";
         const glm::dvec3 color =
@@ -450,6 +456,7 @@ class MaterialConverter {
         out.diffuseTransmission = 0.0f;
         out.diffuseTransmissionTexture = out.diffuseTransmissionColorTexture = TextureRef{};
         out.clearcoatTexture = out.clearcoatRoughnessTexture = TextureRef{};
+        out.clearcoatNormalTexture = TextureRef{};
         out.sheenColorTexture = out.sheenRoughnessTexture = TextureRef{};
     }
 
@@ -483,7 +490,6 @@ class MaterialConverter {
     // (KHR_materials_transmission's transmissionTexture...) names a texture.
     static bool usesUnreadExtensionTexture(const tinygltf::Material& m) {
         for (const auto& [name, value] : m.extensions) {
-            // (clearcoatNormalTexture has a warning of its own)
             if (name == "KHR_materials_clearcoat" || name == "KHR_materials_sheen" ||
                 name == "KHR_materials_diffuse_transmission" ||
                 name == "KHR_materials_iridescence" || name == "KHR_materials_anisotropy")

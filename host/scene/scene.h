@@ -163,6 +163,8 @@ struct Material {
     float normalScale = 1.0f;               // glTF normalTexture.scale: scales the map's x and y
     TextureRef clearcoatTexture;            // R: multiplies clearcoat
     TextureRef clearcoatRoughnessTexture;   // G: multiplies clearcoatRoughness
+    TextureRef clearcoatNormalTexture;      // the coat's own normal map, as normalTexture's
+    float clearcoatNormalScale = 1.0f;      // ... and its scale
     TextureRef sheenColorTexture;           // RGB (sRGB): multiplies sheenColor
     TextureRef sheenRoughnessTexture;       // A: multiplies sheenRoughness
     TextureRef diffuseTransmissionTexture;  // A: multiplies diffuseTransmission

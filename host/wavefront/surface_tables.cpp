@@ -56,7 +56,7 @@ uint32_t meshAttributes(const scene::Scene& scene, const scene::Mesh& mesh) {
 
 // A mesh's vertices as the tables hold them: its own, or as tangent
 // generation split them, with tangents where its material has a normal map
-// or anisotropy.
+// (its own or its clear coat's) or anisotropy.
 struct MeshVertices {
     std::vector<uint32_t>
         source;  // per table vertex its mesh vertex; empty: the mesh's own, in order
@@ -77,11 +77,13 @@ MeshVertices meshVertices(const scene::Scene& scene, const scene::Mesh& mesh) {
     const bool anisotropic =
         material.anisotropy > 0.0f &&
         (scene::materialKindInfo(material.kind).flags & VKP_KIND_MICROFACET) != 0;
-    if (!material.normalTexture.present() && !anisotropic) return v;
-    // The frame follows the normal map's texture coordinates, else the
-    // anisotropy texture's, else TEXCOORD_0.
-    const scene::TextureRef& map =
-        material.normalTexture.present() ? material.normalTexture : material.anisotropyTexture;
+    const bool coatMapped = material.clearcoat > 0.0f && material.clearcoatNormalTexture.present();
+    if (!material.normalTexture.present() && !anisotropic && !coatMapped) return v;
+    // The frame follows the normal map's texture coordinates, else the coat's
+    // normal map's, else the anisotropy texture's, else TEXCOORD_0.
+    const scene::TextureRef& map = material.normalTexture.present() ? material.normalTexture
+                                   : coatMapped ? material.clearcoatNormalTexture
+                                                : material.anisotropyTexture;
     const size_t n = mesh.positions.size();
     const std::vector<glm::vec2>& uvs = map.texCoord == 0 ? mesh.texcoords0 : mesh.texcoords1;
     if (n == 0 || uvs.size() != n) return v;  // nothing to make the frame from

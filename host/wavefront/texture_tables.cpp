@@ -18,10 +18,10 @@ bool usesTextures(const scene::Material& m) {
     return m.baseColorTexture.present() || m.emissiveTexture.present() ||
            m.metallicRoughnessTexture.present() || m.normalTexture.present() ||
            m.clearcoatTexture.present() || m.clearcoatRoughnessTexture.present() ||
-           m.sheenColorTexture.present() || m.sheenRoughnessTexture.present() ||
-           m.diffuseTransmissionTexture.present() || m.diffuseTransmissionColorTexture.present() ||
-           m.iridescenceTexture.present() || m.iridescenceThicknessTexture.present() ||
-           m.anisotropyTexture.present();
+           m.clearcoatNormalTexture.present() || m.sheenColorTexture.present() ||
+           m.sheenRoughnessTexture.present() || m.diffuseTransmissionTexture.present() ||
+           m.diffuseTransmissionColorTexture.present() || m.iridescenceTexture.present() ||
+           m.iridescenceThicknessTexture.present() || m.anisotropyTexture.present();
 }
 
 namespace {
@@ -55,6 +55,9 @@ class Builder {
             m_tables.slots[first + VKP_SLOT_CLEARCOAT] = slot(m.clearcoatTexture, false, m.name);
             m_tables.slots[first + VKP_SLOT_CLEARCOAT_ROUGHNESS] =
                 slot(m.clearcoatRoughnessTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_CLEARCOAT_NORMAL] =
+                slot(m.clearcoatNormalTexture, false, m.name);
+            m_tables.slots[first + VKP_SLOT_CLEARCOAT_NORMAL].scale = m.clearcoatNormalScale;
             m_tables.slots[first + VKP_SLOT_SHEEN_COLOR] = slot(m.sheenColorTexture, true, m.name);
             m_tables.slots[first + VKP_SLOT_SHEEN_ROUGHNESS] =
                 slot(m.sheenRoughnessTexture, false, m.name);

@@ -320,6 +320,7 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.sheenLobeAlbedo = material.sheenLobeAlbedo;
     p.clearcoat = material.clearcoat;
     p.coatAlpha = vec2(material.clearcoatRoughness * material.clearcoatRoughness);
+    p.coatNormal = vec3(0.0f, 0.0f, 1.0f);
     p.diffuseTransmission = material.diffuseTransmission;
     p.diffuseTransmissionColor = material.diffuseTransmissionColor;
     p.iridescence = material.iridescence;
@@ -327,20 +328,27 @@ VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material) {
     p.iridescenceThickness = material.iridescenceThickness;
     return p;
 }
+// ... in `frame`, with the coat's own normal (Material::clearcoatNormal) there.
+VKP_FN MetallicRoughness materialMetallicRoughness(VKP_IN(Material) material, Frame frame) {
+    MetallicRoughness p = materialMetallicRoughness(material);
+    if (hasFeature(VKP_FEATURE_CLEARCOAT) && material.clearcoatNormal != vec3(0.0f))
+        p.coatNormal = normalize(frameToLocal(frame, material.clearcoatNormal));
+    return p;
+}
 VKP_FN BsdfSample sampleMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo,
                                                   vec2 u, float uc) {
     Frame frame = materialFrame(material, ns);
-    return sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material),
+    return sampleToWorld(frame, sampleMetallicRoughness(materialMetallicRoughness(material, frame),
                                                         frameToLocal(frame, wo), u, uc));
 }
 VKP_FN vec3 evalMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
     Frame frame = materialFrame(material, ns);
-    return evalMetallicRoughness(materialMetallicRoughness(material), frameToLocal(frame, wo),
-                                 frameToLocal(frame, wi));
+    return evalMetallicRoughness(materialMetallicRoughness(material, frame),
+                                 frameToLocal(frame, wo), frameToLocal(frame, wi));
 }
 VKP_FN float pdfMetallicRoughnessMaterial(VKP_IN(Material) material, vec3 ns, vec3 wo, vec3 wi) {
     Frame frame = materialFrame(material, ns);
-    return metallicRoughnessPdf(materialMetallicRoughness(material), frameToLocal(frame, wo),
+    return metallicRoughnessPdf(materialMetallicRoughness(material, frame), frameToLocal(frame, wo),
                                 frameToLocal(frame, wi));
 }
 // Its diffuse lobe stays unless it is wholly metal; a sheen or a rough coat

@@ -31,7 +31,7 @@
 #define VKP_INOUT(T) T&
 #define VKP_OUT(T) T&
 // Parameters only read: const references in C++, so that a call does not copy
-// the struct to the stack (Material is 160 bytes; docs/BENCHMARKS.md, "What
+// the struct to the stack (Material is 176 bytes; docs/BENCHMARKS.md, "What
 // each part of its design buys"); plain values in GLSL, where a kernel
 // compiler sees through `in` copies.
 #define VKP_IN(T) const T&

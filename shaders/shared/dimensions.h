@@ -22,7 +22,8 @@
 // (KHR_materials_volume_scatter, path/media.h), which files that have it
 // rendered without before. 8: anisotropy (KHR_materials_anisotropy) and
 // dispersion (KHR_materials_dispersion, shared/spectral.h), which files that
-// have them rendered without before, and emission dimmed by a clear coat.
+// have them rendered without before, emission dimmed by a clear coat, and
+// a clear coat's own normal map.
 #define VKP_ESTIMATOR_VERSION 8u
 
 #endif  // VKPATH_SHARED_DIMENSIONS_H

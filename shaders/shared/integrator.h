@@ -153,6 +153,9 @@ VKP_FN bool shadeHit(VKP_INOUT(PathState) path, Hit hit, RngKey key, uint bounce
     }
     shading.surface.shadingNormal =
         shadingNormal(shading.material, primitive, hit, shading.surface.normal, shading.wo);
+    if (hasFeature(VKP_FEATURE_CLEARCOAT) && shading.material.clearcoat > 0.0f)
+        shading.material.clearcoatNormal =
+            clearcoatNormalAt(shading.material, primitive, hit, shading.surface.normal, shading.wo);
     if (hasFeature(VKP_FEATURE_DISPERSION) && shading.material.dispersion > 0.0f)
         disperse(path, shading.material, key);
     if (hasFeature(VKP_FEATURE_ANISOTROPY) && shading.material.anisotropy > 0.0f) {

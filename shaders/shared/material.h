@@ -29,7 +29,7 @@ VKP_NAMESPACE_BEGIN
 #define VKP_MATERIAL_THIN_WALLED 4u
 
 // Each field serves the kinds its comment names and is ignored by the others
-// (160 bytes for every kind, ten 16-byte texels: kernels read the array as
+// (176 bytes for every kind, eleven 16-byte texels: kernels read the array as
 // a texel buffer and fetch only the texels their features read,
 // stages/lib/scene_access.glsl; scene::Material has a field per meaning).
 // Material's fields (type, name, first 32-bit word; shared/records.h): the
@@ -94,7 +94,12 @@ VKP_NAMESPACE_BEGIN
     /* its rotation; per hit, after the texture, the unit world-space direction along which */   \
     /* the lobe is rougher (shared/path/shading_normals.h) */                                    \
     F(vec3, anisotropyDirection, 36)                                                             \
-    F(float, anisotropy, 39)
+    F(float, anisotropy, 39)                                                                     \
+    /* metallic-roughness: the clear coat's own normal at the hit (world space, unit, facing */  \
+    /* wo: KHR_materials_clearcoat's clearcoatNormalTexture), set per hit; 0 where the coat */   \
+    /* takes the shading normal, and in the scene's array */                                     \
+    F(vec3, clearcoatNormal, 40)                                                                 \
+    F(uint, padding, 43)
 struct Material {
     VKP_MATERIAL_FIELDS(VKP_FIELD_DECLARE)
 };
@@ -164,7 +169,7 @@ VKP_NAMESPACE_END
 
 #ifdef __cplusplus
 #define VKP_RECORD Material
-VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 10)
+VKP_RECORD_CHECK(VKP_MATERIAL_FIELDS, 11)
 #undef VKP_RECORD
 #endif
 

@@ -62,7 +62,9 @@
 // albedo_table_test.cpp): there the lobe is scaled down to albedo 1 (the
 // division by max(1, E)) and takes all the light from the base. (Khronos'
 // sample viewer clamps the visibility term to 1 instead.) The coat is
-// uncompensated and uses the shading normal, as the base does.
+// uncompensated and uses the shading normal, as the base does, unless it has
+// a normal map of its own (clearcoatNormalTexture): then its lobe, F_c and
+// cosine are taken about that normal (MetallicRoughness::coatNormal, toCoat).
 //
 // Two-sided like the Lambertian and the conductor: a wo below the surface
 // sees the same material (the frame flipped). Directions in the local frame
@@ -99,6 +101,9 @@ struct MetallicRoughness {
     float sheenLobeAlbedo;
     float clearcoat;
     vec2 coatAlpha;
+    // The coat's normal in this frame: (0, 0, 1), the shading normal, unless
+    // the coat has a normal map of its own (facing wo)
+    vec3 coatNormal;
     // The diffuse lobe's share that passes to the back and its colour (0: none)
     float diffuseTransmission;
     vec3 diffuseTransmissionColor;
@@ -312,6 +317,19 @@ VKP_FN float clearcoatFresnel(float clearcoat, float c) {
     return clearcoat * (0.04f + 0.96f * (x2 * x2 * x));
 }
 
+// Whether the coat lies on a normal of its own (clearcoatNormalTexture).
+VKP_FN bool coatTilted(MetallicRoughness p) {
+    return hasClearcoat(p) && p.coatNormal != vec3(0.0f, 0.0f, 1.0f);
+}
+// A direction of this frame in the coat's (its normal +z), and back: the
+// same direction where the coat lies on the shading normal.
+VKP_FN vec3 toCoat(MetallicRoughness p, vec3 v) {
+    return coatTilted(p) ? frameToLocal(makeFrame(p.coatNormal), v) : v;
+}
+VKP_FN vec3 fromCoat(MetallicRoughness p, vec3 v) {
+    return coatTilted(p) ? frameToWorld(makeFrame(p.coatNormal), v) : v;
+}
+
 // clearcoat F_c(cos theta_o): the share of the coat in the mix.
 VKP_FN float coatWeight(MetallicRoughness p, float cosO) {
     if (!hasClearcoat(p)) return 0.0f;
@@ -328,8 +346,9 @@ struct LayerChoice {
     float sheen;
     float base;
 };
-VKP_FN LayerChoice layerChoice(MetallicRoughness p, float cosO) {
-    float fc = coatWeight(p, cosO);
+// (cosO to the shading normal, coatCosO to the coat's)
+VKP_FN LayerChoice layerChoice(MetallicRoughness p, float cosO, float coatCosO) {
+    float fc = coatWeight(p, coatCosO);
     float wc = fc;
     float ws = (1.0f - fc) * sheenAlbedo(p);
     vec2 e = metallicRoughnessLobeWeights(p, cosO);
@@ -344,23 +363,31 @@ VKP_FN LayerChoice layerChoice(MetallicRoughness p, float cosO) {
     c.base = max(0.0f, 1.0f - c.coat - c.sheen);
     return c;
 }
+// ... where the coat lies on the shading normal
+VKP_FN LayerChoice layerChoice(MetallicRoughness p, float cosO) {
+    return layerChoice(p, cosO, cosO);
+}
 
 // f |cos wi| of the whole material for o, i in the upper hemisphere, its
-// delta lobes (a smooth base's or coat's specular reflection) left out.
+// delta lobes (a smooth base's or coat's specular reflection) left out. The
+// coat's lobe, F_c and cosine are its own normal's (a normal map of its own
+// turns them).
 VKP_FN vec3 evalLayeredUpper(MetallicRoughness p, vec3 o, vec3 i) {
     vec3 f = evalMetallicRoughnessUpper(p, o, i);
     if (!hasLayers(p)) return f;
-    float fc = coatWeight(p, o.z);
+    vec3 oc = toCoat(p, o);
+    float fc = coatWeight(p, oc.z);
     f *= (1.0f - fc) * (1.0f - sheenAlbedo(p));
     if (i.z <= 0.0f) return f;  // (what passes: the base's alone)
     if (hasSheen(p))
         f += ((1.0f - fc) * sheenReflection(o, i, p.sheenAlpha) / max(1.0f, p.sheenLobeAlbedo)) *
              p.sheenColor;
-    if (hasClearcoat(p) && !microfacetIsSmooth(p.coatAlpha)) {
-        vec3 h = normalize(o + i);
+    vec3 ic = toCoat(p, i);
+    if (hasClearcoat(p) && !microfacetIsSmooth(p.coatAlpha) && oc.z > 0.0f && ic.z > 0.0f) {
+        vec3 h = normalize(oc + ic);
         float d =
-            i.z * ggxStretchedLength(o, p.coatAlpha) + o.z * ggxStretchedLength(i, p.coatAlpha);
-        f += vec3(fc * ggxD(h, p.coatAlpha) * i.z / (2.0f * d));
+            ic.z * ggxStretchedLength(oc, p.coatAlpha) + oc.z * ggxStretchedLength(ic, p.coatAlpha);
+        f += vec3(fc * ggxD(h, p.coatAlpha) * ic.z / (2.0f * d));
     }
     return f;
 }
@@ -370,9 +397,11 @@ VKP_FN float layeredPdfUpper(MetallicRoughness p, vec3 o, vec3 i, LayerChoice c)
     float pdf = c.base * metallicRoughnessPdfUpper(p, o, i, specularProbability(p, o.z));
     if (i.z <= 0.0f) return pdf;
     if (hasSheen(p)) pdf += c.sheen * uniformHemispherePdf();
-    if (hasClearcoat(p) && !microfacetIsSmooth(p.coatAlpha)) {
-        vec3 h = normalize(o + i);
-        pdf += c.coat * ggxD(h, p.coatAlpha) / (2.0f * (o.z + ggxStretchedLength(o, p.coatAlpha)));
+    vec3 oc = toCoat(p, o), ic = toCoat(p, i);
+    if (hasClearcoat(p) && !microfacetIsSmooth(p.coatAlpha) && oc.z > 0.0f && ic.z > 0.0f) {
+        vec3 h = normalize(oc + ic);
+        pdf +=
+            c.coat * ggxD(h, p.coatAlpha) / (2.0f * (oc.z + ggxStretchedLength(oc, p.coatAlpha)));
     }
     return pdf;
 }
@@ -380,24 +409,27 @@ VKP_FN float layeredPdfUpper(MetallicRoughness p, vec3 o, vec3 i, LayerChoice c)
 // A direction of the layered material: uc picks the layer (and, rescaled, the
 // base's lobe), u the direction within it.
 VKP_FN BsdfSample sampleLayered(MetallicRoughness p, vec3 o, vec2 u, float uc) {
-    LayerChoice c = layerChoice(p, o.z);
+    vec3 oc = toCoat(p, o);
+    LayerChoice c = layerChoice(p, o.z, oc.z);
     vec3 i;
     if (uc < c.coat) {
         if (microfacetIsSmooth(p.coatAlpha)) {
-            // The smooth coat's mirror, of reflectance clearcoat F_c.
+            // The smooth coat's mirror, of reflectance clearcoat F_c (lost
+            // where a coat's own normal turns it below the surface).
             BsdfSample s;
-            s.direction = vec3(-o.x, -o.y, o.z);
-            s.weight = vec3(coatWeight(p, o.z) / c.coat);
+            s.direction = fromCoat(p, vec3(-oc.x, -oc.y, oc.z));
+            if (!(s.direction.z > 0.0f)) return invalidBsdfSample();
+            s.weight = vec3(coatWeight(p, oc.z) / c.coat);
             s.pdf = c.coat;
             s.delta = true;
             s.valid = true;
             s.etaSquared = 1.0f;
             return s;
         }
-        vec3 m = sampleGgxVisibleNormal(o, p.coatAlpha, u);
-        float om = dot(o, m);
+        vec3 m = sampleGgxVisibleNormal(oc, p.coatAlpha, u);
+        float om = dot(oc, m);
         if (om <= 0.0f) return invalidBsdfSample();
-        i = 2.0f * om * m - o;
+        i = fromCoat(p, 2.0f * om * m - oc);
     } else if (uc < c.coat + c.sheen) {
         i = sampleUniformHemisphere(u);
     } else {
@@ -406,7 +438,7 @@ VKP_FN BsdfSample sampleLayered(MetallicRoughness p, vec3 o, vec2 u, float uc) {
         if (!s.valid) return s;
         if (s.delta) {
             // The smooth base's specular reflection, under both layers.
-            s.weight *= (1.0f - coatWeight(p, o.z)) * (1.0f - sheenAlbedo(p)) / c.base;
+            s.weight *= (1.0f - coatWeight(p, oc.z)) * (1.0f - sheenAlbedo(p)) / c.base;
             s.pdf *= c.base;
             return s;
         }
@@ -429,10 +461,13 @@ VKP_FN BsdfSample sampleLayered(MetallicRoughness p, vec3 o, vec2 u, float uc) {
 
 // ---- the material, two-sided ------------------------------------------------------------
 
+// (Seen from below, the frame is flipped; a coat's own normal faces wo, so
+// it flips with it.)
 VKP_FN BsdfSample sampleMetallicRoughness(MetallicRoughness p, vec3 wo, vec2 u, float uc) {
     if (!hasLayers(p)) return sampleMetallicRoughnessBase(p, wo, u, uc);
     if (wo.z == 0.0f) return invalidBsdfSample();
     float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    if (coatTilted(p)) p.coatNormal *= side;
     BsdfSample s = sampleLayered(p, side * wo, u, uc);
     s.direction *= side;
     return s;
@@ -446,6 +481,7 @@ VKP_FN bool metallicRoughnessSidesJoin(MetallicRoughness p, vec3 wo, vec3 wi) {
 VKP_FN vec3 evalMetallicRoughness(MetallicRoughness p, vec3 wo, vec3 wi) {
     if (!metallicRoughnessSidesJoin(p, wo, wi)) return vec3(0.0f);
     float side = wo.z > 0.0f ? 1.0f : -1.0f;
+    if (coatTilted(p)) p.coatNormal *= side;
     return evalLayeredUpper(p, side * wo, side * wi);
 }
 
@@ -455,7 +491,8 @@ VKP_FN float metallicRoughnessPdf(MetallicRoughness p, vec3 wo, vec3 wi) {
     vec3 o = side * wo;
     if (!hasLayers(p))
         return metallicRoughnessPdfUpper(p, o, side * wi, specularProbability(p, o.z));
-    return layeredPdfUpper(p, o, side * wi, layerChoice(p, o.z));
+    if (coatTilted(p)) p.coatNormal *= side;
+    return layeredPdfUpper(p, o, side * wi, layerChoice(p, o.z, toCoat(p, o).z));
 }
 
 VKP_NAMESPACE_END

@@ -49,7 +49,9 @@
     11u  // linear: G picks the film's thickness between its minimum and maximum
 #define VKP_SLOT_ANISOTROPY \
     12u  // linear: RG the direction in the tangent frame (2 x - 1), B multiplies the strength
-#define VKP_SLOTS_PER_MATERIAL 13u
+#define VKP_SLOT_CLEARCOAT_NORMAL \
+    13u  // linear: the clear coat's tangent-space normal, as VKP_SLOT_NORMAL
+#define VKP_SLOTS_PER_MATERIAL 14u
 
 VKP_NAMESPACE_BEGIN
 

@@ -13,15 +13,12 @@
 
 #include "albedo/albedo_integrals.h"
 #include "image/statistics.h"
-#include "kernels/bsdf_dispatch.h"
 #include "kernels/microfacet_routines.h"
 #include "scene/scene.h"
 #include "shared/bsdf.h"
+#include "support/bsdf_dispatch_run.h"
 #include "support/direction_chi2.h"
-#include "support/test_context.h"
 #include "support/test_scenes.h"
-#include "vk/buffer.h"
-#include "vk/kernel.h"
 
 namespace {
 
@@ -78,18 +75,7 @@ shared::Material atHit(const scene::Material& m, glm::vec3 d) {
 
 std::vector<MicrofacetResult> runDispatch(const shared::Material& material, glm::vec3 wo,
                                           uint32_t seed) {
-    vk::Context& context = test::context();
-    vk::Buffer results(context, SAMPLES * sizeof(MicrofacetResult));
-    vk::Buffer materials = vk::Buffer::fromSpan(context, std::span(&material, 1), "material");
-    vk::Kernel kernel(context, "bsdf_dispatch");
-    shared::BsdfDispatchPush push{};
-    push.count = SAMPLES;
-    push.seed = seed;
-    push.wo = wo;
-    push.ng = NORMAL;
-    push.ns = NORMAL;
-    kernel.dispatch(SAMPLES, {{0, &results}, {1, &materials}}, push);
-    return results.download<MicrofacetResult>();
+    return test::runBsdfDispatch(material, wo, NORMAL, seed, SAMPLES);
 }
 
 // Anisotropic GGX (Walter et al. 2007 eq. 33, Heitz 2014 eq. 85) and its

@@ -22,6 +22,7 @@
 #include "kernels/microfacet_routines.h"
 #include "scene/scene.h"
 #include "shared/bsdf.h"
+#include "support/bsdf_dispatch_run.h"
 #include "support/direction_chi2.h"
 #include "support/fresnel_rounding.h"
 #include "support/test_context.h"
@@ -70,18 +71,7 @@ glm::vec3 worldDirection(double cosTheta, double phi = 0.4) {
 
 std::vector<MicrofacetResult> runDispatch(const shared::Material& material, glm::vec3 wo,
                                           uint32_t seed = 1, uint32_t count = SAMPLES) {
-    vk::Context& context = test::context();
-    vk::Buffer results(context, count * sizeof(MicrofacetResult));
-    vk::Buffer materials = vk::Buffer::fromSpan(context, std::span(&material, 1), "material");
-    vk::Kernel kernel(context, "bsdf_dispatch");
-    shared::BsdfDispatchPush push{};
-    push.count = count;
-    push.seed = seed;
-    push.wo = wo;
-    push.ng = NORMAL;
-    push.ns = NORMAL;
-    kernel.dispatch(count, {{0, &results}, {1, &materials}}, push);
-    return results.download<MicrofacetResult>();
+    return test::runBsdfDispatch(material, wo, NORMAL, seed, count);
 }
 
 // ---- the layered material's density, written from the papers in double ------------

@@ -94,10 +94,11 @@ TEST(GltfLayers, ALayerKeepsTheLayeredKind) {
     EXPECT_FALSE(m.clearcoatTexture.present());
 }
 
-// Warned: factors outside [0, 1] (clamped), the coat's normal texture (not
-// applied), layers on glass (dropped). Refused in one line naming the file
-// and material: a factor that is not a number, a texture that is not a
-// textureInfo, a texture index out of range.
+// Warned: factors outside [0, 1] (clamped), layers on glass (dropped).
+// Read: the coat's own normal map and its scale. Refused in one line naming
+// the file and material: a factor that is not a number, a texture that is
+// not a textureInfo, a texture index out of range, a coat normal map's scale
+// that is not a number.
 TEST(GltfLayers, WarningsAndErrors) {
     TempDir dir;
     const auto clamped = load(
@@ -106,7 +107,18 @@ TEST(GltfLayers, WarningsAndErrors) {
                           {{"clearcoatFactor", 2}, {"clearcoatNormalTexture", {{"index", 0}}}}}}));
     EXPECT_EQ(clamped.scene.materials.at(0).clearcoat, 1.0f);
     EXPECT_CONTAINS(clamped.warnings, "material factors outside [0, 1] are clamped");
-    EXPECT_CONTAINS(clamped.warnings, "clearcoatNormalTexture is not applied");
+    EXPECT_EQ(clamped.scene.materials.at(0).clearcoatNormalTexture.texture, 0);
+    const auto scaled = load(layeredTriangle(
+        dir / "scaled.gltf",
+        {{"KHR_materials_clearcoat",
+          {{"clearcoatFactor", 1}, {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}}}}));
+    EXPECT_FLOAT_EQ(scaled.scene.materials.at(0).clearcoatNormalScale, 0.5f);
+    EXPECT_CONTAINS(loadError(layeredTriangle(
+                        dir / "unscaled.gltf",
+                        {{"KHR_materials_clearcoat",
+                          {{"clearcoatFactor", 1},
+                           {"clearcoatNormalTexture", {{"index", 0}, {"scale", "half"}}}}}})),
+                    "clearcoatNormalTexture.scale is not a finite number");
     EXPECT_EQ(clamped.warnings.find("textures of material extensions"), std::string::npos)
         << clamped.warnings;
 

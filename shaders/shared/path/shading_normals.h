@@ -24,24 +24,24 @@ VKP_FN bool tangentFrame(VKP_IN(TriangleVertices) triangle, float b1, float b2, 
 }
 
 // The normal map's normal at barycentrics (b1, b2) of `triangle`, whose
-// vertices have tangents; `n` is the normal it perturbs (interpolated or
-// geometric, unit). glTF 2.0, section 3.9.3 (normalTexture): the texel's RGB
-// is a tangent-space normal 2 x - 1, its x and y scaled by
-// normalTexture.scale, in the tangent frame about n. `n` itself where the
-// material has no normal map (its triangles may have tangents for its
-// anisotropy) or the frame or the map's normal is degenerate.
-VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) triangle, float b1,
-                            float b2, vec3 n, bool instanced,
+// vertices have tangents, from the material's texture slot `map`
+// (VKP_SLOT_NORMAL, or the coat's VKP_SLOT_CLEARCOAT_NORMAL); `n` is the
+// normal it perturbs (interpolated or geometric, unit). glTF 2.0, section
+// 3.9.3 (normalTexture): the texel's RGB is a tangent-space normal 2 x - 1,
+// its x and y scaled by the texture's scale, in the tangent frame about n.
+// `n` itself where the material has no such map (its triangles may have
+// tangents for another) or the frame or the map's normal is degenerate.
+VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, uint map, VKP_IN(TriangleVertices) triangle,
+                            float b1, float b2, vec3 n, bool instanced,
                             VKP_IN(InstanceTransform) x) VKP_SCENE_CONST {
     if (material.textures == VKP_NO_TEXTURE) return n;
-    TextureSlot slot = sceneTextureSlot(material.textures + VKP_SLOT_NORMAL);
+    TextureSlot slot = sceneTextureSlot(material.textures + map);
     if (slot.texture == VKP_NO_TEXTURE) return n;
     float b0 = 1.0f - b1 - b2;
     uvec3 v = triangle.vertex;
     vec4 texcoords = b0 * sceneVertexTexcoords(v.x) + b1 * sceneVertexTexcoords(v.y) +
                      b2 * sceneVertexTexcoords(v.z);
-    vec3 mapped =
-        2.0f * vec3(textureSlotValue(material.textures + VKP_SLOT_NORMAL, texcoords)) - 1.0f;
+    vec3 mapped = 2.0f * vec3(textureSlotValue(material.textures + map, texcoords)) - 1.0f;
     vec3 t, b;
     if (!tangentFrame(triangle, b1, b2, n, instanced, x, t, b)) return n;
     vec3 world = (slot.scale * mapped.x) * t + (slot.scale * mapped.y) * b + mapped.z * n;
@@ -54,11 +54,11 @@ VKP_FN vec3 normalMapNormal(VKP_IN(Material) material, VKP_IN(TriangleVertices) 
 // space) whose geometric normal is `geometric`, seen from wo: the triangle's vertex normals
 // interpolated with the hit's barycentrics (Phong's interpolation: glTF's NORMAL attribute,
 // Scotty3D's smooth meshes), or the geometric normal, perturbed by the
-// material's normal map where it has one, then adapted to wo
+// material's normal map in slot `map` where it has one, then adapted to wo
 // (shared/bsdf.h); the geometric normal itself for spheres and for flat
 // triangles without a normal map.
-VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, Hit hit,
-                          vec3 geometric, vec3 wo) VKP_SCENE_CONST {
+VKP_FN vec3 mappedNormal(VKP_IN(Material) material, uint map, VKP_IN(BvhPrimitive) primitive,
+                         Hit hit, vec3 geometric, vec3 wo) VKP_SCENE_CONST {
     if (!hasFeature(VKP_FEATURE_SHADING_NORMALS | VKP_FEATURE_NORMAL_MAPS) || isSphere(primitive))
         return geometric;
     if ((sceneInfo().triangleAttributes & (VKP_TRIANGLE_SHADING_NORMALS | VKP_TRIANGLE_TANGENTS)) ==
@@ -85,8 +85,27 @@ VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primit
         else if (!mapped)
             return geometric;  // vertex normals that cancel out
     }
-    if (mapped) n = normalMapNormal(material, triangle, b1, b2, n, instanced, x);
+    if (mapped) n = normalMapNormal(material, map, triangle, b1, b2, n, instanced, x);
     return adaptShadingNormal(geometric, n, wo);
+}
+
+// The shading normal: mappedNormal with the material's normalTexture.
+VKP_FN vec3 shadingNormal(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, Hit hit,
+                          vec3 geometric, vec3 wo) VKP_SCENE_CONST {
+    return mappedNormal(material, VKP_SLOT_NORMAL, primitive, hit, geometric, wo);
+}
+
+// Material::clearcoatNormal at a hit: mappedNormal with the coat's own map
+// (KHR_materials_clearcoat's clearcoatNormalTexture perturbs the vertex
+// normal, not the base's normal map), turned toward wo; vec3(0), the coat on
+// the shading normal, where the material has no such map.
+VKP_FN vec3 clearcoatNormalAt(VKP_IN(Material) material, VKP_IN(BvhPrimitive) primitive, Hit hit,
+                              vec3 geometric, vec3 wo) VKP_SCENE_CONST {
+    if (!hasFeature(VKP_FEATURE_NORMAL_MAPS) || material.textures == VKP_NO_TEXTURE ||
+        sceneTextureSlot(material.textures + VKP_SLOT_CLEARCOAT_NORMAL).texture == VKP_NO_TEXTURE)
+        return vec3(0.0f);
+    vec3 n = mappedNormal(material, VKP_SLOT_CLEARCOAT_NORMAL, primitive, hit, geometric, wo);
+    return dot(n, wo) < 0.0f ? -n : n;
 }
 
 // Material::anisotropyDirection at a hit on `primitive` (of an object: in its

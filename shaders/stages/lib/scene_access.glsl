@@ -59,8 +59,8 @@ vec4 sceneGuideSphere(uint i) { return guideSpheres[i]; }
 // glass-and-diffuse box reads three of the five. Every record's fields are
 // decoded from its texels by its field list (shared/records.h).
 Material sceneMaterial(uint i) {
-    int first = int(10u * i);
-    uvec4 t[10];
+    int first = int(11u * i);
+    uvec4 t[11];
     t[0] = texelFetch(materialsTexels, first);  // reflectance, kind
     t[1] = hasFeature(VKP_FEATURES_TRANSMITS | VKP_FEATURES_MICROFACET | VKP_FEATURE_REGULARIZE)
                ? texelFetch(materialsTexels, first + 1) : uvec4(0u);  // transmittance (k, F0), ior
@@ -75,6 +75,7 @@ Material sceneMaterial(uint i) {
                                                         : uvec4(0u);  // diffuse transmission
     t[8] = hasFeature(VKP_FEATURE_IRIDESCENCE) ? texelFetch(materialsTexels, first + 8) : uvec4(0u);  // thin film
     t[9] = hasFeature(VKP_FEATURE_ANISOTROPY) ? texelFetch(materialsTexels, first + 9) : uvec4(0u);  // anisotropy
+    t[10] = uvec4(0u);  // the coat's normal: per hit only
     Material r;
     VKP_RECORD_DECODE(VKP_MATERIAL_FIELDS)
     return r;
