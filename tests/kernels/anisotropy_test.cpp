@@ -33,7 +33,7 @@ constexpr int STATISTICAL_TESTS = 7;
 const double ALPHA = test::sidakAlpha(0.01, STATISTICAL_TESTS);
 const double Z_CRITICAL = image::normalCritical(ALPHA);
 
-const glm::vec3 NORMAL = glm::normalize(glm::vec3(0.3f, -0.2f, 0.93f));
+const glm::vec3 NORMAL = test::DISPATCH_NORMAL;
 // The per-hit direction (world space, not quite orthogonal to NORMAL: the
 // dispatch makes it so), 30 degrees from makeFrame(NORMAL)'s s toward its t.
 glm::vec3 direction(double degrees) {
@@ -50,10 +50,7 @@ shared::Frame testFrame(glm::vec3 d) {
 }
 
 glm::vec3 worldDirection(const shared::Frame& frame, double cosTheta, double phi) {
-    const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-    return glm::normalize(
-        shared::frameToWorld(frame, glm::vec3(float(sinTheta * std::cos(phi)),
-                                              float(sinTheta * std::sin(phi)), float(cosTheta))));
+    return test::directionInFrame(frame, cosTheta, phi);
 }
 
 scene::Material anisotropic(scene::MaterialKind kind, float roughness, float strength) {
@@ -225,17 +222,10 @@ TEST(Anisotropy, CompensatedWhiteMetalKeepsItsLightWithinTheApproximation) {
         const float rms = std::sqrt(0.5f * (alpha.x * alpha.x + alpha.y * alpha.y));
         const double e = albedo::conductorAlbedo(c.cosTheta, std::sqrt(rms));
         m.multipleScattering = float((1 - e) / e);
-        const auto results = runDispatch(m, worldDirection(testFrame(d), c.cosTheta, c.phi), 9);
-        double sum = 0, sum2 = 0;
-        for (const MicrofacetResult& r : results) {
-            const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
-            sum += w;
-            sum2 += w * w;
-        }
-        const double n = double(results.size()), mean = sum / n;
-        const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-        EXPECT_LT(std::abs(mean - 1.0), Z_CRITICAL * standardError + c.bound)
-            << "mean " << mean << ", standard error " << standardError;
+        const test::MeanWeight w =
+            test::meanWeight(runDispatch(m, worldDirection(testFrame(d), c.cosTheta, c.phi), 9));
+        EXPECT_LT(std::abs(w.mean - 1.0), Z_CRITICAL * w.standardError + c.bound)
+            << "mean " << w.mean << ", standard error " << w.standardError;
     }
 }
 

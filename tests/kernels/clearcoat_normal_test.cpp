@@ -31,7 +31,7 @@ constexpr int STATISTICAL_TESTS = 3;
 const double ALPHA = test::sidakAlpha(0.01, STATISTICAL_TESTS);
 const double Z_CRITICAL = image::normalCritical(ALPHA);
 
-const glm::vec3 NORMAL = glm::normalize(glm::vec3(0.3f, -0.2f, 0.93f));
+const glm::vec3 NORMAL = test::DISPATCH_NORMAL;
 
 // The direction at angle `degrees` from NORMAL toward makeFrame(NORMAL)'s s.
 glm::vec3 tilted(double degrees) {
@@ -42,10 +42,7 @@ glm::vec3 tilted(double degrees) {
 
 // wo at cosine cosTheta to NORMAL, azimuth phi in its frame.
 glm::vec3 worldDirection(double cosTheta, double phi) {
-    const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-    return glm::normalize(shared::frameToWorld(
-        shared::makeFrame(NORMAL), glm::vec3(float(sinTheta * std::cos(phi)),
-                                             float(sinTheta * std::sin(phi)), float(cosTheta))));
+    return test::directionInFrame(shared::makeFrame(NORMAL), cosTheta, phi);
 }
 
 // glTF's metallic-roughness material of `base`, metallic, roughness under a
@@ -143,18 +140,10 @@ TEST(ClearcoatNormal, SmoothCoatOverWhiteMetalReturnsAllTheLight) {
     shared::Material m = coated(glm::vec3(1.0f), 1.0f, 0.5f, 0.0f, tilted(10));
     const double e = albedo::conductorAlbedo(cosTheta, 0.5f);
     m.multipleScattering = float((1 - e) / e);
-    const auto results =
-        test::runBsdfDispatch(m, worldDirection(cosTheta, 0.5), NORMAL, 11, SAMPLES);
-    double sum = 0, sum2 = 0;
-    for (const MicrofacetResult& r : results) {
-        const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
-        sum += w;
-        sum2 += w * w;
-    }
-    const double n = double(results.size()), mean = sum / n;
-    const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-    EXPECT_LT(std::abs(mean - 1.0), Z_CRITICAL * standardError + 3e-4)
-        << "mean " << mean << ", standard error " << standardError;
+    const test::MeanWeight w = test::meanWeight(
+        test::runBsdfDispatch(m, worldDirection(cosTheta, 0.5), NORMAL, 11, SAMPLES));
+    EXPECT_LT(std::abs(w.mean - 1.0), Z_CRITICAL * w.standardError + 3e-4)
+        << "mean " << w.mean << ", standard error " << w.standardError;
 }
 
 }  // namespace

@@ -58,15 +58,11 @@ scene::Material metallicRoughness(glm::vec3 base, float metallic, float roughnes
     return m;
 }
 
-// A tilted shading frame, so that the dispatch's frame is exercised.
-const glm::vec3 NORMAL = glm::normalize(glm::vec3(0.3f, -0.2f, 0.93f));
+const glm::vec3 NORMAL = test::DISPATCH_NORMAL;
 
 // The world direction at cosine cosTheta to NORMAL, azimuth phi in its frame.
 glm::vec3 worldDirection(double cosTheta, double phi = 0.4) {
-    const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-    const glm::vec3 local(float(sinTheta * std::cos(phi)), float(sinTheta * std::sin(phi)),
-                          float(cosTheta));
-    return glm::normalize(shared::frameToWorld(shared::makeFrame(NORMAL), local));
+    return test::directionInFrame(shared::makeFrame(NORMAL), cosTheta, phi);
 }
 
 std::vector<MicrofacetResult> runDispatch(const shared::Material& material, glm::vec3 wo,
@@ -475,16 +471,9 @@ void expectChiSquareFits(const std::vector<glm::vec3>& valid, size_t total, cons
 // error plus `accuracy`.
 void expectMeanWeight(const std::vector<MicrofacetResult>& results, double expected,
                       double accuracy) {
-    double sum = 0, sum2 = 0;
-    for (const MicrofacetResult& r : results) {
-        const double w = (r.flags & 1u) ? double(r.weight.x) : 0.0;
-        sum += w;
-        sum2 += w * w;
-    }
-    const double n = double(results.size()), mean = sum / n;
-    const double standardError = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-    EXPECT_LT(std::abs(mean - expected), Z_CRITICAL * standardError + accuracy)
-        << "mean " << mean << ", expected " << expected << ", standard error " << standardError;
+    const test::MeanWeight w = test::meanWeight(results);
+    EXPECT_LT(std::abs(w.mean - expected), Z_CRITICAL * w.standardError + accuracy)
+        << "mean " << w.mean << ", expected " << expected << ", standard error " << w.standardError;
 }
 
 struct LayerCase {

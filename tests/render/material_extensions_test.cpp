@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <vector>
 
 #include "image/metrics.h"
 #include "image/statistics.h"
@@ -35,6 +37,32 @@ scene::Material whiteMetal(float roughness) {
     m.metallic = 1.0f;
     m.roughness = roughness;
     return m;
+}
+
+// The square [-1, 1]^2 at z = 0 facing +z, its texture's u along +x (the
+// tangent) and v down the square.
+scene::Mesh texturedSquare() {
+    scene::Mesh square;
+    square.positions = {{-1, 1, 0}, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}};
+    square.texcoords0 = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
+    square.triangles = {{0, 1, 2}, {0, 2, 3}};
+    return square;
+}
+
+// A reference to a new texture of `s`: the image of `texels` (width x
+// height, linear 16-bit), clamped at its edges.
+scene::TextureRef addTexture(scene::Scene& s, uint32_t width, uint32_t height,
+                             std::vector<glm::u16vec4> texels, bool nearest) {
+    scene::TextureImage image;
+    image.width = width;
+    image.height = height;
+    image.texels = std::move(texels);
+    s.images.push_back(image);
+    s.textures.push_back({uint32_t(s.images.size() - 1), scene::TextureWrap::ClampToEdge,
+                          scene::TextureWrap::ClampToEdge, nearest});
+    scene::TextureRef ref;
+    ref.texture = int32_t(s.textures.size() - 1);
+    return ref;
 }
 
 // Pixels of a 48 x 48 film whose footprint lies within 0.6 of its half-width
@@ -133,11 +161,7 @@ TEST(LayerRender, AClearCoatDimsTheEmissionUnderIt) {
 // the seam, two columns each side).
 scene::Scene layeredSquare(bool textured, bool layered) {
     scene::Scene s;
-    scene::Mesh square;
-    square.positions = {{-1, 1, 0}, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}};
-    square.texcoords0 = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
-    square.triangles = {{0, 1, 2}, {0, 2, 3}};
-    s.meshes.push_back(square);
+    s.meshes.push_back(texturedSquare());
     scene::Material m;
     m.kind = scene::MaterialKind::MetallicRoughness;
     m.reflectance = {0.6f, 0.05f, 0.05f};
@@ -149,15 +173,8 @@ scene::Scene layeredSquare(bool textured, bool layered) {
         m.sheenRoughness = 0.5f;
     }
     if (textured) {
-        scene::TextureImage image;
-        image.width = 2;
-        image.height = 1;
-        image.texels = {glm::u16vec4(65535), glm::u16vec4(0)};
-        s.images.push_back(image);
-        s.textures.push_back(
-            {0, scene::TextureWrap::ClampToEdge, scene::TextureWrap::ClampToEdge, true});
-        scene::TextureRef ref;
-        ref.texture = 0;
+        const scene::TextureRef ref =
+            addTexture(s, 2, 1, {glm::u16vec4(65535), glm::u16vec4(0)}, true);
         m.clearcoatTexture = m.clearcoatRoughnessTexture = ref;
         m.sheenColorTexture = m.sheenRoughnessTexture = ref;
     }
@@ -339,26 +356,14 @@ TEST(ThinWallRender, KeepsTheFogBehindIt) {
 // (RG the direction in the tangent frame, B the strength's factor).
 scene::Scene brushedSquare(float rotation, std::optional<glm::u16vec4> texel = std::nullopt) {
     scene::Scene s;
-    scene::Mesh square;
-    square.positions = {{-1, 1, 0}, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}};
-    square.texcoords0 = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
-    square.triangles = {{0, 1, 2}, {0, 2, 3}};
-    s.meshes.push_back(square);
+    s.meshes.push_back(texturedSquare());
     scene::Material m;
     m.kind = scene::MaterialKind::Conductor;
     m.reflectance = glm::vec3(0.9f);
     m.roughness = 0.1f;
     m.anisotropy = 0.9f;
     m.anisotropyRotation = rotation;
-    if (texel) {
-        scene::TextureImage image;
-        image.width = image.height = 1;
-        image.texels = {*texel};
-        s.images.push_back(image);
-        s.textures.push_back(
-            {0, scene::TextureWrap::ClampToEdge, scene::TextureWrap::ClampToEdge, false});
-        m.anisotropyTexture.texture = 0;
-    }
+    if (texel) m.anisotropyTexture = addTexture(s, 1, 1, {*texel}, false);
     s.materials.push_back(m);
     scene::Material lamp;
     lamp.emission = glm::vec3(400.0f);
@@ -430,14 +435,10 @@ scene::Scene coatedSquare(float tilt) {
     m.clearcoatRoughness = 0.05f;
     if (tilt != 0.0f) {
         const auto encode = [](float c) { return uint16_t(std::lround((c + 1) / 2 * 65535)); };
-        scene::TextureImage image;
-        image.width = image.height = 1;
-        image.texels = {
-            glm::u16vec4(encode(std::sin(tilt)), encode(0.0f), encode(std::cos(tilt)), 65535)};
-        s.images.push_back(image);
-        s.textures.push_back(
-            {0, scene::TextureWrap::ClampToEdge, scene::TextureWrap::ClampToEdge, false});
-        m.clearcoatNormalTexture.texture = 0;
+        m.clearcoatNormalTexture = addTexture(
+            s, 1, 1,
+            {glm::u16vec4(encode(std::sin(tilt)), encode(0.0f), encode(std::cos(tilt)), 65535)},
+            false);
     }
     return s;
 }
