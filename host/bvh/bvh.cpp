@@ -1,27 +1,19 @@
-// The binned SAH builder (Wald, "On fast Construction of SAH-based Bounding
-// Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007): at each
-// node the primitive centroids are sorted into equal-width bins along each
-// axis, a sweep over the bins evaluates the surface area heuristic at every
-// bin boundary, and the cheapest split (or a leaf) wins.
-//
-// Subtrees are built on other threads near the root; each builds its nodes in
-// depth-first order into a vector of its own, and the parent appends it, so
-// the result is the serial build's bit for bit.
+// buildBvh: collects the scene's primitives' boxes, has sah_builder.cpp build
+// the tree over them (and over each instanced object's), and flattens the
+// trees and primitives into the arrays the kernels read.
 #include "bvh/bvh.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
-#include <bit>
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <map>
 #include <stdexcept>
-#include <thread>
 
+#include "bvh/parallel_chunks.h"
+#include "bvh/sah_builder.h"
 #include "bvh/traversal_nodes.h"
 #include "input_error.h"
 
@@ -33,50 +25,37 @@ using shared::BvhPrimitive;
 
 namespace {
 
-constexpr float INF = std::numeric_limits<float>::infinity();
+constexpr float INF = BUILD_INF;
 
-struct Aabb {
-    vec3 lo{INF};
-    vec3 hi{-INF};
-
-    void grow(const Aabb& b) {
-        lo = glm::min(lo, b.lo);
-        hi = glm::max(hi, b.hi);
-    }
-    void grow(vec3 p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
-    // Half the surface area (the SAH only uses ratios).
-    float halfArea() const {
-        if (empty()) return 0.0f;
-        const vec3 e = hi - lo;
-        return e.x * e.y + e.y * e.z + e.z * e.x;
-    }
-};
-
-// One primitive as the builder sees it: where it is, and where it came from.
-struct BuildPrimitive {
-    Aabb bounds;
-    vec3 centroid;
+// Where a primitive came from: what flattening it needs. A build's origins
+// are in (kind, id) order (triangles mesh by mesh, then spheres, then
+// instances), so an origin's index orders ties.
+struct PrimitiveOrigin {
     uint32_t kind;    // VKP_PRIMITIVE_*
     uint32_t id;      // shared::BvhPrimitive::id
-    uint32_t source;  // triangle: mesh index; sphere: unused
-    uint32_t local;   // triangle: index within the mesh; sphere: index into Scene::spheres
+    uint32_t source;  // triangle: mesh index; instance: object index
+    uint32_t local;   // triangle: index within its mesh; sphere: into Scene::spheres;
+                      // instance: into Scene::instances
 };
 
-// A node before flattening: interior nodes keep their second child's index
-// in `offset`, relative to the start of the vector they were built into.
-struct BuildNode {
-    Aabb bounds;
-    uint32_t offset = 0;
-    uint32_t count = 0;  // 0: interior
-};
+// A build's primitives: the builder reorders `items` into leaf order and
+// leaves `origins` as they were added.
+struct BuildPrimitives {
+    std::vector<BuildPrimitive> items;
+    std::vector<PrimitiveOrigin> origins;
 
-uint32_t ceilLog2(size_t n) {
-    return n <= 1 ? 0u : static_cast<uint32_t>(std::bit_width(n - 1));
-}
+    void reserve(size_t n) {
+        items.reserve(n);
+        origins.reserve(n);
+    }
+    void add(const Aabb& bounds, const PrimitiveOrigin& origin) {
+        items.emplace_back(bounds, uint32_t(origins.size()));
+        origins.push_back(origin);
+    }
+    size_t size() const { return items.size(); }
+    bool empty() const { return items.empty(); }
+    const PrimitiveOrigin& origin(size_t i) const { return origins[items[i].origin()]; }
+};
 
 float roundDown(double x) {
     float f = static_cast<float>(x);
@@ -99,189 +78,6 @@ Aabb sphereBounds(vec3 c, float r) {
     return b;
 }
 
-// Builds over the primitives themselves, partitioning them in place: each
-// level of the tree then reads them sequentially (a permuted index array
-// would make every read a cache miss on large meshes).
-class Builder {
-  public:
-    Builder(const BvhOptions& options, std::vector<BuildPrimitive>& primitives)
-        : m_options(options), m_primitives(primitives) {
-        uint32_t threads = options.threads ? options.threads : std::thread::hardware_concurrency();
-        threads = std::max(threads, 1u);
-        // Two subtrees per thread near the root balance uneven splits a little.
-        m_spawnDepth = threads > 1 ? ceilLog2(threads) + 1 : 0;
-    }
-
-    // Builds the subtree over m_primitives[begin, end) into `out`, depth-first.
-    void build(uint32_t begin, uint32_t end, uint32_t depth, std::vector<BuildNode>& out) const {
-        const size_t nodeIndex = out.size();
-        out.emplace_back();
-        Aabb bounds, centroids;
-        for (uint32_t i = begin; i < end; ++i) {
-            bounds.grow(m_primitives[i].bounds);
-            centroids.grow(m_primitives[i].centroid);
-        }
-        out[nodeIndex].bounds = bounds;
-
-        const uint32_t mid = split(begin, end, depth, bounds, centroids);
-        if (mid == 0) {
-            out[nodeIndex].offset = begin;
-            out[nodeIndex].count = end - begin;
-            return;
-        }
-        if (depth < m_spawnDepth && end - begin >= m_options.parallelThreshold) {
-            auto second = std::async(std::launch::async, [this, mid, end, depth] {
-                std::vector<BuildNode> nodes;
-                build(mid, end, depth + 1, nodes);
-                return nodes;
-            });
-            build(begin, mid, depth + 1, out);
-            std::vector<BuildNode> nodes = second.get();
-            const auto base = static_cast<uint32_t>(out.size());
-            out[nodeIndex].offset = base;
-            for (BuildNode& node : nodes) {
-                if (node.count == 0) node.offset += base;
-                out.push_back(node);
-            }
-        } else {
-            build(begin, mid, depth + 1, out);
-            out[nodeIndex].offset = static_cast<uint32_t>(out.size());
-            build(mid, end, depth + 1, out);
-        }
-    }
-
-  private:
-    static constexpr uint32_t MAX_BINS = 256;
-
-    struct Bin {
-        Aabb bounds;
-        uint32_t count = 0;
-    };
-
-    uint32_t binOf(float c, float lo, float scale) const {
-        const float x = (c - lo) * scale;
-        return std::min(m_options.binCount - 1, static_cast<uint32_t>(x));
-    }
-
-    // Partitions m_primitives[begin, end) and returns where the second child
-    // starts, or 0 to make a leaf.
-    uint32_t split(uint32_t begin, uint32_t end, uint32_t depth, const Aabb& bounds,
-                   const Aabb& centroids) const {
-        const uint32_t n = end - begin;
-        if (n == 1) return 0;
-        const bool mustSplit = n > m_options.maxLeafSize;
-        const uint32_t binCount = m_options.binCount;
-
-        // ---- bin the centroids along all three axes in one pass ---------------
-        std::array<float, 3> lo{}, scale{};
-        std::array<bool, 3> usable{};
-        for (int axis = 0; axis < 3; ++axis) {
-            lo[axis] = centroids.lo[axis];
-            const float extent = centroids.hi[axis] - lo[axis];
-            scale[axis] = static_cast<float>(binCount) / extent;
-            usable[axis] = extent > 0.0f && std::isfinite(scale[axis]);
-        }
-        if (!usable[0] && !usable[1] && !usable[2]) {
-            // Every centroid in one point: no plane separates them.
-            return mustSplit ? medianSplit(begin, end, centroids) : 0;
-        }
-        // Per-thread scratch: constructing 3 x 256 bins on every call would
-        // cost more than binning the small nodes near the leaves.
-        thread_local std::array<std::array<Bin, MAX_BINS>, 3> bins;
-        thread_local std::array<float, MAX_BINS> secondArea;
-        thread_local std::array<uint32_t, MAX_BINS> secondCount;
-        thread_local std::array<uint32_t, MAX_BINS> usedBins;
-        for (int axis = 0; axis < 3; ++axis)
-            std::fill(bins[axis].begin(), bins[axis].begin() + binCount, Bin{});
-        for (uint32_t i = begin; i < end; ++i) {
-            const BuildPrimitive& p = m_primitives[i];
-            for (int axis = 0; axis < 3; ++axis) {
-                if (!usable[axis]) continue;
-                Bin& bin = bins[axis][binOf(p.centroid[axis], lo[axis], scale[axis])];
-                bin.bounds.grow(p.bounds);
-                ++bin.count;
-            }
-        }
-
-        // ---- the SAH sweep over each axis's bin boundaries --------------------
-        const float nodeArea = bounds.halfArea();
-        float bestCost = INF;
-        int bestAxis = -1;
-        uint32_t bestBin = 0;  // bins 0..bestBin go to the first child
-        uint32_t bestFirstCount = 0;
-        for (int axis = 0; axis < 3; ++axis) {
-            if (!usable[axis]) continue;
-            const auto& axisBins = bins[axis];
-            // Only boundaries after a non-empty bin give distinct partitions, so
-            // sweep over those: small nodes near the leaves fill few bins.
-            uint32_t used = 0;
-            for (uint32_t b = 0; b < binCount; ++b)
-                if (axisBins[b].count) usedBins[used++] = b;
-            Aabb acc;
-            uint32_t count = 0;
-            for (uint32_t k = used - 1; k > 0; --k) {
-                acc.grow(axisBins[usedBins[k]].bounds);
-                count += axisBins[usedBins[k]].count;
-                secondArea[k - 1] = acc.halfArea();
-                secondCount[k - 1] = count;
-            }
-            acc = Aabb{};
-            count = 0;
-            for (uint32_t k = 0; k + 1 < used; ++k) {
-                acc.grow(axisBins[usedBins[k]].bounds);
-                count += axisBins[usedBins[k]].count;
-                const float areas = acc.halfArea() * static_cast<float>(count) +
-                                    secondArea[k] * static_cast<float>(secondCount[k]);
-                const float cost = m_options.traversalCost +
-                                   (nodeArea > 0.0f ? areas / nodeArea : static_cast<float>(n));
-                if (cost < bestCost) {
-                    bestCost = cost;
-                    bestAxis = axis;
-                    bestBin = usedBins[k];
-                    bestFirstCount = count;
-                }
-            }
-        }
-        if (bestAxis < 0) return mustSplit ? medianSplit(begin, end, centroids) : 0;
-        if (!mustSplit && static_cast<float>(n) <= bestCost) return 0;
-
-        // The depth guard: both children must still fit below maxDepth with
-        // halving splits (which preserve depth + ceilLog2(n) <= maxDepth).
-        const uint32_t larger = std::max(bestFirstCount, n - bestFirstCount);
-        if (depth + 1 + ceilLog2(larger) > m_options.maxDepth)
-            return medianSplit(begin, end, centroids);
-
-        const float axisLo = lo[bestAxis], axisScale = scale[bestAxis];
-        auto* first = m_primitives.data() + begin;
-        auto* middle =
-            std::partition(first, m_primitives.data() + end, [&](const BuildPrimitive& p) {
-                return binOf(p.centroid[bestAxis], axisLo, axisScale) <= bestBin;
-            });
-        return begin + static_cast<uint32_t>(middle - first);
-    }
-
-    // Halves the range at the median centroid of the widest axis, ties broken
-    // by (kind, id), which is unique, so the order is fully determined.
-    uint32_t medianSplit(uint32_t begin, uint32_t end, const Aabb& centroids) const {
-        const vec3 extent = centroids.hi - centroids.lo;
-        const int axis =
-            extent.x >= extent.y ? (extent.x >= extent.z ? 0 : 2) : (extent.y >= extent.z ? 1 : 2);
-        const uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(m_primitives.data() + begin, m_primitives.data() + mid,
-                         m_primitives.data() + end,
-                         [&](const BuildPrimitive& a, const BuildPrimitive& b) {
-                             const float ca = a.centroid[axis], cb = b.centroid[axis];
-                             if (ca != cb) return ca < cb;
-                             return a.kind != b.kind ? a.kind < b.kind : a.id < b.id;
-                         });
-        return mid;
-    }
-
-    const BvhOptions& m_options;
-    std::vector<BuildPrimitive>& m_primitives;
-    uint32_t m_spawnDepth = 0;
-};
-
 void validate(const BvhOptions& options) {
     if (options.maxLeafSize < 1 || options.maxLeafSize > VKP_BVH_MAX_LEAF_COUNT)
         throw std::invalid_argument(fmt::format("BVH: maxLeafSize must be 1 to {}, not {}",
@@ -299,7 +95,7 @@ void validate(const BvhOptions& options) {
 // Appends the triangles of mesh `m` (its first triangle's id `firstId`) that
 // are not degenerate.
 void collectTriangles(const scene::Scene& scene, uint32_t m, uint64_t firstId, BvhStats& stats,
-                      std::vector<BuildPrimitive>& primitives) {
+                      BuildPrimitives& primitives) {
     const scene::Mesh& mesh = scene.meshes[m];
     for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
         const glm::uvec3 tri = mesh.triangles[t];
@@ -313,16 +109,11 @@ void collectTriangles(const scene::Scene& scene, uint32_t m, uint64_t firstId, B
             ++stats.degenerateTriangles;
             continue;
         }
-        BuildPrimitive p;
-        p.bounds.grow(a);
-        p.bounds.grow(b);
-        p.bounds.grow(c);
-        p.centroid = 0.5f * (p.bounds.lo + p.bounds.hi);
-        p.kind = VKP_PRIMITIVE_TRIANGLE;
-        p.id = static_cast<uint32_t>(firstId + t);
-        p.source = m;
-        p.local = t;
-        primitives.push_back(p);
+        Aabb bounds;
+        bounds.grow(a);
+        bounds.grow(b);
+        bounds.grow(c);
+        primitives.add(bounds, {VKP_PRIMITIVE_TRIANGLE, static_cast<uint32_t>(firstId + t), m, t});
         ++stats.triangles;
     }
 }
@@ -342,10 +133,9 @@ std::vector<uint64_t> firstTriangleIds(const scene::Scene& scene) {
 // The primitives of the scene's tree but its instances, in scene order
 // (triangles of the meshes that are not instanced, mesh by mesh, then
 // spheres), with the counts of those left out.
-std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene,
-                                              const std::vector<uint64_t>& firstIds,
-                                              BvhStats& stats) {
-    std::vector<BuildPrimitive> primitives;
+BuildPrimitives collectPrimitives(const scene::Scene& scene, const std::vector<uint64_t>& firstIds,
+                                  BvhStats& stats) {
+    BuildPrimitives primitives;
     primitives.reserve(scene.triangleCount() + scene.spheres.size() + scene.instances.size());
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
         if (!scene.meshes[m].instanced) collectTriangles(scene, m, firstIds[m], stats, primitives);
@@ -355,21 +145,14 @@ std::vector<BuildPrimitive> collectPrimitives(const scene::Scene& scene,
             ++stats.degenerateSpheres;
             continue;
         }
-        BuildPrimitive p;
-        p.bounds = sphereBounds(sphere.center, sphere.radius);
-        p.centroid = sphere.center;
-        p.kind = VKP_PRIMITIVE_SPHERE;
-        p.id = s;
-        p.source = 0;
-        p.local = s;
-        primitives.push_back(p);
+        primitives.add(sphereBounds(sphere.center, sphere.radius), {VKP_PRIMITIVE_SPHERE, s, 0, s});
         ++stats.spheres;
     }
     return primitives;
 }
 
 // A triangle or sphere as the kernels read it (instances are made by buildBvh).
-BvhPrimitive flattenPrimitive(const scene::Scene& scene, const BuildPrimitive& p) {
+BvhPrimitive flattenPrimitive(const scene::Scene& scene, const PrimitiveOrigin& p) {
     BvhPrimitive out{};
     out.kind = p.kind;
     out.id = p.id;
@@ -390,38 +173,29 @@ BvhPrimitive flattenPrimitive(const scene::Scene& scene, const BuildPrimitive& p
     return out;
 }
 
-// A tree over `primitives`, reordering them into leaf order: its nodes in
-// depth-first order, interior offsets relative to the vector, leaf ranges to
-// `primitives`. Empty for no primitives.
-std::vector<BuildNode> buildTree(const BvhOptions& options,
-                                 std::vector<BuildPrimitive>& primitives) {
-    std::vector<BuildNode> nodes;
-    if (primitives.empty()) return nodes;
-    if (ceilLog2(primitives.size()) > options.maxDepth)
-        throw std::invalid_argument(fmt::format("BVH: {} primitives cannot fit below maxDepth {}",
-                                                primitives.size(), options.maxDepth));
-    nodes.reserve(2 * primitives.size());
-    Builder(options, primitives).build(0, static_cast<uint32_t>(primitives.size()), 0, nodes);
-    return nodes;
-}
-
 // Appends `nodes` to `out` with padded boxes, interior offsets moved by
 // `nodeBase` and leaf ranges by `primitiveBase`; adds to the statistics.
 void appendNodes(const std::vector<BuildNode>& nodes, uint32_t nodeBase, uint32_t primitiveBase,
-                 std::vector<BvhNode>& out, BvhStats& stats) {
+                 std::vector<BvhNode>& out, BvhStats& stats, uint32_t threads) {
+    const size_t first = out.size();
+    out.resize(first + nodes.size());
+    forEachChunk(nodes.size(), threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const BuildNode& n = nodes[i];
+            BvhNode& node = out[first + i];
+            node.boundsMin =
+                vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
+            node.boundsMax =
+                vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
+            node.count = n.count;
+            node.offset = n.count == 0 ? n.offset + nodeBase : n.offset + primitiveBase;
+        }
+    });
+    // Depth and leaf statistics: nodes are in preorder, so a node's depth is
+    // known when it is reached.
     std::vector<uint32_t> depth(nodes.size(), 0);
     for (size_t i = 0; i < nodes.size(); ++i) {
         const BuildNode& n = nodes[i];
-        BvhNode node;
-        node.boundsMin =
-            vec3(padBelow(n.bounds.lo.x), padBelow(n.bounds.lo.y), padBelow(n.bounds.lo.z));
-        node.boundsMax =
-            vec3(padAbove(n.bounds.hi.x), padAbove(n.bounds.hi.y), padAbove(n.bounds.hi.z));
-        node.count = n.count;
-        node.offset = n.count == 0 ? n.offset + nodeBase : n.offset + primitiveBase;
-        out.push_back(node);
-        // Depth and leaf statistics: nodes are in preorder, so a node's depth
-        // is known when it is reached.
         if (n.count == 0) {
             depth[i + 1] = depth[i] + 1;
             depth[n.offset] = depth[i] + 1;
@@ -496,11 +270,11 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     BvhBuild result;
     const std::vector<uint64_t> firstIds = firstTriangleIds(scene);
-    std::vector<BuildPrimitive> primitives = collectPrimitives(scene, firstIds, result.stats);
+    BuildPrimitives primitives = collectPrimitives(scene, firstIds, result.stats);
 
     // ---- the objects: one tree per distinct range of instanced meshes ------------
     struct Object {
-        std::vector<BuildPrimitive> primitives;
+        BuildPrimitives primitives;
         std::vector<BuildNode> nodes;
     };
     std::vector<Object> objects;
@@ -524,7 +298,7 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
                                                  instance.name, scene.meshes[m].name));
                 collectTriangles(scene, m, firstIds[m], result.stats, object.primitives);
             }
-            object.nodes = buildTree(options, object.primitives);
+            object.nodes = buildTree(options, object.primitives.items);
             objects.push_back(std::move(object));
         }
         const Object& object = objects[it->second];
@@ -535,14 +309,7 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
             ++result.stats.degenerateInstances;
             continue;
         }
-        BuildPrimitive p;
-        p.bounds = box;
-        p.centroid = 0.5f * (box.lo + box.hi);
-        p.kind = VKP_PRIMITIVE_INSTANCE;
-        p.id = uint32_t(instances.size());
-        p.source = it->second;
-        p.local = i;
-        primitives.push_back(p);
+        primitives.add(box, {VKP_PRIMITIVE_INSTANCE, uint32_t(instances.size()), it->second, i});
         instances.push_back(i);
         ++result.stats.instances;
     }
@@ -555,12 +322,12 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
         throw std::length_error(fmt::format("BVH: {} primitives, more than 2^32 - 2", total));
 
     // ---- the scene's tree, then each object's -------------------------------------
-    const std::vector<BuildNode> sceneNodes = buildTree(options, primitives);
+    const std::vector<BuildNode> sceneNodes = buildTree(options, primitives.items);
     if (sceneNodes.empty()) {
         result.nodes.push_back(BvhNode{vec3(0.0f), 0u, vec3(0.0f), 0u});  // the empty tree
         result.stats.nodes = 1;
     } else {
-        appendNodes(sceneNodes, 0, 0, result.nodes, result.stats);
+        appendNodes(sceneNodes, 0, 0, result.nodes, result.stats, options.threads);
     }
     result.sceneTreeNodes = uint32_t(result.nodes.size());
     result.traversalNodes = packTraversalNodes(result.nodes);
@@ -574,11 +341,12 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
             // Packed with leaf ranges in the whole array and interior offsets in its own.
             std::vector<BvhNode> local;
             BvhStats ignored;
-            appendNodes(object.nodes, 0, nextPrimitive, local, ignored);
+            appendNodes(object.nodes, 0, nextPrimitive, local, ignored, options.threads);
             tree.rootTexel = uint32_t(result.traversalNodes.size());
             const std::vector<glm::uvec4> texels = packTraversalNodes(local, tree.rootTexel);
             result.traversalNodes.insert(result.traversalNodes.end(), texels.begin(), texels.end());
-            appendNodes(object.nodes, tree.rootNode, nextPrimitive, result.nodes, result.stats);
+            appendNodes(object.nodes, tree.rootNode, nextPrimitive, result.nodes, result.stats,
+                        options.threads);
         }
         nextPrimitive += tree.primitiveCount;
         result.objects.push_back(tree);
@@ -591,25 +359,27 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
     // ---- the primitives, and the instance records after the nodes -------------------
     const auto firstRecord = uint32_t(result.traversalNodes.size());
     result.primitives.resize(total);
+    forEachChunk(primitives.size(), options.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            if (primitives.origin(i).kind != VKP_PRIMITIVE_INSTANCE)
+                result.primitives[i] = flattenPrimitive(scene, primitives.origin(i));
+    });
     for (size_t i = 0; i < primitives.size(); ++i) {
-        const BuildPrimitive& p = primitives[i];
-        if (p.kind != VKP_PRIMITIVE_INSTANCE) {
-            result.primitives[i] = flattenPrimitive(scene, p);
-            continue;
-        }
+        const PrimitiveOrigin& p = primitives.origin(i);
+        if (p.kind != VKP_PRIMITIVE_INSTANCE) continue;
         BvhPrimitive& out = result.primitives[i];
         out = BvhPrimitive{};
         out.kind = VKP_PRIMITIVE_INSTANCE;
         out.id = firstRecord + VKP_INSTANCE_RECORD_TEXELS * p.id;
         out.material = result.objects[p.source].rootTexel;
         out.p0 = vec3(float(p.source), 0.0f, 0.0f);
-        out.p1 = p.bounds.lo;
-        out.p2 = p.bounds.hi;
+        out.p1 = primitives.items[i].bounds().lo;
+        out.p2 = primitives.items[i].bounds().hi;
     }
     size_t next = primitives.size();
     for (const Object& object : objects)
-        for (const BuildPrimitive& p : object.primitives)
-            result.primitives[next++] = flattenPrimitive(scene, p);
+        for (size_t i = 0; i < object.primitives.size(); ++i)
+            result.primitives[next++] = flattenPrimitive(scene, object.primitives.origin(i));
     for (const uint32_t i : instances) {
         const glm::dmat4& objectToWorld = scene.instances[i].objectToWorld;
         appendRows(glm::inverse(objectToWorld), result.traversalNodes);

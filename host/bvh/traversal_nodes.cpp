@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "bvh/parallel_chunks.h"
+
 namespace vkpath::bvh {
 
 namespace {
@@ -67,6 +69,16 @@ void putChild(const BvhNode& child, uint32_t word, uint32_t* out) {
     }
 }
 
+// A record: both children's boxes with their words, in three texels.
+void putRecord(const BvhNode& a, uint32_t wordA, const BvhNode& b, uint32_t wordB,
+               glm::uvec4* out) {
+    uint32_t words[12];
+    putChild(a, wordA, words);
+    putChild(b, wordB, words + 6);
+    for (int t = 0; t < 3; ++t)
+        out[t] = glm::uvec4(words[4 * t], words[4 * t + 1], words[4 * t + 2], words[4 * t + 3]);
+}
+
 }  // namespace
 
 float embedBelow(float x, uint32_t bits) {
@@ -78,13 +90,6 @@ float embedAbove(float x, uint32_t bits) {
 
 std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes, uint32_t firstTexel) {
     std::vector<glm::uvec4> texels;
-    auto appendRecord = [&](const BvhNode& a, uint32_t wordA, const BvhNode& b, uint32_t wordB) {
-        uint32_t words[12];
-        putChild(a, wordA, words);
-        putChild(b, wordB, words + 6);
-        for (int t = 0; t < 3; ++t)
-            texels.emplace_back(words[4 * t], words[4 * t + 1], words[4 * t + 2], words[4 * t + 3]);
-    };
     if (nodes.empty() || (nodes[0].count == 0 && nodes[0].offset == 0)) {
         // The empty tree: boxes of NaN, which intersectBox never enters.
         const uint32_t nan = std::bit_cast<uint32_t>(std::nanf(""));
@@ -105,15 +110,19 @@ std::vector<glm::uvec4> packTraversalNodes(std::span<const BvhNode> nodes, uint3
     if (nodes[0].count != 0) {
         // A single leaf: a record whose two children are that leaf.
         const uint32_t word = childWord(nodes, 0, record);
-        appendRecord(nodes[0], word, nodes[0], word);
+        texels.resize(VKP_BVH_RECORD_TEXELS);
+        putRecord(nodes[0], word, nodes[0], word, texels.data());
         return texels;
     }
-    texels.reserve(next - firstTexel);
-    for (size_t i = 0; i < nodes.size(); ++i) {
-        if (nodes[i].count != 0) continue;
-        const uint32_t a = static_cast<uint32_t>(i + 1), b = nodes[i].offset;
-        appendRecord(nodes[a], childWord(nodes, a, record), nodes[b], childWord(nodes, b, record));
-    }
+    texels.resize(next - firstTexel);
+    forEachChunk(nodes.size(), 0, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            if (nodes[i].count != 0) continue;
+            const uint32_t a = static_cast<uint32_t>(i + 1), b = nodes[i].offset;
+            putRecord(nodes[a], childWord(nodes, a, record), nodes[b], childWord(nodes, b, record),
+                      &texels[record[i] - firstTexel]);
+        }
+    });
     return texels;
 }
 
