@@ -42,6 +42,13 @@ Buffer::Buffer(Context& context, VkDeviceSize size, MemoryKind kind, const char*
         if (kind == MemoryKind::DeviceLocal) {
             alloc.memoryTypeIndex =
                 context.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+            // The first device-local type is also the host's on a device that
+            // shares the host's memory (lavapipe, integrated GPUs): there an
+            // upload is one copy, with no staging buffer to hold a second.
+            constexpr VkMemoryPropertyFlags hostWritable =
+                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+            m_hostWritable =
+                (context.memoryTypeFlags(alloc.memoryTypeIndex) & hostWritable) == hostWritable;
         } else {
             alloc.memoryTypeIndex = context.findMemoryType(
                 req.memoryTypeBits,
@@ -113,6 +120,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
         m_texelView = std::exchange(other.m_texelView, VK_NULL_HANDLE);
         m_size = std::exchange(other.m_size, 0);
         m_kind = other.m_kind;
+        m_hostWritable = other.m_hostWritable;
         m_mapped = std::exchange(other.m_mapped, nullptr);
     }
     return *this;
@@ -138,6 +146,16 @@ void Buffer::upload(std::span<const std::byte> bytes, VkDeviceSize offset) {
     if (bytes.empty()) return;
     if (m_kind == MemoryKind::Staging) {
         std::memcpy(static_cast<std::byte*>(m_mapped) + offset, bytes.data(), bytes.size());
+        return;
+    }
+    if (m_hostWritable) {
+        // Every submission waits for its fence (Context::submit), so no
+        // command is using the buffer; the next submission makes the write
+        // visible to the device (host-coherent memory).
+        void* mapped = nullptr;
+        VK_CHECK(vkMapMemory(m_context->device(), m_memory, offset, bytes.size(), 0, &mapped));
+        std::memcpy(mapped, bytes.data(), bytes.size());
+        vkUnmapMemory(m_context->device(), m_memory);
         return;
     }
     Buffer staging(*m_context, bytes.size(), MemoryKind::Staging);

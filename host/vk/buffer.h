@@ -1,5 +1,6 @@
 // Storage buffers in device-local memory, filled and read back through
-// host-visible staging buffers.
+// host-visible staging buffers (filled directly where device-local memory is
+// the host's).
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -58,7 +59,8 @@ class Buffer {
     // says why).
     VkBufferView texelView() const;
 
-    // Copies bytes in at `offset` (staging copy and wait).
+    // Copies bytes in at `offset` (staging copy and wait; a copy into the
+    // mapped buffer where its memory is the host's).
     void upload(std::span<const std::byte> bytes, VkDeviceSize offset = 0);
     // Copies `bytes.size()` bytes out from `offset` (staging copy and wait).
     void download(std::span<std::byte> bytes, VkDeviceSize offset = 0) const;
@@ -83,6 +85,7 @@ class Buffer {
     VkDeviceSize m_size = 0;
     MemoryKind m_kind = MemoryKind::DeviceLocal;
     void* m_mapped = nullptr;
+    bool m_hostWritable = false;  // device-local memory the host may map: uploads go directly
 };
 
 // The largest array a kernel may read, in bytes, in each of the two ways

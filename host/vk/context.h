@@ -114,6 +114,10 @@ class Context {
 
     // A memory type index with all of `required` among `typeBits`; throws if none.
     uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+    // The property flags of memory type `type`.
+    VkMemoryPropertyFlags memoryTypeFlags(uint32_t type) const {
+        return m_memory.memoryTypes[type].propertyFlags;
+    }
     // Like findMemoryType but returns nullopt instead of throwing.
     std::optional<uint32_t> tryFindMemoryType(uint32_t typeBits,
                                               VkMemoryPropertyFlags required) const;
