@@ -600,8 +600,7 @@ int runRender(const GlobalOptions& global, const RenderCommandOptions& flags,
             tables ? std::make_unique<wavefront::GpuRenderer>(context, std::move(*tables), settings)
                    : std::make_unique<wavefront::GpuRenderer>(context, scene, settings);
         wavefront::GpuRenderer& renderer = *made;
-        std::fprintf(stderr, "%s\n",
-                     wavefront::describeMemory(renderer.scene(), renderer.tables()).c_str());
+        std::fprintf(stderr, "%s\n", renderer.describeSceneMemory().c_str());
         std::fprintf(stderr, "%s\n", renderer.describe().c_str());
         double cpuSeconds = 0;
         // A device lost (or out of memory) mid-render ends it with one line

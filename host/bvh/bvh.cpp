@@ -265,6 +265,22 @@ float padAbove(float x) {
     return roundUp(d + (std::abs(d) * 0x1p-21 + 0x1p-100));
 }
 
+std::optional<uint64_t> predictedTraversalFeatures(const scene::Scene& scene,
+                                                   const BvhOptions& options) {
+    // The scene's tree holds the meshes that are not instanced, the spheres
+    // and an instance primitive per instance; an object's tree at least its
+    // largest mesh.
+    uint64_t sceneTree = scene.spheres.size() + scene.instances.size(), largestObject = 0;
+    for (const scene::Mesh& mesh : scene.meshes)
+        if (mesh.instanced)
+            largestObject = std::max<uint64_t>(largestObject, mesh.triangles.size());
+        else
+            sceneTree += mesh.triangles.size();
+    const uint64_t shallowMost = uint64_t(options.maxLeafSize) << VKP_BVH_SHALLOW_DEPTH;
+    if (std::max(sceneTree, largestObject) <= shallowMost) return std::nullopt;
+    return VKP_FEATURE_DEEP_BVH | (scene.instances.empty() ? 0u : VKP_FEATURE_INSTANCES);
+}
+
 BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
     validate(options);
     const auto start = std::chrono::steady_clock::now();
@@ -322,21 +338,53 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
         throw std::length_error(fmt::format("BVH: {} primitives, more than 2^32 - 2", total));
 
     // ---- the scene's tree, then each object's -------------------------------------
-    const std::vector<BuildNode> sceneNodes = buildTree(options, primitives.items);
+    std::vector<BuildNode> sceneNodes = buildTree(options, primitives.items);
     if (sceneNodes.empty()) {
         result.nodes.push_back(BvhNode{vec3(0.0f), 0u, vec3(0.0f), 0u});  // the empty tree
         result.stats.nodes = 1;
     } else {
         appendNodes(sceneNodes, 0, 0, result.nodes, result.stats, options.threads);
     }
+    std::vector<BuildNode>().swap(sceneNodes);
     result.sceneTreeNodes = uint32_t(result.nodes.size());
+
+    // ---- the primitives, before the nodes are packed: the builder's arrays go first,
+    // since a large scene's peak memory is near --------------------------------------
+    result.primitives.resize(total);
+    forEachChunk(primitives.size(), options.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            if (primitives.origin(i).kind != VKP_PRIMITIVE_INSTANCE)
+                result.primitives[i] = flattenPrimitive(scene, primitives.origin(i));
+    });
+    struct Placement {
+        size_t primitive;  // its index in the scene's tree
+        PrimitiveOrigin origin;
+        Aabb bounds;
+    };
+    std::vector<Placement> placements;
+    for (size_t i = 0; i < primitives.size(); ++i)
+        if (primitives.origin(i).kind == VKP_PRIMITIVE_INSTANCE)
+            placements.push_back({i, primitives.origin(i), primitives.items[i].bounds()});
+    const auto sceneTreePrimitives = uint32_t(primitives.size());
+    primitives = BuildPrimitives{};
+    std::vector<uint32_t> objectPrimitives;
+    size_t next = sceneTreePrimitives;
+    for (Object& object : objects) {
+        objectPrimitives.push_back(uint32_t(object.primitives.size()));
+        for (size_t i = 0; i < object.primitives.size(); ++i)
+            result.primitives[next++] = flattenPrimitive(scene, object.primitives.origin(i));
+        object.primitives = BuildPrimitives{};
+    }
+
+    // ---- the nodes, packed: the scene's tree, then each object's ------------------------
     result.traversalNodes = packTraversalNodes(result.nodes);
-    uint32_t nextPrimitive = uint32_t(primitives.size());
-    for (const Object& object : objects) {
+    uint32_t nextPrimitive = sceneTreePrimitives;
+    for (size_t o = 0; o < objects.size(); ++o) {
+        const Object& object = objects[o];
         ObjectTree tree;
         tree.rootNode = uint32_t(result.nodes.size());
         tree.firstPrimitive = nextPrimitive;
-        tree.primitiveCount = uint32_t(object.primitives.size());
+        tree.primitiveCount = objectPrimitives[o];
         if (!object.nodes.empty()) {
             // Packed with leaf ranges in the whole array and interior offsets in its own.
             std::vector<BvhNode> local;
@@ -356,30 +404,19 @@ BvhBuild buildBvh(const scene::Scene& scene, const BvhOptions& options) {
         result.objects[index].meshCount = key.second;
     }
 
-    // ---- the primitives, and the instance records after the nodes -------------------
+    // ---- the instance primitives, and their records after the nodes ---------------------
     const auto firstRecord = uint32_t(result.traversalNodes.size());
-    result.primitives.resize(total);
-    forEachChunk(primitives.size(), options.threads, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i)
-            if (primitives.origin(i).kind != VKP_PRIMITIVE_INSTANCE)
-                result.primitives[i] = flattenPrimitive(scene, primitives.origin(i));
-    });
-    for (size_t i = 0; i < primitives.size(); ++i) {
-        const PrimitiveOrigin& p = primitives.origin(i);
-        if (p.kind != VKP_PRIMITIVE_INSTANCE) continue;
-        BvhPrimitive& out = result.primitives[i];
+    for (const Placement& placement : placements) {
+        const PrimitiveOrigin& p = placement.origin;
+        BvhPrimitive& out = result.primitives[placement.primitive];
         out = BvhPrimitive{};
         out.kind = VKP_PRIMITIVE_INSTANCE;
         out.id = firstRecord + VKP_INSTANCE_RECORD_TEXELS * p.id;
         out.material = result.objects[p.source].rootTexel;
         out.p0 = vec3(float(p.source), 0.0f, 0.0f);
-        out.p1 = primitives.items[i].bounds().lo;
-        out.p2 = primitives.items[i].bounds().hi;
+        out.p1 = placement.bounds.lo;
+        out.p2 = placement.bounds.hi;
     }
-    size_t next = primitives.size();
-    for (const Object& object : objects)
-        for (size_t i = 0; i < object.primitives.size(); ++i)
-            result.primitives[next++] = flattenPrimitive(scene, object.primitives.origin(i));
     for (const uint32_t i : instances) {
         const glm::dmat4& objectToWorld = scene.instances[i].objectToWorld;
         appendRows(glm::inverse(objectToWorld), result.traversalNodes);

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -105,6 +106,14 @@ inline uint64_t traversalFeatures(const BvhBuild& bvh) {
     return (bvh.stats.maxDepth > VKP_BVH_SHALLOW_DEPTH ? VKP_FEATURE_DEEP_BVH : 0u) |
            (bvh.stats.instances > 0 ? VKP_FEATURE_INSTANCES : 0u);
 }
+
+// traversalFeatures of the BVH that buildBvh(scene, options) will build,
+// where its primitive counts alone decide them: a tree of more than
+// maxLeafSize << VKP_BVH_SHALLOW_DEPTH primitives has a leaf below the
+// shallow depth. nullopt where none is that large. (The instances bit
+// assumes an instance is drawn: wrong only for a scene of singular ones.)
+std::optional<uint64_t> predictedTraversalFeatures(const scene::Scene& scene,
+                                                   const BvhOptions& options = {});
 
 // Builds the BVH of every non-degenerate triangle and sphere of `scene`: a
 // tree over the triangles of its meshes that are not instanced, its spheres

@@ -30,6 +30,8 @@ class Context;
 struct SpecializationConstant {
     uint32_t id;
     uint32_t value;  // the 32-bit pattern: uint, int, bool (0/1) or float bits
+
+    bool operator==(const SpecializationConstant&) const = default;
 };
 
 struct KernelOptions {

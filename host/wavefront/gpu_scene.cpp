@@ -8,6 +8,7 @@
 #include <map>
 #include <numbers>
 #include <span>
+#include <type_traits>
 
 #include "albedo/albedo_tables.h"
 #include "input_error.h"
@@ -297,18 +298,46 @@ bool smoothSpecular(const shared::Material& m) {
     return !shared::hasNonDeltaLobe(m) && !(glass && m.ior == 1.0f);
 }
 
-// The smooth specular spheres among `primitives`, largest first (ties in
-// leaf order), at most VKP_MAX_GUIDE_SPHERES.
-std::vector<glm::vec4> guideSpheres(const std::vector<shared::BvhPrimitive>& primitives,
+// The scene's smooth specular spheres that are not degenerate, largest first
+// (ties in scene order), at most VKP_MAX_GUIDE_SPHERES.
+std::vector<glm::vec4> guideSpheres(const scene::Scene& scene,
                                     const std::vector<shared::Material>& materials) {
     std::vector<glm::vec4> spheres;
-    for (const shared::BvhPrimitive& p : primitives)
-        if (p.kind == VKP_PRIMITIVE_SPHERE && smoothSpecular(materials.at(p.material)))
-            spheres.emplace_back(p.p0, p.p1.x);
+    for (const scene::Sphere& s : scene.spheres)
+        if (!bvh::isDegenerateSphere(s.center, s.radius) &&
+            smoothSpecular(materials.at(s.material)))
+            spheres.emplace_back(s.center, s.radius);
     std::stable_sort(spheres.begin(), spheres.end(),
                      [](const glm::vec4& a, const glm::vec4& b) { return a.w > b.w; });
     if (spheres.size() > VKP_MAX_GUIDE_SPHERES) spheres.resize(VKP_MAX_GUIDE_SPHERES);
     return spheres;
+}
+
+// Per material, the kinds of primitive of the BVH that wear it: the
+// non-degenerate triangles of the meshes drawn (an instanced mesh is drawn
+// when an instance places it) and spheres.
+std::vector<uint8_t> materialPrimitives(const scene::Scene& scene, size_t materialCount) {
+    std::vector<uint8_t> use(materialCount, 0);
+    std::vector<bool> placed(scene.meshes.size(), false);
+    for (const scene::Instance& instance : scene.instances)
+        for (uint32_t m = instance.firstMesh;
+             m < instance.firstMesh + instance.meshCount && m < scene.meshes.size(); ++m)
+            placed[m] = true;
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const scene::Mesh& mesh = scene.meshes[m];
+        if (mesh.instanced && !placed[m]) continue;
+        const auto drawn = [&](const glm::uvec3& tri) {
+            const size_t n = mesh.positions.size();
+            return tri.x < n && tri.y < n && tri.z < n &&
+                   !bvh::isDegenerateTriangle(mesh.positions[tri.x], mesh.positions[tri.y],
+                                              mesh.positions[tri.z]);
+        };
+        if (std::any_of(mesh.triangles.begin(), mesh.triangles.end(), drawn))
+            use.at(mesh.material) |= MATERIAL_ON_TRIANGLES;
+    }
+    for (const scene::Sphere& s : scene.spheres)
+        if (!bvh::isDegenerateSphere(s.center, s.radius)) use.at(s.material) |= MATERIAL_ON_SPHERES;
+    return use;
 }
 
 // The light tree over the bounded lights, which come first, and the alias
@@ -338,18 +367,19 @@ void placeCamera(SceneTables& tables, const scene::Camera& world) {
     tables.camera.target = glm::vec3(glm::dvec3(world.target) - tables.worldOrigin);
 }
 
-SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& bvhOptions) {
+SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& bvhOptions,
+                             const std::function<void(const SceneTables&)>& beforeBvh) {
     SceneTables t;
     t.worldOrigin = boundingSphere(world).first;
     const scene::Scene scene = moved(world, t.worldOrigin);
     t.camera = scene.camera;
-    t.bvh = bvh::buildBvh(scene, bvhOptions);
     t.surface = buildSurfaceTables(scene);
     t.info.triangleAttributes = t.surface.attributes;
     t.textures = buildTextureTables(scene);
     for (size_t i = 0; i < scene.materials.size(); ++i)
         t.materials.push_back(toGpu(scene.materials[i], t.textures.materialSlots[i]));
     if (t.materials.empty()) t.materials.push_back(toGpu(scene::Material{}));
+    t.materialPrimitives = materialPrimitives(scene, t.materials.size());
     t.media = buildMedia(scene);
     t.info.media = t.media.empty() ? 0u : 1u;
     if (scene.volume) buildGridMedium(*scene.volume, t);
@@ -411,15 +441,6 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
         surfaceLight[{VKP_PRIMITIVE_SPHERE, i}] = uint32_t(t.lights.size());
         addLight(sphereLight(s, m.emission));
     }
-    // Every emitter's entry, also where none is a light (the kernels read the
-    // entry of each emitter they hit while other lights are sampled).
-    if (!surfaceLight.empty() || t.info.unsampledEmitters != 0) {
-        t.primitiveLight.assign(t.bvh.primitives.size(), VKP_NO_LIGHT);
-        for (size_t i = 0; i < t.bvh.primitives.size(); ++i) {
-            const auto it = surfaceLight.find({t.bvh.primitives[i].kind, t.bvh.primitives[i].id});
-            if (it != surfaceLight.end()) t.primitiveLight[i] = it->second;
-        }
-    }
     for (const auto& p : scene.pointLights) addLight(pointLight(p));
     for (const auto& s : scene.spotLights) addLight(spotLight(s));
     const auto [center, radius] = boundingSphere(scene);
@@ -454,10 +475,8 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
         }
     }
     t.lightAlias = scene::buildAliasTable(power);
-    if (t.lightAlias.empty()) {  // nothing with power: no light sampling, emission counts fully
-        t.lights.clear();
-        t.primitiveLight.clear();
-    }
+    const bool sampledLights = !t.lightAlias.empty();
+    if (!sampledLights) t.lights.clear();  // nothing with power: emission counts fully
     addLightTree(t, power);
     t.info.lightCount = uint32_t(t.lights.size());
     if (t.lights.empty()) t.info.environmentLight = VKP_NO_LIGHT;
@@ -471,8 +490,20 @@ SceneTables buildSceneTables(const scene::Scene& world, const bvh::BvhOptions& b
     const bool surfaceEmitters = !surfaceLight.empty() || t.info.unsampledEmitters != 0;
     const bool environmentMap =
         scene.environment && scene.environment->map && scene.environment->strength > 0;
-    if (surfaceEmitters && !environmentMap)
-        t.guideSpheres = guideSpheres(t.bvh.primitives, t.materials);
+    if (surfaceEmitters && !environmentMap) t.guideSpheres = guideSpheres(scene, t.materials);
+
+    // The BVH last, so that a caller may start on what the rest decides.
+    if (beforeBvh) beforeBvh(t);
+    t.bvh = bvh::buildBvh(scene, bvhOptions);
+    // Every emitter's entry, also where none is a light (the kernels read the
+    // entry of each emitter they hit while other lights are sampled).
+    if (sampledLights && (!surfaceLight.empty() || t.info.unsampledEmitters != 0)) {
+        t.primitiveLight.assign(t.bvh.primitives.size(), VKP_NO_LIGHT);
+        for (size_t i = 0; i < t.bvh.primitives.size(); ++i) {
+            const auto it = surfaceLight.find({t.bvh.primitives[i].kind, t.bvh.primitives[i].id});
+            if (it != surfaceLight.end()) t.primitiveLight[i] = it->second;
+        }
+    }
     return t;
 }
 
@@ -552,6 +583,17 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& t, bvh::Traversal 
     }
     g.addresses = vk::Buffer::fromSpan(context, std::span(&addresses, 1), "sceneAddresses");
     return g;
+}
+
+void releaseUploaded(SceneTables& t) {
+    const auto release = [](auto& array) { std::decay_t<decltype(array)>().swap(array); };
+    release(t.bvh.nodes);
+    release(t.bvh.traversalNodes);
+    release(t.bvh.primitives);
+#define VKP_ARRAY_RELEASE(index, name, Record, access, member) \
+    VKP_SCENE_ARRAY_IF_SPANS_##access(release(t.member);)
+    VKP_SCENE_ARRAYS(VKP_ARRAY_RELEASE)
+#undef VKP_ARRAY_RELEASE
 }
 
 std::string describeMemory(const GpuScene& g, const SceneTables& t) {

@@ -5,6 +5,7 @@
 // (Vulkan needs every declared binding bound, and most are texel buffers).
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -29,11 +30,19 @@
 
 namespace vkpath::wavefront {
 
+// SceneTables::materialPrimitives' bits.
+constexpr uint8_t MATERIAL_ON_TRIANGLES = 1;
+constexpr uint8_t MATERIAL_ON_SPHERES = 2;
+
 // The scene flattened for the integrators, on the host: what the GPU
 // buffers hold and what the CPU reference reads directly.
 struct SceneTables {
     bvh::BvhBuild bvh;
     std::vector<shared::Material> materials;
+    // Per material, the kinds of primitive in the BVH that wear it
+    // (MATERIAL_ON_TRIANGLES, MATERIAL_ON_SPHERES): what the kernels'
+    // features need to know of the primitives, before the BVH is built.
+    std::vector<uint8_t> materialPrimitives;
     std::vector<shared::Light> lights;
     // The alias table over the lights' power; with a light tree, followed by
     // a second part over the tree as a whole and each light after its range
@@ -84,7 +93,11 @@ struct SceneTables {
 // outside), 4 pi I for points, the cone's solid angle x I for spots, and pi R^2 x E (directional)
 // or pi R^2 x the integral of L over the sphere (environment), R the radius of a sphere around the
 // geometry.
-SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions = {});
+// The BVH is built last: `beforeBvh`, when given, is called with the tables
+// complete but for `bvh` and `primitiveLight` (the renderer starts on its
+// pipelines while the BVH builds).
+SceneTables buildSceneTables(const scene::Scene& scene, const bvh::BvhOptions& bvhOptions = {},
+                             const std::function<void(const SceneTables&)>& beforeBvh = {});
 
 // Puts `world` (a camera in world space) in place of the tables' camera,
 // moved into render space as buildSceneTables moves the scene's.
@@ -132,5 +145,11 @@ GpuScene uploadScene(vk::Context& context, const SceneTables& tables,
 // of it, and how the kernels read it, e.g. "scene: 12.3 MiB on the device
 // (BVH: 1234 nodes (38.6 KiB) + ...), bound as texel buffers".
 std::string describeMemory(const GpuScene& scene, const SceneTables& tables);
+
+// Frees what uploadScene copied to the device and the host need not keep:
+// the BVH's arrays and every row of shaders/shared/scene_arrays.h that grows
+// with the scene (SPANS), most of a large scene's host memory. The rest
+// (materials, settings, the BVH's statistics) stays.
+void releaseUploaded(SceneTables& tables);
 
 }  // namespace vkpath::wavefront

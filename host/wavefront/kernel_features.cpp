@@ -77,10 +77,13 @@ static_assert(namesEveryBit(), "a VKP_FEATURE_* bit without a name");
 
 uint64_t sceneFeatures(const SceneTables& t) {
     uint64_t f = 0;
-    for (const shared::BvhPrimitive& p : t.bvh.primitives) {
-        if (p.kind == VKP_PRIMITIVE_INSTANCE) continue;  // traversalFeatures, below
-        f |= p.kind == VKP_PRIMITIVE_SPHERE ? VKP_FEATURE_SPHERES : VKP_FEATURE_TRIANGLES;
-        const shared::Material& m = t.materials.at(p.material);
+    for (size_t i = 0; i < t.materialPrimitives.size(); ++i) {
+        const uint8_t worn = t.materialPrimitives[i];
+        if (worn == 0) continue;
+        const bool onTriangles = (worn & MATERIAL_ON_TRIANGLES) != 0;
+        if (onTriangles) f |= VKP_FEATURE_TRIANGLES;
+        if (worn & MATERIAL_ON_SPHERES) f |= VKP_FEATURE_SPHERES;
+        const shared::Material& m = t.materials.at(i);
         f |= shared::materialFeature(m.kind);
         if (m.emission != glm::vec3(0.0f)) f |= VKP_FEATURE_EMISSIVE_SURFACES;
         if (m.attenuation != glm::vec3(0.0f)) f |= VKP_FEATURE_ABSORPTION;
@@ -91,10 +94,8 @@ uint64_t sceneFeatures(const SceneTables& t) {
         if (m.iridescence > 0.0f) f |= VKP_FEATURE_IRIDESCENCE;
         if (m.anisotropy > 0.0f) f |= VKP_FEATURE_ANISOTROPY;
         if (m.dispersion > 0.0f) f |= VKP_FEATURE_DISPERSION;
-        if (m.textures != VKP_NO_TEXTURE && p.kind == VKP_PRIMITIVE_TRIANGLE)
-            f |= VKP_FEATURE_TEXTURES;
-        if (!t.materialAlpha.empty() && t.materialAlpha[p.material].mode != VKP_ALPHA_OPAQUE &&
-            p.kind == VKP_PRIMITIVE_TRIANGLE)
+        if (m.textures != VKP_NO_TEXTURE && onTriangles) f |= VKP_FEATURE_TEXTURES;
+        if (!t.materialAlpha.empty() && t.materialAlpha[i].mode != VKP_ALPHA_OPAQUE && onTriangles)
             f |= VKP_FEATURE_ALPHA;
     }
     // Delta lights by their type's bit; area lights come with their

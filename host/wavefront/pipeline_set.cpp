@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <span>
+#include <stdexcept>
 #include <string>
 
 #include "shared/bindings.h"
@@ -77,6 +78,23 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
 }
 
 PipelineSet::~PipelineSet() = default;
+
+void prewarmPipelines(vk::Context& context, const PipelineSetup& setup) {
+    if (setup.traversal != bvh::Traversal::Compute)
+        throw std::invalid_argument("prewarmPipelines: compute traversal only");
+    // Large enough for every fixed-size block a kernel declares; with no
+    // paths nothing past the counters and the scene's header is read.
+    constexpr VkDeviceSize PLACEHOLDER_BYTES = 64 * 1024;
+    vk::Buffer placeholder(context, PLACEHOLDER_BYTES, vk::MemoryKind::DeviceLocal,
+                           "prewarm placeholder");
+    vk::Buffer counters(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal,
+                        "prewarm counters");
+    std::map<uint32_t, const vk::Buffer*> bindings;
+    for (uint32_t b = 0; b < VKP_WF_FIRST_FREE_BINDING; ++b) bindings[b] = &placeholder;
+    std::vector<vk::Buffer> film;
+    film.emplace_back(context, PLACEHOLDER_BYTES, vk::MemoryKind::DeviceLocal, "prewarm film");
+    const PipelineSet set(context, setup, bindings, film, {}, {}, counters);
+}
 
 void PipelineSet::recordWave(VkCommandBuffer cmd, vk::TimestampPool& timestamps,
                              const shared::WavePush& wave, uint32_t bounces,

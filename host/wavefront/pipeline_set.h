@@ -30,6 +30,8 @@ struct PipelineSetup {
     std::vector<vk::SpecializationConstant> sceneSpecialization;
     uint32_t megakernelPathsPerInvocation = 1;           // RenderSettings'
     bvh::Traversal traversal = bvh::Traversal::Compute;  // of the kernels that trace rays
+
+    bool operator==(const PipelineSetup&) const = default;
 };
 
 class PipelineSet {
@@ -70,5 +72,14 @@ class PipelineSet {
     std::vector<vk::DescriptorSet> m_accumulateSets;  // one per film window
     std::vector<std::pair<const vk::Kernel*, const vk::DescriptorSet*>> m_built;
 };
+
+// Builds the pipelines of `setup` and runs their empty dispatches on
+// placeholder buffers, so that a PipelineSet of the same setup made later on
+// `context` finds them compiled (Context::compiledKernel keeps them): the
+// renderer does this while the BVH builds. It submits to the context's
+// queue: no other thread may use the context meanwhile. Ray-query kernels
+// need acceleration structures, which placeholders are not: compute
+// traversal only.
+void prewarmPipelines(vk::Context& context, const PipelineSetup& setup);
 
 }  // namespace vkpath::wavefront

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -15,6 +16,7 @@
 #include "scene/camera.h"
 #include "shared/bvh.h"
 #include "shared/camera.h"
+#include "shared/scene_arrays.h"
 #include "shared/wavefront.h"
 #include "vk/buffer.h"
 #include "vk/check.h"
@@ -87,7 +89,8 @@ GpuRenderer::GpuRenderer(vk::Context& context, const scene::Scene& scene,
     : m_context(context),
       m_settings(settings),
       m_constructed(Clock::now()),
-      m_tables(buildSceneTables(scene)) {
+      m_tables(buildSceneTables(
+          scene, {}, [&](const SceneTables& beforeBvh) { startPrewarm(beforeBvh, scene); })) {
     setUp();
 }
 
@@ -99,9 +102,67 @@ GpuRenderer::GpuRenderer(vk::Context& context, SceneTables tables, const RenderS
     setUp();
 }
 
+PipelineSetup GpuRenderer::pipelineSetup(uint64_t features, bool byAddress,
+                                         uint32_t lightSamples) const {
+    const KernelForm form = m_settings.kernel.value_or(defaultKernelForm(m_context.info()));
+    return PipelineSetup{
+        .form = form,
+        .shadowStage =
+            form == KernelForm::Wavefront && shadowRaysPerVertex(features, lightSamples) > 0,
+        .workgroupSize = m_settings.workgroupSize,
+        .sceneSpecialization = {bvh::sceneAccessConstant(byAddress), featureConstants(features)[0],
+                                featureConstants(features)[1]},
+        .megakernelPathsPerInvocation = m_settings.megakernelPathsPerInvocation,
+        .traversal = m_settings.traversal.value_or(defaultTraversal(m_context.info()))};
+}
+
+void GpuRenderer::startPrewarm(const SceneTables& beforeBvh, const scene::Scene& scene) {
+    // A small scene's BVH is built before its pipelines would gain anything.
+    const std::optional<uint64_t> traversalFeatures = bvh::predictedTraversalFeatures(scene);
+    if (!traversalFeatures) return;
+    const shared::SceneInfo info = renderSceneInfo(beforeBvh, m_settings);
+    const uint64_t features = m_settings.specialize
+                                  ? renderFeatures(beforeBvh, info) | *traversalFeatures
+                                  : VKP_FEATURES_ALL;
+    // Whether the scene will be read by address: as uploadScene decides,
+    // with the BVH's arrays at their largest (a record of three texels per
+    // interior node, fewer than the primitives; a primitive per triangle,
+    // sphere and instance).
+    uint64_t primitives = scene.spheres.size() + scene.instances.size();
+    for (const scene::Mesh& mesh : scene.meshes) primitives += mesh.triangles.size();
+    std::vector<vk::ArrayExtent> extents = {
+        {"BVH node", primitives * VKP_BVH_RECORD_TEXELS * sizeof(glm::uvec4), primitives},
+        {"BVH primitive", primitives * sizeof(shared::BvhPrimitive), primitives}};
+#define VKP_ARRAY_EXTENT(index, name, Record, access, member) \
+    VKP_SCENE_ARRAY_IF_SPANS_##access(                        \
+        extents.push_back({#name, beforeBvh.member.size() * sizeof(beforeBvh.member[0]), 0});)
+    VKP_SCENE_ARRAYS(VKP_ARRAY_EXTENT)
+#undef VKP_ARRAY_EXTENT
+    bool byAddress = false;
+    try {
+        byAddress = vk::chooseAddressAccess(extents, vk::bufferLimits(m_context.info()));
+    } catch (const InputError&) {
+        return;  // too large: uploadScene will say so
+    }
+    const PipelineSetup setup = pipelineSetup(features, byAddress, info.lightSamples);
+    if (setup.traversal != bvh::Traversal::Compute) return;
+    m_prewarmSetup = setup;
+    m_prewarm = std::async(std::launch::async, [this, setup] {
+        // A guess that fails costs nothing but the guess: the render builds
+        // its pipelines itself, and reports what fails there.
+        try {
+            prewarmPipelines(m_context, setup);
+        } catch (...) {
+            m_prewarmSetup.reset();
+        }
+    });
+}
+
 void GpuRenderer::setUp() {
     vk::Context& context = m_context;
     const RenderSettings& settings = m_settings;
+    // The context is this thread's again (prewarmPipelines submits to its queue).
+    if (m_prewarm.valid()) m_prewarm.get();
     const shared::Camera camera =
         scene::makeGpuCamera(m_tables.camera, settings.width, settings.height);
     m_traversal = settings.traversal.value_or(defaultTraversal(context.info()));
@@ -111,12 +172,14 @@ void GpuRenderer::setUp() {
     info = renderSceneInfo(m_tables, settings);
     m_form = settings.kernel.value_or(defaultKernelForm(context.info()));
     m_features = settings.specialize ? renderFeatures(m_tables, info) : VKP_FEATURES_ALL;
+    const PipelineSetup setup = pipelineSetup(m_features, m_scene.byAddress, info.lightSamples);
+    m_prewarmed = m_prewarmSetup && *m_prewarmSetup == setup;
 
     auto r = std::make_unique<Resources>();
     const uint64_t pixels = uint64_t(settings.width) * settings.height;
     // Light samples traced per vertex: none where no stage could queue one.
     const uint32_t shadowSamples = shadowRaysPerVertex(m_features, info.lightSamples);
-    r->shadowStage = m_form == KernelForm::Wavefront && shadowSamples > 0;
+    r->shadowStage = setup.shadowStage;
     const PathExtras extras{settings.surfaceAovs, (m_features & VKP_FEATURE_DISPERSION) != 0};
     const uint64_t budget =
         pathStateBudget(settings, m_scene.bytes(), m_form, shadowSamples, extras);
@@ -127,6 +190,9 @@ void GpuRenderer::setUp() {
         std::memcpy(sceneInfoBytes.data() + sizeof(info), m_tables.guideSpheres.data(),
                     info.guideSphereCount * sizeof(glm::vec4));
     r->sceneInfo = vk::Buffer::fromSpan(context, std::span(sceneInfoBytes), "sceneInfo");
+    m_sceneMemory = describeMemory(m_scene, m_tables);
+    // Before the pipelines and the path state take their memory.
+    releaseUploaded(m_tables);
     r->camera = vk::Buffer::fromSpan(context, std::span(&camera, 1), "camera");
     r->counters =
         vk::Buffer(context, sizeof(shared::QueueCounters), vk::MemoryKind::DeviceLocal, "counters");
@@ -171,14 +237,6 @@ void GpuRenderer::setUp() {
     bindPathBuffers(r->paths, r->placeholder, bindings);
 
     const auto start = Clock::now();
-    PipelineSetup setup{
-        .form = m_form,
-        .shadowStage = r->shadowStage,
-        .workgroupSize = settings.workgroupSize,
-        .sceneSpecialization = {bvh::sceneAccessConstant(m_scene.byAddress),
-                                featureConstants(m_features)[0], featureConstants(m_features)[1]},
-        .megakernelPathsPerInvocation = settings.megakernelPathsPerInvocation,
-        .traversal = m_traversal};
     r->pipelines = std::make_unique<PipelineSet>(context, setup, bindings, r->film, r->filmOdd,
                                                  r->filmAov, r->counters);
     m_pipelines = r->pipelines->count();
@@ -204,13 +262,14 @@ std::string GpuRenderer::describe() const {
         total += group.bytes;
     }
     return fmt::format(
-        "kernels: {}, {} traversal, {} ({} pipelines in {:.0f} ms, ready {:.0f} ms after the "
+        "kernels: {}, {} traversal, {} ({} pipelines in {:.0f} ms{}, ready {:.0f} ms after the "
         "scene was loaded); device memory {:.1f} MiB: {} ({} paths in flight)",
         kernelFormName(m_form), bvh::traversalName(m_traversal),
         m_settings.specialize ? "specialised to " + describeFeatures(m_features)
                               : std::string("general (--no-specialize)"),
-        m_pipelines, m_pipelineMilliseconds, m_setupMilliseconds, total / (1024.0 * 1024.0), memory,
-        pathsInFlight());
+        m_pipelines, m_pipelineMilliseconds,
+        m_prewarmed ? ", compiled while the BVH was built" : "", m_setupMilliseconds,
+        total / (1024.0 * 1024.0), memory, pathsInFlight());
 }
 
 RenderResult GpuRenderer::render(const std::function<void(const RenderProgress&)>& progress) {

@@ -16,12 +16,15 @@
 
 #include <chrono>
 #include <functional>
+#include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scene/scene.h"
 #include "wavefront/gpu_scene.h"
+#include "wavefront/pipeline_set.h"
 #include "wavefront/render_types.h"
 #include "wavefront/wave_sizing.h"
 
@@ -61,7 +64,11 @@ class GpuRenderer {
     // InputError for a state this renderer cannot continue.
     RenderResult render(const SampleRange& samples, const RenderControl& control);
 
+    // The tables as the renderer keeps them once the device holds the scene:
+    // without the arrays that uploading released (releaseUploaded).
     const SceneTables& tables() const { return m_tables; }
+    // describeMemory's line for the scene as uploaded.
+    const std::string& describeSceneMemory() const { return m_sceneMemory; }
     uint64_t sceneBytes() const { return m_scene.bytes(); }
     const GpuScene& scene() const { return m_scene; }
     KernelForm form() const { return m_form; }
@@ -78,13 +85,28 @@ class GpuRenderer {
     // One line: the kernel form, the features the pipelines were built for and
     // how long that took, and the device memory by group.
     std::string describe() const;
+    // Whether the pipelines were compiled while the BVH was built (a large
+    // scene's, whose tables before the BVH foretold the render's pipelines).
+    bool pipelinesPrewarmed() const { return m_prewarmed; }
 
   private:
     struct Resources;
+    // Where the pipelines for the tables as they are before the BVH is built
+    // can be foretold (a BVH large enough that its depth is certain), starts
+    // compiling them on another thread (prewarmPipelines).
+    void startPrewarm(const SceneTables& beforeBvh, const scene::Scene& scene);
+    // The pipelines' setup for these features, scene access and light samples.
+    PipelineSetup pipelineSetup(uint64_t features, bool byAddress, uint32_t lightSamples) const;
     void setUp();  // the constructors' work once the tables are built
     vk::Context& m_context;
     RenderSettings m_settings;
     std::chrono::steady_clock::time_point m_constructed;
+    // The setup the prewarm compiles, and the prewarm (before m_tables, whose
+    // building starts it; after the setup, which its thread may reset: a
+    // constructor that throws waits for the thread before the setup goes).
+    std::optional<PipelineSetup> m_prewarmSetup;
+    bool m_prewarmed = false;
+    std::future<void> m_prewarm;
     SceneTables m_tables;
     GpuScene m_scene;
     KernelForm m_form = KernelForm::Wavefront;
@@ -94,6 +116,7 @@ class GpuRenderer {
     double m_pipelineMilliseconds = 0;
     double m_setupMilliseconds = 0;
     std::vector<MemoryGroup> m_memory;
+    std::string m_sceneMemory;
     std::unique_ptr<Resources> m_resources;
 };
 

@@ -109,9 +109,8 @@ TEST_P(BvhAddressScene, RenderEqualsTheBoundPath) {
     // The lowest limit the materials (always bound) allow; the BVH's nodes or
     // primitives are larger.
     const uint64_t materialBytes = bound.tables().materials.size() * sizeof(shared::Material);
-    uint64_t bvhBytes = 0;
-    for (const vk::ArrayExtent& e : bvh::arrayExtents(bound.tables().bvh))
-        bvhBytes = std::max(bvhBytes, e.bytes);
+    const uint64_t bvhBytes =
+        std::max(bound.scene().bvh.nodes.size(), bound.scene().bvh.primitives.size());
     ASSERT_GT(bvhBytes, materialBytes);
     const BindingLimit lowered(materialBytes);
     wavefront::GpuRenderer addressed(test::context(), s, settings);
@@ -180,7 +179,7 @@ TEST(BvhAddress, LargeSceneRenders) {
     settings.samplesPerPixel = 16;
     settings.maxDepth = 2;
     wavefront::GpuRenderer renderer(test::context(), s, settings);
-    EXPECT_GT(renderer.tables().bvh.primitiveBytes(), BINDING);
+    EXPECT_GT(renderer.scene().bvh.primitives.size(), BINDING);
     EXPECT_TRUE(renderer.scene().byAddress);
     RecordProperty("scene_bytes", std::to_string(renderer.sceneBytes()));
     const wavefront::RenderResult r = renderer.render();

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "bvh/bvh.h"
 #include "reference/reference_renderer.h"
@@ -74,6 +75,27 @@ TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
             sum += p[c];
         }
     EXPECT_GT(sum, 0.0) << "the image is black";
+}
+
+// The renderer compiles a large scene's pipelines while its BVH builds,
+// for the features the tables before the BVH foretell: on every scene those
+// (with the BVH's traversal bits) are the tables' own, and where the BVH's
+// size foretells its traversal bits they are the BVH's.
+TEST_P(AllScenes, TheTablesBeforeTheBvhForetellTheFeatures) {
+    const scene::Scene s = loadInstanced(GetParam());
+    std::optional<wavefront::SceneTables> before;
+    const wavefront::SceneTables tables =
+        wavefront::buildSceneTables(s, {}, [&](const wavefront::SceneTables& t) { before = t; });
+    ASSERT_TRUE(before.has_value());
+    EXPECT_TRUE(before->bvh.primitives.empty());
+    const wavefront::RenderSettings settings;
+    const uint64_t traversal = bvh::traversalFeatures(tables.bvh);
+    EXPECT_EQ(wavefront::renderFeatures(*before, wavefront::renderSceneInfo(*before, settings)) |
+                  traversal,
+              wavefront::renderFeatures(tables, wavefront::renderSceneInfo(tables, settings)));
+    if (const auto predicted = bvh::predictedTraversalFeatures(s)) {
+        EXPECT_EQ(*predicted, traversal);
+    }
 }
 
 // The microfacet kinds (rough conductor, rough glass, metallic-roughness)

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "scene/scene.h"
 #include "shared/features.h"
 #include "shared/microfacet_albedo.h"
@@ -160,3 +162,60 @@ TEST(KernelFeatures, NoShadowStageOrMemoryWhereNothingCanBeLightSampled) {
 }
 
 }  // namespace
+
+namespace {
+
+// A floor of n x n quads (2 n^2 triangles) under a white sky, seen from above.
+scene::Scene floorOfQuads(uint32_t n) {
+    scene::Scene s = sphereUnderSky(scene::MaterialKind::Mirror);
+    scene::Mesh floor;
+    floor.name = "floor";
+    for (uint32_t y = 0; y <= n; ++y)
+        for (uint32_t x = 0; x <= n; ++x)
+            floor.positions.emplace_back(4.0f * float(x) / float(n) - 2.0f, -1.0f,
+                                         4.0f * float(y) / float(n) - 2.0f);
+    for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+            const uint32_t a = y * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
+            floor.triangles.emplace_back(a, c, b);
+            floor.triangles.emplace_back(b, c, d);
+        }
+    scene::Material grey;
+    grey.reflectance = glm::vec3(0.5f);
+    s.materials.push_back(grey);
+    floor.material = 1;
+    s.meshes.push_back(floor);
+    s.camera.position = {0.0f, 3.0f, 3.0f};
+    return s;
+}
+
+}  // namespace
+
+// A scene too large for its BVH to be shallow has its pipelines compiled
+// while the BVH builds (the tables before it foretell them), and renders the
+// image of a renderer made from finished tables, bit for bit; a scene whose
+// BVH might be shallow waits for it.
+TEST(KernelFeatures, ALargeScenesPipelinesCompileWhileItsBvhBuilds) {
+    wavefront::RenderSettings settings;
+    settings.width = 24;
+    settings.height = 16;
+    settings.samplesPerPixel = 2;
+    for (const wavefront::KernelForm form :
+         {wavefront::KernelForm::Megakernel, wavefront::KernelForm::Wavefront}) {
+        settings.kernel = form;
+        const scene::Scene large = floorOfQuads(32);  // 2048 triangles, more than 4 << 8
+        wavefront::GpuRenderer prewarmed(test::context(), large, settings);
+        EXPECT_TRUE(prewarmed.pipelinesPrewarmed());
+        EXPECT_NE(prewarmed.describe().find("compiled while the BVH was built"), std::string::npos);
+        wavefront::GpuRenderer fromTables(test::context(), wavefront::buildSceneTables(large),
+                                          settings);
+        EXPECT_FALSE(fromTables.pipelinesPrewarmed());
+        const auto a = prewarmed.render(), b = fromTables.render();
+        ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
+        EXPECT_EQ(0, std::memcmp(a.image.pixels.data(), b.image.pixels.data(),
+                                 a.image.pixels.size() * sizeof(glm::vec3)));
+
+        const wavefront::GpuRenderer small(test::context(), floorOfQuads(8), settings);
+        EXPECT_FALSE(small.pipelinesPrewarmed());
+    }
+}
