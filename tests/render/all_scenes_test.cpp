@@ -80,21 +80,26 @@ TEST_P(AllScenes, RenderWithoutNonFiniteSamples) {
 // The renderer compiles a large scene's pipelines while its BVH builds,
 // for the features the tables before the BVH foretell: on every scene those
 // (with the BVH's traversal bits) are the tables' own, and where the BVH's
-// size foretells its traversal bits they are the BVH's.
-TEST_P(AllScenes, TheTablesBeforeTheBvhForetellTheFeatures) {
-    const scene::Scene s = loadInstanced(GetParam());
-    std::optional<wavefront::SceneTables> before;
-    const wavefront::SceneTables tables =
-        wavefront::buildSceneTables(s, {}, [&](const wavefront::SceneTables& t) { before = t; });
-    ASSERT_TRUE(before.has_value());
-    EXPECT_TRUE(before->bvh.primitives.empty());
-    const wavefront::RenderSettings settings;
-    const uint64_t traversal = bvh::traversalFeatures(tables.bvh);
-    EXPECT_EQ(wavefront::renderFeatures(*before, wavefront::renderSceneInfo(*before, settings)) |
-                  traversal,
-              wavefront::renderFeatures(tables, wavefront::renderSceneInfo(tables, settings)));
-    if (const auto predicted = bvh::predictedTraversalFeatures(s)) {
-        EXPECT_EQ(*predicted, traversal);
+// size foretells its traversal bits they are the BVH's. (One test over all
+// the files: a process each would cost more than the checks.)
+TEST(AllSceneFiles, TheTablesBeforeTheBvhForetellTheFeatures) {
+    for (const std::string& file : sceneFiles()) {
+        SCOPED_TRACE(file);
+        const scene::Scene s = loadInstanced(file);
+        std::optional<wavefront::SceneTables> before;
+        const wavefront::SceneTables tables = wavefront::buildSceneTables(
+            s, {}, [&](const wavefront::SceneTables& t) { before = t; });
+        ASSERT_TRUE(before.has_value());
+        EXPECT_TRUE(before->bvh.primitives.empty());
+        const wavefront::RenderSettings settings;
+        const uint64_t traversal = bvh::traversalFeatures(tables.bvh);
+        EXPECT_EQ(
+            wavefront::renderFeatures(*before, wavefront::renderSceneInfo(*before, settings)) |
+                traversal,
+            wavefront::renderFeatures(tables, wavefront::renderSceneInfo(tables, settings)));
+        if (const auto predicted = bvh::predictedTraversalFeatures(s)) {
+            EXPECT_EQ(*predicted, traversal);
+        }
     }
 }
 

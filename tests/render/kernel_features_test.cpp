@@ -9,6 +9,7 @@
 
 #include <cstring>
 
+#include "bvh/bvh.h"
 #include "scene/scene.h"
 #include "shared/features.h"
 #include "shared/microfacet_albedo.h"
@@ -214,8 +215,7 @@ TEST(KernelFeatures, ALargeScenesPipelinesCompileWhileItsBvhBuilds) {
         ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
         EXPECT_EQ(0, std::memcmp(a.image.pixels.data(), b.image.pixels.data(),
                                  a.image.pixels.size() * sizeof(glm::vec3)));
-
-        const wavefront::GpuRenderer small(test::context(), floorOfQuads(8), settings);
-        EXPECT_FALSE(small.pipelinesPrewarmed());
     }
+    // 128 triangles may make a shallow tree: its features wait for the BVH.
+    EXPECT_FALSE(bvh::predictedTraversalFeatures(floorOfQuads(8)).has_value());
 }
