@@ -5,7 +5,38 @@
 
 set(VKPATH_SHADER_INCLUDE_DIR ${CMAKE_SOURCE_DIR}/shaders)
 
-# vkpath_embed_shaders(<target> <registry-name> <shader files...> [TRACING <names...>])
+# The feature profiles' keys (shaders/shared/feature_profiles.h, the lines of
+# VKP_FEATURE_PROFILES) and their mask macros, in the header's order.
+file(STRINGS ${VKPATH_SHADER_INCLUDE_DIR}/shared/feature_profiles.h VKPATH_PROFILE_LINES
+     REGEX "^ *X\\([A-Z_]+, [a-z_]+, \"")
+# (The lines' continuation backslashes would escape the list's semicolons.)
+string(REPLACE "\\" "" VKPATH_PROFILE_LINES "${VKPATH_PROFILE_LINES}")
+set(VKPATH_FEATURE_PROFILES "")
+foreach(line IN LISTS VKPATH_PROFILE_LINES)
+    string(REGEX REPLACE "^ *X\\(([A-Z_]+), ([a-z_]+),.*" "\\2|-DVKP_PROFILE_FEATURES=VKP_FEATURE_PROFILE_\\1"
+           profile "${line}")
+    list(APPEND VKPATH_FEATURE_PROFILES "${profile}")
+endforeach()
+set_property(DIRECTORY ${CMAKE_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+             ${VKPATH_SHADER_INCLUDE_DIR}/shared/feature_profiles.h)
+if(NOT VKPATH_FEATURE_PROFILES)
+    message(FATAL_ERROR "no feature profiles found in shaders/shared/feature_profiles.h")
+endif()
+
+# What the build's spirv-opt does to a profiled kernel: inline every call,
+# then fold and remove, three times over, the branches that the profile's
+# constant-false feature tests (shared/features.h hasFeature) leave, and the
+# code only they reached. Only transformations that keep every floating-point
+# result: nothing reassociates or contracts. docs/BENCHMARKS.md, "Start-up",
+# has what it saves.
+set(VKPATH_SPIRV_CLEANUP --eliminate-dead-branches --simplify-instructions --ccp
+    --eliminate-dead-branches --eliminate-dead-code-aggressive --eliminate-dead-functions)
+set(VKPATH_SPIRV_PROFILE_PASSES --merge-return --inline-entry-points-exhaustive
+    --eliminate-dead-functions --eliminate-local-single-block --eliminate-local-single-store
+    --ssa-rewrite ${VKPATH_SPIRV_CLEANUP} ${VKPATH_SPIRV_CLEANUP} ${VKPATH_SPIRV_CLEANUP})
+
+# vkpath_embed_shaders(<target> <registry-name> <shader files...>
+#                      [TRACING <names...>] [PROFILED <names...>])
 # Creates a static library <target> whose single generated source defines
 # vkpath::shaders::<registry-name>() returning the embedded kernels. The
 # kernels named after TRACING (file names without extension) trace rays and
@@ -17,16 +48,38 @@ set(VKPATH_SHADER_INCLUDE_DIR ${CMAKE_SOURCE_DIR}/shaders)
 #   <name>_rayquery, with VKP_RAY_QUERY: tracing by the device's acceleration
 #     structures (shaders/shared/bvh_ray_query.h), whose SPIR-V capability only
 #     a device with ray queries accepts.
+# The kernels named after PROFILED are compiled, each of those variants, once
+# more per feature profile (<variant>_<key>, shared/feature_profiles.h), and
+# every variant of theirs goes through spirv-opt (VKPATH_SPIRV_PROFILE_PASSES).
 function(vkpath_embed_shaders target registry)
-    cmake_parse_arguments(PARSE_ARGV 2 EMBED "" "" "TRACING")
+    cmake_parse_arguments(PARSE_ARGV 2 EMBED "" "" "TRACING;PROFILED")
     set(spv_files "")
     foreach(src IN LISTS EMBED_UNPARSED_ARGUMENTS)
         get_filename_component(name ${src} NAME_WE)
-        set(variants "${name}|")
+        set(traversals "${name}|")
         if(name IN_LIST EMBED_TRACING)
-            list(APPEND variants "${name}_instanced|-DVKP_INSTANCING")
-            list(APPEND variants "${name}_rayquery|-DVKP_RAY_QUERY")
+            list(APPEND traversals "${name}_instanced|-DVKP_INSTANCING")
+            list(APPEND traversals "${name}_rayquery|-DVKP_RAY_QUERY")
         endif()
+        set(variants "")
+        foreach(traversal IN LISTS traversals)
+            list(APPEND variants "${traversal}")
+            if(name IN_LIST EMBED_PROFILED)
+                string(REPLACE "|" ";" parts "${traversal}")
+                list(GET parts 0 base)
+                list(LENGTH parts count)
+                set(base_defines "")
+                if(count GREATER 1)
+                    list(GET parts 1 base_defines)
+                endif()
+                foreach(profile IN LISTS VKPATH_FEATURE_PROFILES)
+                    string(REPLACE "|" ";" profile_parts "${profile}")
+                    list(GET profile_parts 0 key)
+                    list(GET profile_parts 1 define)
+                    list(APPEND variants "${base}_${key}|${base_defines} ${define}")
+                endforeach()
+            endif()
+        endforeach()
         foreach(variant IN LISTS variants)
             string(REPLACE "|" ";" parts "${variant}")
             list(GET parts 0 kernel)
@@ -34,19 +87,33 @@ function(vkpath_embed_shaders target registry)
             set(defines "")
             if(count GREATER 1)
                 list(GET parts 1 defines)
+                separate_arguments(defines UNIX_COMMAND "${defines}")
             endif()
             set(spv ${CMAKE_CURRENT_BINARY_DIR}/spirv/${kernel}.spv)
             set(dep ${CMAKE_CURRENT_BINARY_DIR}/spirv/${kernel}.d)
+            set(compiled ${spv})
+            if(name IN_LIST EMBED_PROFILED)
+                set(compiled ${CMAKE_CURRENT_BINARY_DIR}/spirv/${kernel}.glslang.spv)
+            endif()
             add_custom_command(
-                OUTPUT ${spv}
+                OUTPUT ${compiled}
                 COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/spirv
                 COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2
                         -I${VKPATH_SHADER_INCLUDE_DIR} -I${CMAKE_CURRENT_SOURCE_DIR} ${defines}
-                        --depfile ${dep} -o ${spv} ${src}
+                        --depfile ${dep} -o ${compiled} ${src}
                 MAIN_DEPENDENCY ${src}
                 DEPFILE ${dep}
                 COMMENT "glslang ${kernel}.comp"
                 VERBATIM)
+            if(name IN_LIST EMBED_PROFILED)
+                add_custom_command(
+                    OUTPUT ${spv}
+                    COMMAND ${SPIRV_OPT} --target-env=vulkan1.2 --scalar-block-layout
+                            ${VKPATH_SPIRV_PROFILE_PASSES} -o ${spv} ${compiled}
+                    DEPENDS ${compiled}
+                    COMMENT "spirv-opt ${kernel}"
+                    VERBATIM)
+            endif()
             list(APPEND spv_files ${spv})
         endforeach()
     endforeach()

@@ -1,14 +1,13 @@
-// The CPU reference's integrator compiled for VKP_CPU_PROFILE_SMOOTH
-// (reference/cpu_profiles.h). The define comes before every include.
-#define VKP_CPU_FEATURES VKP_CPU_PROFILE_SMOOTH
-#include "reference/cpu_profiles.h"
+// The CPU reference's integrator compiled for VKP_FEATURE_PROFILE_SMOOTH
+// (shared/feature_profiles.h). The define comes before every include.
+#define VKP_CPU_FEATURES VKP_FEATURE_PROFILE_SMOOTH
 #include "reference/path_sampler_of.h"
 
 namespace vkpath::reference {
 
-std::unique_ptr<PathSampler> makeSmoothPathSampler(const char* name,
-                                                   const wavefront::SceneTables& tables,
-                                                   const shared::SceneInfo& info) {
+template <>
+std::unique_ptr<PathSampler> makeProfilePathSampler<VKP_CPU_FEATURES>(
+    const char* name, const wavefront::SceneTables& tables, const shared::SceneInfo& info) {
     return std::make_unique<PathSamplerOf<VKP_CPU_FEATURES>>(name, tables, info);
 }
 

@@ -1,27 +1,24 @@
 #include "reference/path_sampler.h"
 
-#include <array>
-
-#include "reference/cpu_profiles.h"
 #include "reference/path_sampler_of.h"
+#include "shared/feature_profiles.h"
 
 namespace vkpath::reference {
 
-// Defined in the profiles' translation units.
-std::unique_ptr<PathSampler> makeSmoothPathSampler(const char*, const wavefront::SceneTables&,
-                                                   const shared::SceneInfo&);
-std::unique_ptr<PathSampler> makeSmoothAovsPathSampler(const char*, const wavefront::SceneTables&,
-                                                       const shared::SceneInfo&);
-std::unique_ptr<PathSampler> makeCorePathSampler(const char*, const wavefront::SceneTables&,
-                                                 const shared::SceneInfo&);
+#define VKP_DECLARE_PROFILE(NAME, key, label)                                        \
+    template <>                                                                      \
+    std::unique_ptr<PathSampler> makeProfilePathSampler<VKP_FEATURE_PROFILE_##NAME>( \
+        const char*, const wavefront::SceneTables&, const shared::SceneInfo&);
+VKP_FEATURE_PROFILES(VKP_DECLARE_PROFILE)
+#undef VKP_DECLARE_PROFILE
 
 namespace {
 
-const std::array<CpuProfile, 3> PROFILES = {{
-    {"smooth", VKP_CPU_PROFILE_SMOOTH, makeSmoothPathSampler},
-    {"smooth-aovs", VKP_CPU_PROFILE_SMOOTH_AOVS, makeSmoothAovsPathSampler},
-    {"core", VKP_CPU_PROFILE_CORE, makeCorePathSampler},
-}};
+#define VKP_PROFILE_ENTRY(NAME, key, label)       \
+    CpuProfile{label, VKP_FEATURE_PROFILE_##NAME, \
+               makeProfilePathSampler<VKP_FEATURE_PROFILE_##NAME>},
+const CpuProfile PROFILES[] = {VKP_FEATURE_PROFILES(VKP_PROFILE_ENTRY)};
+#undef VKP_PROFILE_ENTRY
 
 }  // namespace
 

@@ -1,6 +1,6 @@
 // The CPU reference's integrator over one scene: shared/integrator.h
 // tracePath from the camera ray of a pixel's sample, compiled for a feature
-// set (the general code, or a profile of reference/cpu_profiles.h). The
+// set (the general code, or a profile of shared/feature_profiles.h). The
 // reference renderer holds one and asks it for every path:
 //
 //   std::unique_ptr<const PathSampler> s = makePathSampler(tables, info, features, true);
@@ -37,6 +37,13 @@ class PathSampler {
     virtual glm::vec3 tracePath(const shared::Camera& camera, uint32_t pixel, uint32_t sampleIndex,
                                 shared::PathTally& tally, shared::PathAov& aov) const = 0;
 };
+
+// The build of the profile whose mask is `Features` (shared/feature_profiles.h),
+// named `name`: defined in the profile's translation unit, cpu_profile_KEY.cpp.
+template <uint64_t Features>
+std::unique_ptr<PathSampler> makeProfilePathSampler(const char* name,
+                                                    const wavefront::SceneTables& tables,
+                                                    const shared::SceneInfo& info);
 
 // A profile's build, named `name` (CpuProfile::name).
 using MakePathSampler = std::unique_ptr<PathSampler> (*)(const char* name,

@@ -1,6 +1,6 @@
 // PathSampler for the feature set of the translation unit that includes this
 // (shared::kernelFeatures): the general build in path_sampler.cpp, a profile
-// in each cpu_profile_NAME.cpp (reference/cpu_profiles.h). Included by those
+// in each cpu_profile_KEY.cpp (shared/feature_profiles.h). Included by those
 // alone: PathSamplerOf<F> must be instantiated only where the shared code is
 // compiled for F (PathTracerViewOf asserts it).
 #pragma once

@@ -17,7 +17,7 @@
 //
 // Features is the translation unit's shared::kernelFeatures (a static_assert
 // says so): the general code everywhere, except in the CPU reference's
-// profile translation units (host/reference/cpu_profiles.h), which compile
+// profile translation units (shared/feature_profiles.h), which compile
 // the shared code for a feature set as the GPU's specialised pipelines do.
 // PathTracerView names the view of the translation unit's features.
 //
@@ -114,7 +114,7 @@ struct PathTracerViewOf : SceneTablesView {
     static_assert(
         Features == kernelFeatures,
         "a view is compiled with the shared code of its own features: define VKP_CPU_FEATURES "
-        "before the first include (host/reference/cpu_profiles.h)");
+        "before the first include (shared/feature_profiles.h)");
     static constexpr uint features = Features;
 
     using SceneTablesView::SceneTablesView;

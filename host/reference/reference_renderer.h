@@ -73,7 +73,7 @@ class ReferenceRenderer {
     // Worker threads render() uses.
     uint32_t threads() const;
     // The integrator's build it runs: "general" (settings.specialize false, or
-    // no profile covers the scene) or a profile of reference/cpu_profiles.h.
+    // no profile covers the scene) or a profile of shared/feature_profiles.h.
     const PathSampler& sampler() const { return *m_sampler; }
     // The render's features (wavefront::renderFeatures).
     uint64_t features() const { return m_features; }

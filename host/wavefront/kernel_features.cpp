@@ -1,5 +1,7 @@
 #include "wavefront/kernel_features.h"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <utility>
 
@@ -161,6 +163,19 @@ uint32_t shadowRaysPerVertex(uint64_t features, uint32_t lightSamples) {
     const bool traces = (features & VKP_FEATURE_LIGHT_SAMPLES) != 0 &&
                         (features & (VKP_FEATURES_NON_DELTA | VKP_FEATURE_MEDIA)) != 0;
     return traces ? lightSamples : 0;
+}
+
+const char* featureProfile(uint64_t features) {
+#define VKP_PROFILE_KEY(NAME, key, label) \
+    if ((features & ~uint64_t(VKP_FEATURE_PROFILE_##NAME)) == 0) return #key;
+    VKP_FEATURE_PROFILES(VKP_PROFILE_KEY)
+#undef VKP_PROFILE_KEY
+    return nullptr;
+}
+
+std::string profiledKernel(std::string_view name, uint64_t features) {
+    const char* profile = featureProfile(features);
+    return profile ? fmt::format("{}_{}", name, profile) : std::string(name);
 }
 
 std::string describeFeatures(uint64_t features) {

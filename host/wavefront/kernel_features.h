@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "shared/features.h"
 #include "shared/scene_data.h"
@@ -41,5 +42,14 @@ std::string describeFeatures(uint64_t features);
 // all ones, the kernels' default).
 std::array<vk::SpecializationConstant, 2> featureConstants(uint64_t features);
 uint64_t specializedFeatures(std::span<const vk::SpecializationConstant> constants);
+
+// The first feature profile (shared/feature_profiles.h) that holds every bit
+// of `features`: its key ("smooth", "core"...), or nullptr where none does.
+const char* featureProfile(uint64_t features);
+
+// The build of kernel `name` to run for `features`: "<name>_<key>" of their
+// feature profile, whose SPIR-V lacks the code of every feature outside it
+// (cmake/shaders.cmake, PROFILED), else `name`, the general build.
+std::string profiledKernel(std::string_view name, uint64_t features);
 
 }  // namespace vkpath::wavefront

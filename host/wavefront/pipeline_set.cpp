@@ -18,12 +18,19 @@ std::span<const std::byte> bytes(const shared::WavePush& p) {
     return std::as_bytes(std::span(&p, 1));
 }
 
+// A kernel that reads the scene, as its build for the render's feature
+// profile (profiledKernel).
+std::string profiled(const char* kernel, const PipelineSetup& setup) {
+    return profiledKernel(kernel, specializedFeatures(setup.sceneSpecialization));
+}
+
 // A kernel that traces rays, as its variant for the traversal and for
-// features that may include instances (bvh::tracingKernel).
+// features that may include instances (bvh::tracingKernel), in the build for
+// the render's feature profile.
 std::string tracing(const char* kernel, const PipelineSetup& setup) {
-    const bool instances =
-        (specializedFeatures(setup.sceneSpecialization) & VKP_FEATURE_INSTANCES) != 0;
-    return bvh::tracingKernel(kernel, setup.traversal, instances);
+    const uint64_t features = specializedFeatures(setup.sceneSpecialization);
+    const bool instances = (features & VKP_FEATURE_INSTANCES) != 0;
+    return profiledKernel(bvh::tracingKernel(kernel, setup.traversal, instances), features);
 }
 
 }  // namespace
@@ -61,7 +68,7 @@ PipelineSet::PipelineSet(vk::Context& context, const PipelineSetup& setup,
     } else {
         m_generate = build("generate", sceneOptions, m_generateSet);
         m_intersect = build(tracing("intersect", setup), sceneOptions, m_intersectSet);
-        m_shade = build("shade", sceneOptions, m_shadeSet);
+        m_shade = build(profiled("shade", setup), sceneOptions, m_shadeSet);
         if (setup.shadowStage)
             m_shadow = build(tracing("shadow", setup), sceneOptions, m_shadowSet);
     }

@@ -253,6 +253,13 @@ uint32_t GpuRenderer::pathsInFlight() const {
     return m_resources->paths.pathCount;
 }
 
+// "specialised to <features>", and the feature profile whose build runs them.
+static std::string specialisedTo(uint64_t features) {
+    const char* profile = featureProfile(features);
+    return fmt::format("specialised to {}{}", describeFeatures(features),
+                       profile ? fmt::format(", from the {} profile's build", profile) : "");
+}
+
 std::string GpuRenderer::describe() const {
     std::string memory;
     uint64_t total = 0;
@@ -265,7 +272,7 @@ std::string GpuRenderer::describe() const {
         "kernels: {}, {} traversal, {} ({} pipelines in {:.0f} ms{}, ready {:.0f} ms after the "
         "scene was loaded); device memory {:.1f} MiB: {} ({} paths in flight)",
         kernelFormName(m_form), bvh::traversalName(m_traversal),
-        m_settings.specialize ? "specialised to " + describeFeatures(m_features)
+        m_settings.specialize ? specialisedTo(m_features)
                               : std::string("general (--no-specialize)"),
         m_pipelines, m_pipelineMilliseconds,
         m_prewarmed ? ", compiled while the BVH was built" : "", m_setupMilliseconds,

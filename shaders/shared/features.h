@@ -16,8 +16,8 @@
 // feature that reads a Material field adds its bit to the condition under
 // which stages/lib/scene_access.glsl sceneMaterial fetches that field's texel
 // (a kernel without it reads the field as zero). The CPU reference's
-// profiles (host/reference/cpu_profiles.h) hold a new bit only once it is
-// added to one: until then a scene with it runs the general build.
+// and GPU kernels' profiles (shared/feature_profiles.h) hold a new bit only
+// once it is added to one: until then a scene with it runs the general code.
 #ifndef VKPATH_SHARED_FEATURES_H
 #define VKPATH_SHARED_FEATURES_H
 
@@ -45,6 +45,7 @@
 #define VKP_FEATURE_CONSTANT(name, value) const uint64_t name = value;
 #endif
 
+#include "shared/feature_profiles.h"
 #include "shared/material_kinds.h"
 
 #define VKP_FEATURE_TRIANGLES VKP_FEATURE_BIT(0)
@@ -152,24 +153,44 @@ using FeatureMask = uint64_t;
 // C++ compiles the general code (each test a branch on data) unless the
 // translation unit defines VKP_CPU_FEATURES before its first include: the
 // CPU reference's integrator compiled for a feature profile
-// (host/reference/cpu_profiles.h), whose functions are then its own
+// (shared/feature_profiles.h), whose functions are then its own
 // (shared/compat.h VKP_FN).
 #ifdef VKP_CPU_FEATURES
 constexpr FeatureMask kernelFeatures = VKP_CPU_FEATURES;
 #else
 constexpr FeatureMask kernelFeatures = VKP_FEATURES_ALL;
 #endif
-#else
-// Two 32-bit constants, so that the host's specialisation entries stay 4 bytes.
-layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeaturesLow = 0xffffffffu;
-layout(constant_id = VKP_SPEC_FEATURES_HIGH) const uint kernelFeaturesHigh = 0xffffffffu;
-const uint64_t kernelFeatures = uint64_t(kernelFeaturesHigh) << 32 | uint64_t(kernelFeaturesLow);
-#endif
 
 // Whether any of `features` may occur.
 VKP_FN bool hasFeature(FeatureMask features) {
     return (kernelFeatures & features) != VKP_NO_FEATURES;
 }
+#else
+// A kernel compiled for a feature profile (shared/feature_profiles.h) gets
+// its mask from the build (-DVKP_PROFILE_FEATURES=VKP_FEATURE_PROFILE_CORE);
+// the general kernel holds every bit.
+#ifndef VKP_PROFILE_FEATURES
+#define VKP_PROFILE_FEATURES VKP_FEATURES_ALL
+#endif
+// Two 32-bit constants, so that the host's specialisation entries stay 4 bytes.
+layout(constant_id = VKP_SPEC_FEATURES) const uint kernelFeaturesLow = 0xffffffffu;
+layout(constant_id = VKP_SPEC_FEATURES_HIGH) const uint kernelFeaturesHigh = 0xffffffffu;
+const uint64_t kernelFeatures =
+    (uint64_t(kernelFeaturesHigh) << 32 | uint64_t(kernelFeaturesLow)) & (VKP_PROFILE_FEATURES);
+
+VKP_FN bool specializedHasFeature(FeatureMask features) {
+    return (kernelFeatures & features) != VKP_NO_FEATURES;
+}
+
+// Whether any of `features` may occur. A macro, so that a bit outside the
+// kernel's profile is a constant false before the call: glslang then branches
+// on a constant, and the build's spirv-opt pass (cmake/shaders.cmake) removes
+// that branch and, once it has inlined every call, the code only it reached.
+// (A specialisation constant folds only in the driver, after it has
+// translated the whole module; SPIRV-Tools folds no 64-bit operation.)
+#define hasFeature(features) \
+    (((VKP_PROFILE_FEATURES) & (features)) != VKP_NO_FEATURES && specializedHasFeature(features))
+#endif
 
 // Whether `feature` is the only one of `group` that may occur (so a test
 // between the members of the group is known without reading data).

@@ -1,5 +1,5 @@
 // Which build of the CPU reference's integrator a render runs
-// (reference/path_sampler.h): the first profile of reference/cpu_profiles.h
+// (reference/path_sampler.h): the first profile of shared/feature_profiles.h
 // that holds the render's features, else the general code. That the builds
 // give the same image is tests/render/all_scenes_test.cpp's
 // TheCpuProfileGivesTheSameImage.

@@ -234,7 +234,7 @@ TEST_P(AllScenes, EveryKernelGivesTheSameImage) {
     }
 }
 
-// The CPU reference compiled for a profile (reference/cpu_profiles.h) leaves
+// The CPU reference compiled for a profile (shared/feature_profiles.h) leaves
 // out only code that the scene's data never takes: the image of its general
 // build, bit for bit, in both of sameImageSettings. A scene whose features a
 // profile holds runs the first such profile.
