@@ -24,16 +24,17 @@ if(NOT VKPATH_FEATURE_PROFILES)
 endif()
 
 # What the build's spirv-opt does to a profiled kernel: inline every call,
-# then fold and remove, three times over, the branches that the profile's
-# constant-false feature tests (shared/features.h hasFeature) leave, and the
-# code only they reached. Only transformations that keep every floating-point
-# result: nothing reassociates or contracts. docs/BENCHMARKS.md, "Start-up",
-# has what it saves.
+# then twice fold and remove the branches that the profile's constant-false
+# feature tests (shared/features.h hasFeature) leave and the code only they
+# reached (a third time finds nothing). Nothing reassociates or contracts
+# floating-point arithmetic: images are the same bit for bit as from
+# glslang's modules (docs/BENCHMARKS.md, "Start-up", which also has what it
+# saves). 3 s for the megakernel's smooth build, 8 s for its general one.
 set(VKPATH_SPIRV_CLEANUP --eliminate-dead-branches --simplify-instructions --ccp
     --eliminate-dead-branches --eliminate-dead-code-aggressive --eliminate-dead-functions)
 set(VKPATH_SPIRV_PROFILE_PASSES --merge-return --inline-entry-points-exhaustive
     --eliminate-dead-functions --eliminate-local-single-block --eliminate-local-single-store
-    --ssa-rewrite ${VKPATH_SPIRV_CLEANUP} ${VKPATH_SPIRV_CLEANUP} ${VKPATH_SPIRV_CLEANUP})
+    --ssa-rewrite ${VKPATH_SPIRV_CLEANUP} ${VKPATH_SPIRV_CLEANUP})
 
 # vkpath_embed_shaders(<target> <registry-name> <shader files...>
 #                      [TRACING <names...>] [PROFILED <names...>])

@@ -130,9 +130,19 @@ VKP_FN uint materialKindFlags(uint kind) {
     }
 }
 
-// Whether the kernel may meet material kind `kind`.
+// Whether the kernel may meet material kind `kind`. One case per kind, each
+// asking hasFeature of its own bit, so that a kernel built for a feature
+// profile without the kind has a constant false there (shared/features.h).
 VKP_FN bool materialMayBe(uint kind) {
-    return hasFeature(materialFeature(kind));
+    switch (kind) {
+#define VKP_KIND_CASE(id, NAME, Type, key, label, feature, flags, regularized) \
+    case id:                                                                   \
+        return hasFeature(feature);
+        VKP_MATERIAL_KINDS(VKP_KIND_CASE)
+#undef VKP_KIND_CASE
+        default:
+            return false;
+    }
 }
 
 // material.kind, or the constant kind when the kernel meets only one (so a
@@ -146,9 +156,8 @@ VKP_FN uint materialKind(VKP_IN(Material) material) {
 // Whether `material` is of kind `kind`; known without reading it when the
 // kernel meets no material of that kind, or no other.
 VKP_FN bool materialIs(VKP_IN(Material) material, uint kind) {
-    FeatureMask feature = materialFeature(kind);
-    if (!hasFeature(feature)) return false;
-    if (onlyFeature(VKP_FEATURES_MATERIALS, feature)) return true;
+    if (!materialMayBe(kind)) return false;
+    if (onlyFeature(VKP_FEATURES_MATERIALS, materialFeature(kind))) return true;
     return material.kind == kind;
 }
 
