@@ -104,15 +104,17 @@ TEST(FeatureProfiles, TheFirstProfileThatHoldsARendersFeaturesRunsIt) {
 // bit is no constant of the module, where the general build tests it. The
 // exception is the material kinds' bits, which materialFeature(kind) returns
 // for the kind a material's data holds (a few instructions, no lobe's code).
-// A build that lost such tests is smaller than the general one.
+// A profile's build is no larger than the next wider profile's.
 TEST(FeatureProfiles, AProfilesBuildHasNoCodeOfTheFeaturesOutsideIt) {
     for (const std::string& kernel : PROFILED_KERNELS) {
-        const std::span<const uint32_t> general = shaders::findKernel(kernel);
-        const std::set<uint64_t> generalConstants = int64Constants(general);
+        const std::set<uint64_t> generalConstants = int64Constants(shaders::findKernel(kernel));
+        size_t narrowerSize = 0;
         for (const Profile& profile : registry()) {
             const std::string name = fmt::format("{}_{}", kernel, profile.key);
             SCOPED_TRACE(name);
             const std::span<const uint32_t> built = shaders::findKernel(name);
+            EXPECT_GE(built.size(), narrowerSize);
+            narrowerSize = built.size();
             const std::set<uint64_t> constants = int64Constants(built);
             int testedOutside = 0;
             for (uint32_t bit = 0; bit < VKP_FEATURE_COUNT; ++bit) {
@@ -122,14 +124,9 @@ TEST(FeatureProfiles, AProfilesBuildHasNoCodeOfTheFeaturesOutsideIt) {
                 EXPECT_FALSE(constants.contains(feature)) << "feature bit " << bit;
             }
             // The kernels that read materials test features outside every
-            // profile but the widest, so the check has something to find.
+            // profile, so the check has something to find.
             if (kernel.starts_with("megakernel") || kernel == "shade") {
                 EXPECT_GT(testedOutside, 0);
-            }
-            if (testedOutside > 0) {
-                EXPECT_LT(built.size(), general.size());
-            } else {
-                EXPECT_LE(built.size(), general.size());
             }
         }
     }
