@@ -15,9 +15,12 @@
 // from the scene tables or settings, and hasFeature() around its code. A
 // feature that reads a Material field adds its bit to the condition under
 // which stages/lib/scene_access.glsl sceneMaterial fetches that field's texel
-// (a kernel without it reads the field as zero). The CPU reference's
-// and GPU kernels' profiles (shared/feature_profiles.h) hold a new bit only
-// once it is added to one: until then a scene with it runs the general code.
+// (a kernel without it reads the field as zero). Ask hasFeature() of a
+// constant mask (VKP_FEATURE_* and expressions of them): a feature profile's
+// build removes the code behind such tests only. The feature profiles
+// (shared/feature_profiles.h), which the GPU kernels and the CPU reference
+// are compiled for, hold a new bit only once it is added to one: until then
+// a scene with it runs the general code.
 #ifndef VKPATH_SHARED_FEATURES_H
 #define VKPATH_SHARED_FEATURES_H
 
