@@ -154,7 +154,8 @@ TEST(EnvironmentFuzzRegression, AttributeLargerThanTheFileIsRefusedBeforeOpening
 // so its reading and the size check above walked the header differently,
 // and a later string attribute claimed 850 MB (1.8 GB resident, past the
 // fuzzer's 2 GB with its own). Fixed-size types must declare their size;
-// the strings of a stringvector and a preview's pixels must fit in theirs.
+// the strings of a stringvector and a preview's pixels must fit in theirs,
+// and a channel list must end where its size says.
 TEST(EnvironmentFuzzRegression, AttributesOfTheWrongSizeForTheirTypeAreRefused) {
     TempDir dir;
     std::string chunkCount = std::string("chunkCount") + '\0' + "int" + '\0';
@@ -177,8 +178,21 @@ TEST(EnvironmentFuzzRegression, AttributesOfTheWrongSizeForTheirTypeAreRefused) 
     list += '\0';
     put(channels, int32_t(list.size()));
     channels += list;
+    // environment_fuzz (2026-12-06): a channel list that ends before its
+    // declared size; OpenEXR reads its last bytes as the next attribute.
+    std::string shortList = std::string("channels") + '\0' + "chlist" + '\0';
+    std::string oneChannel = std::string("R") + '\0';
+    put(oneChannel, int32_t(1));
+    put(oneChannel, int32_t(0));
+    put(oneChannel, int32_t(1));
+    put(oneChannel, int32_t(1));
+    oneChannel += '\0';
+    put(shortList, int32_t(oneChannel.size() + 4));
+    shortList += oneChannel;
+    put(shortList, int32_t(0));
     const std::pair<std::string, std::string> cases[] = {
         {channels, "channel 'R' has pixel type 3"},
+        {shortList, "channel list 'channels' ends 4 bytes before its size says"},
         {chunkCount, "attribute 'chunkCount' of type int is 0 bytes, not 4"},
         {strings, "a string of attribute 'multiView' runs past its end"},
         {preview, "preview 'preview' claims 65536x65536 pixels in 8 bytes"},
